@@ -1,0 +1,28 @@
+# The two set-up commands of README.md: `make run` and `make test`.
+# Both create the virtual environment on first use, so a fresh clone needs nothing else.
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: run test lint bench clean
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install --quiet --upgrade pip
+	$(BIN)/pip install --quiet -e '.[test,bench]'
+	touch $(STAMP)
+
+run: $(STAMP)
+	$(BIN)/polynav run
+
+test: $(STAMP)
+	$(BIN)/ruff check polynav tests benchmarks
+	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)
+	$(BIN)/polynav bench planner
+	$(BIN)/polynav bench sim
+
+clean:
+	rm -rf $(VENV) .pytest_cache

@@ -1,0 +1,3 @@
+from polynav.cli import main
+
+raise SystemExit(main())

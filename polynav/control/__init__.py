@@ -1,0 +1,1 @@
+"""Local control: following a path with regulated pure pursuit, goal and progress checks."""

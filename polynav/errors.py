@@ -1,0 +1,34 @@
+"""The root of polynav's exceptions.
+
+Each package keeps its own failures beside its code (``planning/errors.py`` and so on), all derived
+from :class:`PolynavError`, so that a dialect adapter can map any of them to its vendor's error with
+one lookup along the exception's MRO.
+"""
+
+from __future__ import annotations
+
+
+class PolynavError(Exception):
+    """Base of every error polynav raises on purpose."""
+
+
+class ConfigError(PolynavError, ValueError):
+    """A configuration value is out of range or conflicts with another; names the full key."""
+
+    def __init__(self, key: str, reason: str) -> None:
+        super().__init__(f"{key}: {reason}")
+        self.key = key
+        self.reason = reason
+
+
+class InvalidRequest(PolynavError, ValueError):
+    """A request from outside is malformed or names something unknown."""
+
+    def __init__(self, field: str, reason: str) -> None:
+        super().__init__(f"{field}: {reason}")
+        self.field = field
+        self.reason = reason
+
+
+class StorageError(PolynavError):
+    """Reading or writing site data failed."""

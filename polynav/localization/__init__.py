@@ -1,0 +1,1 @@
+"""Localization: odometry + IMU prediction corrected by scan-to-map matching."""

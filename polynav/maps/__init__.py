@@ -1,0 +1,1 @@
+"""Maps and costmaps: occupancy grids, their file formats, and the layered costmap."""

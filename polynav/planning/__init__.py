@@ -1,0 +1,1 @@
+"""Global planning: grid A* and Theta* kernels, path post-processing, the grid planner wrapper."""

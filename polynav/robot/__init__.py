@@ -1,0 +1,1 @@
+"""Robot backends behind one small interface: the simulator and, later, rosbridge."""

@@ -1,0 +1,89 @@
+"""The robot interface every backend implements, and the sensor readings it returns.
+
+The simulator and the rosbridge driver both implement :class:`Robot`; nothing above this layer can
+tell them apart. Readings carry the backend's timestamp (simulated seconds in the simulator).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.geometry import Pose2D, Twist
+
+
+@dataclass(frozen=True, slots=True)
+class Odometry:
+    """Wheel odometry: pose in the odometry frame (drifts) and measured velocity."""
+
+    stamp: float
+    pose: Pose2D
+    twist: Twist
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LaserScan:
+    """One 2-D lidar sweep, ROS ``sensor_msgs/LaserScan`` style.
+
+    ``ranges[k]`` is the distance [m] along ``angle_min + k * angle_increment`` (robot frame, after
+    ``sensor_pose``); ``inf`` means no return within ``range_max``.
+    """
+
+    stamp: float
+    angle_min: float
+    angle_increment: float
+    range_min: float
+    range_max: float
+    ranges: npt.NDArray[np.float32]
+    sensor_pose: Pose2D = Pose2D()
+
+    @property
+    def angles(self) -> npt.NDArray[np.float64]:
+        """Beam angles [rad] in the sensor frame."""
+        return self.angle_min + self.angle_increment * np.arange(self.ranges.shape[0])
+
+
+@dataclass(frozen=True, slots=True)
+class ImuReading:
+    """Planar IMU: integrated yaw [rad], yaw rate [rad/s], forward acceleration [m/s²]."""
+
+    stamp: float
+    yaw: float
+    angular_velocity: float
+    linear_acceleration: float
+
+
+@dataclass(frozen=True, slots=True)
+class BatteryState:
+    """Battery charge [%], voltage [V], current [A] (negative while discharging), and charging."""
+
+    stamp: float
+    percent: float
+    voltage: float
+    current: float
+    charging: bool
+
+
+class Robot(Protocol):
+    """What polynav needs from a mobile base."""
+
+    def drive(self, twist: Twist) -> None:
+        """Command a body velocity; the base applies its own acceleration limits."""
+        ...
+
+    def read_odometry(self) -> Odometry: ...
+
+    def read_scan(self) -> LaserScan | None:
+        """The newest scan, or ``None`` before the first one."""
+        ...
+
+    def read_imu(self) -> ImuReading | None: ...
+
+    def read_battery(self) -> BatteryState: ...
+
+    def estop_pressed(self) -> bool:
+        """True while the hardware emergency-stop button is pressed."""
+        ...

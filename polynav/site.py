@@ -1,0 +1,33 @@
+"""The site vocabulary shared by every layer: named points and their kinds.
+
+A Site has Floors; a Floor has one Map and named Points. Vendor words (marker, station, target
+point) map onto these in their adapters only.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+from polynav.geometry import Pose2D
+
+
+class PointKind(enum.Enum):
+    GENERAL = "general"
+    CHARGER = "charger"
+    INITIAL = "initial"
+    LIFT_OUTSIDE = "lift-outside"
+    LIFT_INSIDE = "lift-inside"
+    GATE = "gate"
+    CUSTOM = "custom"
+
+
+@dataclass(frozen=True, slots=True)
+class Point:
+    """A named pose on one map."""
+
+    name: str
+    map_name: str
+    pose: Pose2D
+    kind: PointKind = PointKind.GENERAL
+    number: int | None = None
