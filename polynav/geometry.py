@@ -36,7 +36,7 @@ def quaternion_to_yaw(x: float, y: float, z: float, w: float) -> float:
     The quaternion need not be normalised: atan2 takes the ratio.
     """
     siny_cosp = 2.0 * (w * z + x * y)
-    cosy_cosp = 1.0 - 2.0 * (y * y + z * z)
+    cosy_cosp = w * w + x * x - y * y - z * z
     return wrap_angle(math.atan2(siny_cosp, cosy_cosp))
 
 

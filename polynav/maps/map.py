@@ -38,6 +38,11 @@ class MapInfo:
         lx, ly = self._to_local(x, y)
         return (math.floor(lx / self.resolution), math.floor(ly / self.resolution))
 
+    def _to_local(self, x: float, y: float) -> tuple[float, float]:
+        dx, dy = x - self.origin.x, y - self.origin.y
+        c, s = math.cos(self.origin.theta), math.sin(self.origin.theta)
+        return (c * dx + s * dy, -s * dx + c * dy)
+
     def cell_to_world(self, ix: float, iy: float) -> tuple[float, float]:
         """World point at the centre of cell (ix, iy)."""
         lx = (ix + 0.5) * self.resolution
