@@ -1,0 +1,109 @@
+"""Full-stack simulation benchmark: the demo site's named points as a fixed list of goals.
+
+Drives simulated sensors, localization, costmap, planner and controller on simulated time and
+reports how fast that runs against real time (DESIGN §8: >= 20x for one robot on one core), how
+many goals were reached, the mean localization error against ground truth, and collisions.
+
+Run with ``polynav bench sim [--json] [--seed N] [--floors NAME ...] [--people]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import subprocess
+import time
+from pathlib import Path
+
+from polynav.nav.attempt import NavigationState
+from polynav.runtime.sim_driver import simulate
+from polynav.worlds import load_world
+
+BUDGET_REAL_TIME_FACTOR = 20.0
+
+
+def _commit() -> str | None:
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            cwd=Path(__file__).resolve().parent,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return out.stdout.strip() or None
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="polynav bench sim", description=__doc__.splitlines()[0])
+    parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--world", default="demo")
+    parser.add_argument("--floors", nargs="*", help="floor names (default: all)")
+    parser.add_argument("--people", action="store_true", help="let the walkers walk")
+    parser.add_argument("--timeout", type=float, default=180.0, help="sim seconds per goal")
+    args = parser.parse_args(argv)
+
+    world = load_world(args.world)
+    floors = args.floors or [f.name for f in world.floors]
+    goals = succeeded = collisions = 0
+    error_sum = 0.0
+    error_samples = 0
+    sim_seconds = wall_seconds = 0.0
+    for floor_name in floors:
+        floor = world.floor(floor_name)
+        start = next(
+            (p.pose for p in floor.points if p.kind.value == "initial"), floor.points[0].pose
+        )
+        driver = simulate(world, seed=args.seed, floor=floor_name, pose=start,
+                          people=args.people)
+        # Warm the kernels and the tracker before timing: start-up is not the steady state.
+        driver.run(1.0)
+        sim_start, wall_start = driver.now, time.perf_counter()
+        for point in floor.points:
+            goals += 1
+            driver.stack.go_to(point.pose, driver.now)
+            end = driver.now + args.timeout
+            while not driver.stack.navigator.state.finished and driver.now < end:
+                driver.step()
+                est, true = driver.stack.estimate.pose, driver.sim.true_pose
+                error_sum += math.hypot(est.x - true.x, est.y - true.y)
+                error_samples += 1
+            ok = driver.stack.navigator.state is NavigationState.SUCCEEDED
+            succeeded += ok
+            attempt = driver.stack.navigator.attempt
+            reason = attempt.reason.value if attempt and attempt.reason else ""
+            print(f"{floor_name:>8} {point.name:<18} {'ok' if ok else 'FAILED ' + reason:<24} "
+                  f"t={driver.now:7.1f}s err={driver.sim.true_pose.distance_to(point.pose):.3f}m")
+        sim_seconds += driver.now - sim_start
+        wall_seconds += time.perf_counter() - wall_start
+        collisions += len(driver.sim.collisions)
+
+    rtf = sim_seconds / wall_seconds if wall_seconds > 0 else math.inf
+    mean_error = error_sum / error_samples if error_samples else 0.0
+    print(f"goals {goals}, succeeded {succeeded}, collisions {collisions}")
+    print(f"simulated {sim_seconds:.1f} s in {wall_seconds:.1f} s: real-time factor {rtf:.1f}x "
+          f"(budget {BUDGET_REAL_TIME_FACTOR:.0f}x)")
+    print(f"mean localization error {mean_error * 100:.1f} cm")
+    if args.json:
+        print(json.dumps({
+            "goals": goals,
+            "succeeded": succeeded,
+            "collisions": collisions,
+            "real_time_factor": round(rtf, 2),
+            "mean_localization_error_m": round(mean_error, 4),
+            "sim_seconds": round(sim_seconds, 1),
+            "budget_real_time_factor": BUDGET_REAL_TIME_FACTOR,
+            "pass": rtf >= BUDGET_REAL_TIME_FACTOR and succeeded == goals and collisions == 0,
+            "commit": _commit(),
+            "machine": platform.platform(),
+        }))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

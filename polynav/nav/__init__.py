@@ -1,0 +1,1 @@
+"""Navigation services: one navigation attempt from goal to arrival, with recoveries and events."""

@@ -1,0 +1,81 @@
+"""Events a navigation attempt emits, one per change, in the order they happen.
+
+Every event carries the simulated or wall time ``stamp`` it happened at and the attempt snapshot
+after the change, so a subscriber never has to query back.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from polynav.nav.attempt import NavigationAttempt
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationEvent:
+    stamp: float
+    attempt: NavigationAttempt
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationStarted(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class PathPlanned(NavigationEvent):
+    """A (re)plan succeeded; ``length`` [m] is the new path's length."""
+
+    length: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationPaused(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationResumed(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationBlocked(NavigationEvent):
+    """An obstacle stands on the path ahead; the robot waits, then re-plans."""
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationRetry(NavigationEvent):
+    """A retry after a failure; ``cause`` says what failed and ``recovery`` what is tried."""
+
+    cause: str = ""
+    recovery: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationHeld(NavigationEvent):
+    """Motion is held by an e-stop or lost localization; ``cause`` says which."""
+
+    cause: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationReleased(NavigationEvent):
+    """The hold ended; navigation continues."""
+
+    cause: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationSucceeded(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationFailed(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationCanceled(NavigationEvent):
+    pass

@@ -1,0 +1,110 @@
+"""One robot's navigation stack: localization, costmap and navigator wired to a Robot.
+
+The stack is what the runtime ticks at the control rate. Each tick it reads the robot's sensors,
+advances localization, marks a new scan into the costmap, lets the navigator decide, and commands
+the base. It never reads the clock itself (``now`` comes from the caller), so it runs the same on
+simulated time and on the wall clock.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
+from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
+from polynav.geometry import Pose2D, Twist
+from polynav.localization.interface import LocalizationEstimate
+from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
+from polynav.maps.costmap import Costmap, CostmapConfig
+from polynav.maps.map import Map
+from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
+from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
+from polynav.robot.interface import Robot
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class StackConfig:
+    """Configuration of every component of the stack, plus the control rate [Hz]."""
+
+    control_rate: float = 20.0
+    costmap: CostmapConfig = field(default_factory=CostmapConfig)
+    planner: GridPlannerConfig = field(default_factory=GridPlannerConfig)
+    controller: PurePursuitConfig = field(default_factory=PurePursuitConfig)
+    progress: ProgressCheckerConfig = field(default_factory=ProgressCheckerConfig)
+    navigator: NavigatorConfig = field(default_factory=NavigatorConfig)
+    localization: PoseTrackerConfig = field(default_factory=PoseTrackerConfig)
+
+
+class NavigationStack:
+    """Localization + costmap + navigator for one robot on one map."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        grid: Map,
+        *,
+        config: StackConfig | None = None,
+        on_event: EventSink | None = None,
+    ) -> None:
+        self.config = config or StackConfig()
+        self.robot = robot
+        self.map = grid
+        self.localizer = PoseTracker(self.config.localization)
+        self.localizer.set_map(grid)
+        self.costmap = Costmap.from_map(grid, self.config.costmap)
+        self.navigator = Navigator(
+            self.costmap,
+            GridPlanner(self.config.planner),
+            RegulatedPurePursuit(self.config.controller),
+            ProgressChecker(self.config.progress),
+            config=self.config.navigator,
+            robot_radius=self.config.costmap.robot_radius,
+            on_event=on_event,
+        )
+        self.software_estop = False
+        self._last_scan_stamp: float | None = None
+        self._command = Twist()
+
+    @property
+    def estimate(self) -> LocalizationEstimate:
+        return self.localizer.estimate
+
+    @property
+    def command(self) -> Twist:
+        """The velocity commanded at the last tick."""
+        return self._command
+
+    def initialize(self, pose: Pose2D, now: float) -> None:
+        """Tell localization roughly where the robot is (it refines the pose itself)."""
+        self.localizer.initialize(pose, now)
+
+    def go_to(self, goal: Pose2D, now: float) -> int:
+        """Start navigating to ``goal``; returns the attempt id."""
+        return self.navigator.start(goal, now)
+
+    def set_map(self, grid: Map) -> None:
+        """Switch maps (floor change); localization needs a new initial pose afterwards."""
+        self.map = grid
+        self.localizer.set_map(grid)
+        self.costmap.set_static_map(grid)
+        self._last_scan_stamp = None
+
+    def tick(self, now: float) -> Twist:
+        """One control period: sense, localize, map obstacles, decide, command."""
+        odometry = self.robot.read_odometry()
+        scan = self.robot.read_scan()
+        if scan is not None and scan.stamp == self._last_scan_stamp:
+            scan = None
+        estimate = self.localizer.update(odometry, self.robot.read_imu(), scan, now)
+        if scan is not None:
+            self._last_scan_stamp = scan.stamp
+            self.costmap.update_scan(estimate.pose, scan)
+        estop = self.software_estop or self.robot.estop_pressed()
+        self._command = self.navigator.tick(now, estimate, odometry.twist, estop)
+        if estop:
+            self._command = Twist()
+        self.robot.drive(self._command)
+        return self._command

@@ -1,0 +1,1 @@
+"""The runtime: one robot's clock, backend and services, advanced together."""

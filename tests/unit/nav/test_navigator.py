@@ -1,0 +1,250 @@
+"""The navigator's state machine with scripted planner and controller doubles.
+
+The doubles let each test force one situation (no path, blocked, stuck, lost, e-stop) and check
+the exact sequence of events and the final state, on a hand-advanced clock.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from polynav.control.interface import ControlCommand, ControlStatus
+from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
+from polynav.errors import ConfigError
+from polynav.geometry import Pose2D, Twist
+from polynav.localization.interface import LocalizationEstimate, LocalizationState
+from polynav.maps import costs
+from polynav.nav import events
+from polynav.nav.attempt import FailureReason, NavigationState
+from polynav.nav.navigator import Navigator, NavigatorConfig
+from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError
+from polynav.planning.path import Path
+
+DT = 0.05
+
+
+@dataclass
+class FakeCostmap:
+    cleared: int = 0
+    lethal_behind: bool = False
+
+    def clear_obstacles(self) -> None:
+        self.cleared += 1
+
+    def cost_at(self, x: float, y: float) -> int:
+        return costs.LETHAL if self.lethal_behind else costs.FREE
+
+
+@dataclass
+class ScriptedPlanner:
+    """Raises the scripted errors in order, then plans straight lines."""
+
+    failures: list[PlanningError] = field(default_factory=list)
+    calls: int = 0
+
+    def plan(self, costmap: object, start: Pose2D, goal: Pose2D) -> Path:
+        self.calls += 1
+        if self.failures:
+            raise self.failures.pop(0)
+        return Path(np.array([[start.x, start.y], [goal.x, goal.y]]))
+
+
+@dataclass
+class ScriptedController:
+    """Returns the scripted statuses in order, then the last one for ever."""
+
+    statuses: list[ControlStatus] = field(default_factory=lambda: [ControlStatus.TRACKING])
+    paths: int = 0
+
+    def set_path(self, path: Path, goal: Pose2D) -> None:
+        self.paths += 1
+
+    def compute(self, pose: Pose2D, velocity: Twist, costmap: object, dt: float) -> ControlCommand:
+        status = self.statuses.pop(0) if len(self.statuses) > 1 else self.statuses[0]
+        moving = status in (ControlStatus.TRACKING, ControlStatus.SLOWING)
+        return ControlCommand(Twist(0.5 if moving else 0.0, 0.0), status)
+
+    def reset(self) -> None:
+        pass
+
+
+def _estimate(pose: Pose2D, state: LocalizationState = LocalizationState.TRACKING) -> (
+    LocalizationEstimate
+):
+    return LocalizationEstimate(stamp=0.0, pose=pose, quality=1.0, state=state)
+
+
+class Harness:
+    def __init__(self, planner: ScriptedPlanner, controller: ScriptedController,
+                 config: NavigatorConfig | None = None) -> None:
+        self.costmap = FakeCostmap()
+        self.log: list[events.NavigationEvent] = []
+        self.nav = Navigator(
+            self.costmap,  # type: ignore[arg-type]
+            planner,
+            controller,
+            ProgressChecker(ProgressCheckerConfig(required_movement_radius=0.5,
+                                                  movement_time_allowance=2.0)),
+            config=config,
+            on_event=self.log.append,
+        )
+        self.now = 0.0
+        self.pose = Pose2D()
+        self.estop = False
+        self.localization = LocalizationState.TRACKING
+        self.twists: list[Twist] = []
+
+    def run(self, seconds: float, *, move: bool = False) -> None:
+        for _ in range(round(seconds / DT)):
+            twist = self.nav.tick(self.now, _estimate(self.pose, self.localization), Twist(),
+                                  self.estop)
+            self.twists.append(twist)
+            if move:
+                self.pose = Pose2D(self.pose.x + twist.linear * DT, self.pose.y, self.pose.theta)
+            self.now += DT
+
+    def kinds(self) -> list[str]:
+        return [type(e).__name__ for e in self.log]
+
+
+def test_arrival_ends_succeeded_with_distance_travelled() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController(
+        [ControlStatus.TRACKING] * 20 + [ControlStatus.ARRIVED]))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(2.0, move=True)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.SUCCEEDED
+    assert attempt.distance_travelled == pytest.approx(20 * 0.5 * DT)
+    assert h.kinds() == ["NavigationStarted", "PathPlanned", "NavigationSucceeded"]
+    assert h.twists[-1] == Twist()
+
+
+def test_no_path_clears_the_costmap_once_then_fails() -> None:
+    planner = ScriptedPlanner([NoPath("walled in"), NoPath("walled in")])
+    h = Harness(planner, ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.5)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.NO_PATH
+    assert h.costmap.cleared == 1 and planner.calls == 2
+    assert h.kinds() == ["NavigationStarted", "NavigationRetry", "NavigationFailed"]
+    assert attempt.ended_at == pytest.approx(DT)
+
+
+def test_no_path_that_clearing_resolves_goes_on() -> None:
+    h = Harness(ScriptedPlanner([NoPath("a person")]), ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.5, move=True)
+    assert h.nav.state is NavigationState.RUNNING
+    assert h.kinds()[:3] == ["NavigationStarted", "NavigationRetry", "PathPlanned"]
+
+
+def test_goal_occupied_and_outside_map_reasons() -> None:
+    h = Harness(ScriptedPlanner([GoalOccupied("wall"), GoalOccupied("wall")]),
+                ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.5)
+    assert h.nav.attempt is not None and h.nav.attempt.reason is FailureReason.GOAL_OCCUPIED
+    h2 = Harness(ScriptedPlanner([OutsideMap("far")]), ScriptedController())
+    h2.nav.start(Pose2D(500.0, 0.0, 0.0), h2.now)
+    h2.run(0.2)
+    assert h2.nav.attempt is not None and h2.nav.attempt.reason is FailureReason.NO_PATH
+
+
+def test_stuck_robot_runs_recoveries_then_fails_stuck() -> None:
+    config = NavigatorConfig(max_retries=3)
+    h = Harness(ScriptedPlanner(), ScriptedController(), config)
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(60.0, move=False)  # the wheels spin, the robot goes nowhere
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.STUCK
+    retries = [e for e in h.log if isinstance(e, events.NavigationRetry)]
+    assert [r.recovery for r in retries] == ["clear costmap", "spin", "back up"]
+    assert attempt.retries == 4
+
+
+def test_blocked_waits_then_replans() -> None:
+    controller = ScriptedController([ControlStatus.BLOCKED] + [ControlStatus.TRACKING])
+    planner = ScriptedPlanner()
+    config = NavigatorConfig(blocked_wait=1.0)
+    h = Harness(planner, controller, config)
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.9)
+    assert planner.calls == 1
+    assert all(t == Twist() for t in h.twists)
+    h.run(0.3, move=True)
+    assert planner.calls == 2
+    assert h.kinds()[:5] == ["NavigationStarted", "PathPlanned", "NavigationBlocked",
+                             "NavigationRetry", "PathPlanned"]
+    assert h.twists[-1].linear > 0
+
+
+def test_estop_holds_without_failing_and_releases_with_a_new_plan() -> None:
+    planner = ScriptedPlanner()
+    h = Harness(planner, ScriptedController())
+    h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    h.run(0.5, move=True)
+    h.estop = True
+    h.run(30.0, move=True)
+    assert h.nav.state is NavigationState.RUNNING
+    assert all(t == Twist() for t in h.twists[-600:])
+    h.estop = False
+    h.run(0.2, move=True)
+    assert "NavigationHeld" in h.kinds() and "NavigationReleased" in h.kinds()
+    assert h.twists[-1].linear > 0
+
+
+def test_estop_can_be_configured_to_fail() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController(), NavigatorConfig(estop_fail_after=2.0))
+    h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    h.estop = True
+    h.run(3.0)
+    assert h.nav.attempt is not None and h.nav.attempt.reason is FailureReason.ESTOP
+
+
+def test_lost_localization_fails_after_the_grace_period_only() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController(), NavigatorConfig(localization_grace=2.0))
+    h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    h.localization = LocalizationState.LOST
+    h.run(1.9)
+    assert h.nav.state is NavigationState.RUNNING
+    h.run(0.2)
+    assert h.nav.attempt is not None
+    assert h.nav.attempt.reason is FailureReason.LOCALIZATION_LOST
+
+
+def test_pause_resume_cancel() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController())
+    assert not h.nav.pause(h.now) and not h.nav.resume(h.now) and not h.nav.cancel(h.now)
+    h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    h.run(0.5, move=True)
+    assert h.nav.pause(h.now)
+    h.run(1.0, move=True)
+    assert all(t == Twist() for t in h.twists[-20:])
+    assert h.nav.resume(h.now)
+    h.run(0.2, move=True)
+    assert h.twists[-1].linear > 0
+    assert h.nav.cancel(h.now)
+    h.run(0.2)
+    assert h.nav.state is NavigationState.CANCELED
+    assert h.kinds()[-1] == "NavigationCanceled"
+
+
+def test_new_goal_cancels_the_running_one() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController())
+    first = h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    second = h.nav.start(Pose2D(-5.0, 0.0, 0.0), h.now)
+    assert second == first + 1
+    assert h.kinds() == ["NavigationStarted", "NavigationCanceled", "NavigationStarted"]
+
+
+def test_config_rejects_bad_values() -> None:
+    with pytest.raises(ConfigError):
+        NavigatorConfig(max_retries=-1)
+    with pytest.raises(ConfigError):
+        NavigatorConfig(blocked_wait=0.0)
