@@ -119,8 +119,11 @@ def test_negated_benchmark_map_reads_white_as_occupied(shared_data: Path) -> Non
         ({"mode": "trinary", "negate": 1}, [0, -1, -1, 100], [100, 100, 100, -1]),
         ({"negate": True}, [0, -1, -1, 100], [100, 100, 100, -1]),
         ({"mode": "scale"}, [100, 91, 67, 0], [0, 0, 0, 100]),
-        ({"mode": "scale", "occupied_thresh": 1.0, "free_thresh": 0.0}, [100, 61, 50, 20],
-         [10, 0, 0, 80]),
+        (
+            {"mode": "scale", "occupied_thresh": 1.0, "free_thresh": 0.0},
+            [100, 61, 50, 20],
+            [10, 0, 0, 80],
+        ),
         ({"mode": "raw"}, [0, 100, -1, -1], [-1, -1, -1, 50]),
         ({"mode": "raw", "negate": 1}, [0, 100, -1, -1], [-1, -1, -1, 50]),
     ],
@@ -183,9 +186,7 @@ def test_sixteen_bit_png_is_scaled_to_eight_bits(tmp_path: Path) -> None:
 
 def test_origin_resolution_and_yaw_are_read_from_the_yaml(tmp_path: Path) -> None:
     _write_p5(tmp_path / "map.pgm", PIXELS)
-    grid = load_map(
-        _write_yaml(tmp_path, "map.pgm", resolution=0.025, origin=[1.5, -2, 0.5])
-    )
+    grid = load_map(_write_yaml(tmp_path, "map.pgm", resolution=0.025, origin=[1.5, -2, 0.5]))
     assert grid.info == MapInfo(resolution=0.025, width=4, height=2, origin=Pose2D(1.5, -2.0, 0.5))
 
 

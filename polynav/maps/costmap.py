@@ -1,0 +1,293 @@
+"""The layered costmap: what the planner and the controller read (Lu et al., IROS 2014).
+
+Four layers, each keeping its own state, compose the master grid in this order:
+
+1. :class:`~polynav.maps.layers.static.StaticLayer`: the map (overwrites);
+2. :class:`~polynav.maps.layers.keepout.KeepoutLayer`: virtual walls and forbidden zones (LETHAL);
+3. :class:`~polynav.maps.layers.obstacle.ObstacleLayer`: the live lidar (marks and clears);
+4. :class:`~polynav.maps.layers.inflation.InflationLayer`: robot radius and decaying costs.
+
+An update first asks every layer which cells it changed (``update_bounds``; inflation grows that
+window by its radius), then resets and recomposes the master *inside that window only*
+(``update_costs``), as Nav2's ``LayeredCostmap::updateMap``. A scan on one side of a large map
+therefore leaves the far side alone, and a robot standing still in a static scene redraws almost
+nothing. Extra layers (a later speed or semantic layer) slot in between obstacle and inflation.
+
+Outside the map, :meth:`Costmap.cost_at` answers LETHAL: the robot knows nothing there, there is
+no grid to plan on, and a controller must treat leaving the map like hitting a wall.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.errors import ConfigError, InvalidRequest
+from polynav.geometry import Pose2D
+from polynav.maps import costs
+from polynav.maps.interface import CostmapLayer, Window
+from polynav.maps.keepout import Keepout
+from polynav.maps.layers import obstacle as obstacle_kernel
+from polynav.maps.layers import window as win
+from polynav.maps.layers.inflation import InflationLayer
+from polynav.maps.layers.keepout import KeepoutLayer
+from polynav.maps.layers.obstacle import ObstacleLayer
+from polynav.maps.layers.static import StaticLayer
+from polynav.maps.map import Map, MapInfo
+from polynav.robot.interface import LaserScan
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class CostmapConfig:
+    """How the costmap turns a map, keepouts and scans into costs (SI units).
+
+    Attributes:
+        robot_radius: inscribed radius [m]; cells this close to an obstacle are INSCRIBED.
+        inflation_radius: how far [m] obstacles raise costs; at least ``robot_radius``.
+        cost_scaling_factor: decay rate [1/m] of the cost between the two radii.
+        lethal_threshold: map occupancy (0..100) at or above which a cell is LETHAL.
+        track_unknown: unknown map cells are UNKNOWN if True, else FREE.
+        obstacle_max_range: scan returns nearer than this [m] mark obstacles.
+        raytrace_max_range: beams clear free space up to this distance [m].
+        obstacle_layer: use the live scan at all.
+    """
+
+    robot_radius: float = 0.25
+    inflation_radius: float = 0.55
+    cost_scaling_factor: float = 3.0
+    lethal_threshold: int = 65
+    track_unknown: bool = False
+    obstacle_max_range: float = 6.0
+    raytrace_max_range: float = 8.0
+    obstacle_layer: bool = True
+
+    def __post_init__(self) -> None:
+        _check(self.robot_radius >= 0.0, "robot_radius", "must be >= 0")
+        _check(
+            self.inflation_radius >= self.robot_radius,
+            "inflation_radius",
+            f"must be >= robot_radius ({self.robot_radius})",
+        )
+        _check(self.cost_scaling_factor >= 0.0, "cost_scaling_factor", "must be >= 0")
+        _check(1 <= self.lethal_threshold <= 100, "lethal_threshold", "must be within 1..100")
+        _check(self.obstacle_max_range > 0.0, "obstacle_max_range", "must be > 0")
+        _check(self.raytrace_max_range > 0.0, "raytrace_max_range", "must be > 0")
+        for name in (
+            "robot_radius",
+            "inflation_radius",
+            "cost_scaling_factor",
+            "obstacle_max_range",
+            "raytrace_max_range",
+        ):
+            _check(math.isfinite(getattr(self, name)), name, "must be finite")
+
+
+def _check(ok: bool, field: str, reason: str) -> None:
+    if not ok:
+        raise ConfigError(f"costmap.{field}", reason)
+
+
+def _cost_at(info: MapInfo, grid: npt.NDArray[np.uint8], x: float, y: float) -> int:
+    ix, iy = info.world_to_cell(x, y)
+    if not info.contains(ix, iy):
+        return costs.LETHAL
+    return int(grid[iy, ix])
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CostSnapshot:
+    """A frozen copy of the master costs, safe to hand to a planner on another thread.
+
+    ``costs`` is a read-only copy: later costmap updates do not change it.
+    """
+
+    info: MapInfo
+    costs: npt.NDArray[np.uint8]
+
+    def cost_at(self, x: float, y: float) -> int:
+        """Cost of the cell holding world point (x, y) [m]; LETHAL outside the map."""
+        return _cost_at(self.info, self.costs, x, y)
+
+
+class Costmap:
+    """Master costs composed from static, keepout, obstacle and inflation layers.
+
+    Args:
+        grid: the occupancy map.
+        config: costmap parameters.
+        extra_layers: more layers, composed after the obstacle layer and before inflation. They
+            must work on ``grid.info``'s geometry.
+    """
+
+    def __init__(
+        self,
+        grid: Map,
+        config: CostmapConfig,
+        *,
+        extra_layers: Sequence[CostmapLayer] = (),
+    ) -> None:
+        self._config = config
+        self._extra = tuple(extra_layers)
+        self._pose = Pose2D()
+        self._last_window: Window | None = None
+        self._build(grid, keepouts=())
+
+    @classmethod
+    def from_map(cls, grid: Map, config: CostmapConfig) -> Costmap:
+        """The standard four-layer costmap over ``grid``."""
+        return cls(grid, config)
+
+    def _build(self, grid: Map, *, keepouts: Sequence[Keepout]) -> None:
+        cfg = self._config
+        info = grid.info
+        self._info = info
+        self._static = StaticLayer(
+            grid, lethal_threshold=cfg.lethal_threshold, track_unknown=cfg.track_unknown
+        )
+        self._keepout = KeepoutLayer(info, keepouts)
+        self._obstacle: ObstacleLayer | None = None
+        if cfg.obstacle_layer:
+            self._obstacle = ObstacleLayer(
+                info,
+                obstacle_max_range=cfg.obstacle_max_range,
+                raytrace_max_range=cfg.raytrace_max_range,
+            )
+        self._inflation = InflationLayer(
+            info,
+            robot_radius=cfg.robot_radius,
+            inflation_radius=cfg.inflation_radius,
+            cost_scaling_factor=cfg.cost_scaling_factor,
+        )
+        layers: list[CostmapLayer] = [self._static, self._keepout]
+        if self._obstacle is not None:
+            layers.append(self._obstacle)
+        layers.extend(self._extra)
+        layers.append(self._inflation)
+        self._layers = tuple(layers)
+        self._default = costs.UNKNOWN if cfg.track_unknown else costs.FREE
+        self._master = np.full((info.height, info.width), self._default, dtype=np.uint8)
+        self._view = self._master.view()
+        self._view.flags.writeable = False
+        self.update()
+
+    @property
+    def config(self) -> CostmapConfig:
+        return self._config
+
+    @property
+    def info(self) -> MapInfo:
+        return self._info
+
+    @property
+    def costs(self) -> npt.NDArray[np.uint8]:
+        """The master costs ``[iy, ix]``, live and read-only; take a :meth:`snapshot` to keep."""
+        return self._view
+
+    @property
+    def layers(self) -> tuple[CostmapLayer, ...]:
+        """The layers in composition order."""
+        return self._layers
+
+    @property
+    def keepouts(self) -> tuple[Keepout, ...]:
+        return self._keepout.keepouts
+
+    @property
+    def last_window(self) -> Window | None:
+        """The window the last update recomposed (``None``: nothing changed); for diagnostics."""
+        return self._last_window
+
+    def snapshot(self) -> CostSnapshot:
+        """A frozen copy of the current costs."""
+        frozen = self._master.copy()
+        frozen.flags.writeable = False
+        return CostSnapshot(self._info, frozen)
+
+    def cost_at(self, x: float, y: float) -> int:
+        """Cost of the cell holding world point (x, y) [m]; LETHAL outside the map (see module)."""
+        return _cost_at(self._info, self._master, x, y)
+
+    def update_scan(self, pose: Pose2D, scan: LaserScan) -> None:
+        """Mark and clear ``scan`` taken at robot ``pose``, then recompose the changed window.
+
+        Does nothing but record the pose when the obstacle layer is off.
+        """
+        self._pose = pose
+        if self._obstacle is not None:
+            self._obstacle.add_scan(pose, scan)
+        self.update()
+
+    def clear_obstacles(self) -> None:
+        """Forget everything the lidar marked (the "clear costmap" recovery)."""
+        if self._obstacle is not None:
+            self._obstacle.clear()
+        log.info("costmap: obstacles cleared")
+        self.update()
+
+    def set_keepouts(self, keepouts: Sequence[Keepout]) -> None:
+        """Replace every keepout; only the cells that changed (plus inflation) are redrawn."""
+        self._keepout.set_keepouts(keepouts)
+        log.info("costmap: %d keepouts set", len(keepouts))
+        self.update()
+
+    def set_static_map(self, grid: Map) -> None:
+        """Swap the map (a floor change, or the same floor re-mapped).
+
+        The lidar's obstacles are forgotten: they were seen in the old map's frame, and the next
+        scans see them again. Keepouts are kept and drawn on the new grid, since they are world
+        shapes the caller owns: call :meth:`set_keepouts` when they belong to the old map only.
+        With the same geometry (size, resolution, origin) only the cells that differ are
+        redrawn; with another, every layer starts afresh on the new grid.
+
+        Raises:
+            InvalidRequest: the geometry changes and extra layers were given, which only their
+                owner can rebuild: make a new :class:`Costmap`.
+        """
+        if grid.info == self._info:
+            self._static.set_map(grid)
+            if self._obstacle is not None:
+                self._obstacle.clear()
+            self.update()
+            return
+        if self._extra:
+            raise InvalidRequest(
+                "map", "a costmap with extra layers cannot change geometry; build a new Costmap"
+            )
+        log.info(
+            "costmap: new map %dx%d at %g m",
+            grid.info.width,
+            grid.info.height,
+            grid.info.resolution,
+        )
+        self._build(grid, keepouts=self._keepout.keepouts)
+
+    def update(self) -> Window | None:
+        """Recompose the master wherever a layer changed; returns that window (or ``None``).
+
+        :meth:`update_scan`, :meth:`set_keepouts` and the other mutators call it; call it
+        yourself after changing an extra layer.
+        """
+        window: Window | None = None
+        for layer in self._layers:
+            window = layer.update_bounds(self._pose, window)
+        window = win.clip(window, self._info.width, self._info.height)
+        self._last_window = window
+        if window is None:
+            return None
+        self._master[win.slices(window)] = self._default
+        for layer in self._layers:
+            layer.update_costs(self._master, window)
+        log.debug("costmap: recomposed window %s", window)
+        return window
+
+
+def warm_up() -> None:
+    """Compile the costmap's numba kernels on tiny inputs (call once at start-up)."""
+    obstacle_kernel.warm_up()

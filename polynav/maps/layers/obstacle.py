@@ -1,0 +1,240 @@
+"""The obstacle layer: what the lidar sees now, marked and cleared beam by beam.
+
+Each beam marks the cell where it ended as LETHAL when the return lies within
+``obstacle_max_range``, and clears the cells it passed through on the way (up to the hit, or up to
+``raytrace_max_range`` for a beam with no return), as Nav2's ``ObstacleLayer`` does. Clearing is
+what removes a person who walked away: the next beam through the cell frees it.
+
+The layer keeps its own grid: UNKNOWN (never seen), FREE (seen through) or LETHAL (seen hit). It
+composes into the master with "max" semantics, except that a cell it has seen through turns an
+UNKNOWN map cell FREE (Nav2 ``updateWithMax``): it never clears a map wall or a keepout.
+
+The walk is the Amanatides & Woo traversal of :mod:`polynav.maps.raycast`, in one numba kernel
+over the whole scan. Only cells whose value actually changes enter the dirty window, so a robot
+standing in a static scene redraws almost nothing, and the costmap's update stays cheap.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numba
+import numpy as np
+import numpy.typing as npt
+
+from polynav.geometry import Pose2D
+from polynav.maps import costs
+from polynav.maps.interface import Window
+from polynav.maps.layers import window as win
+from polynav.maps.map import MapInfo
+from polynav.robot.interface import LaserScan
+
+log = logging.getLogger(__name__)
+
+_BIG = 1 << 40
+# numba freezes module globals as constants, so the kernel reads the named costs.
+_FREE = costs.FREE
+_LETHAL = costs.LETHAL
+
+
+@numba.njit(cache=True, nogil=True)
+def _grow(bbox: npt.NDArray[np.int64], ix: int, iy: int) -> None:
+    bbox[0] = min(bbox[0], ix)
+    bbox[1] = min(bbox[1], iy)
+    bbox[2] = max(bbox[2], ix + 1)
+    bbox[3] = max(bbox[3], iy + 1)
+
+
+@numba.njit(cache=True, nogil=True)
+def trace_scan(
+    grid: npt.NDArray[np.uint8],
+    protect: npt.NDArray[np.uint8],
+    sx: float,
+    sy: float,
+    angles: npt.NDArray[np.float64],
+    ranges: npt.NDArray[np.float64],
+    valid: npt.NDArray[np.bool_],
+    mark: npt.NDArray[np.bool_],
+    clear_len: npt.NDArray[np.float64],
+    bbox: npt.NDArray[np.int64],
+) -> None:
+    """Mark and clear one scan in ``grid`` (FREE / LETHAL / UNKNOWN), in grid units.
+
+    Args:
+        grid: the layer's cells ``[iy, ix]``, changed in place.
+        protect: scratch grid of zeros, same shape; zero again on return.
+        sx, sy: sensor position in cells ((0, 0) is the grid's lower-left corner).
+        angles: beam directions [rad] in the grid frame.
+        ranges: beam lengths in cells (meaningful where ``valid``).
+        valid: the beam has a return; clearing stops before its end cell.
+        mark: the beam's end cell becomes LETHAL.
+        clear_len: how far to clear along each beam, in cells.
+        bbox: ``[ix0, iy0, ix1, iy1]`` grown by every cell whose value changed.
+    """
+    height, width = grid.shape
+    n = angles.shape[0]
+    # Mark first and protect the marked cells, so that a beam grazing another beam's hit
+    # does not clear it (and the cell does not flip twice and dirty the window for nothing).
+    for k in range(n):
+        if not mark[k]:
+            continue
+        ex = int(math.floor(sx + ranges[k] * math.cos(angles[k])))
+        ey = int(math.floor(sy + ranges[k] * math.sin(angles[k])))
+        if 0 <= ex < width and 0 <= ey < height:
+            protect[ey, ex] = 1
+            if grid[ey, ex] != _LETHAL:
+                grid[ey, ex] = _LETHAL
+                _grow(bbox, ex, ey)
+    ix0 = int(math.floor(sx))
+    iy0 = int(math.floor(sy))
+    for k in range(n):
+        length = clear_len[k]
+        if not length > 0.0:
+            continue
+        dx = math.cos(angles[k])
+        dy = math.sin(angles[k])
+        ex = -_BIG
+        ey = -_BIG
+        if valid[k]:
+            ex = int(math.floor(sx + ranges[k] * dx))
+            ey = int(math.floor(sy + ranges[k] * dy))
+        ix = ix0
+        iy = iy0
+        step_x = 1 if dx > 0.0 else -1
+        step_y = 1 if dy > 0.0 else -1
+        if dx != 0.0:
+            t_delta_x = abs(1.0 / dx)
+            t_max_x = ((ix + 1.0 - sx) if dx > 0.0 else (sx - ix)) * t_delta_x
+        else:
+            t_delta_x = math.inf
+            t_max_x = math.inf
+        if dy != 0.0:
+            t_delta_y = abs(1.0 / dy)
+            t_max_y = ((iy + 1.0 - sy) if dy > 0.0 else (sy - iy)) * t_delta_y
+        else:
+            t_delta_y = math.inf
+            t_max_y = math.inf
+        t = 0.0
+        while t < length:
+            if ix == ex and iy == ey:
+                break
+            if 0 <= ix < width and 0 <= iy < height:
+                if protect[iy, ix] == 0 and grid[iy, ix] != _FREE:
+                    grid[iy, ix] = _FREE
+                    _grow(bbox, ix, iy)
+            if t_max_x < t_max_y:
+                t = t_max_x
+                t_max_x += t_delta_x
+                ix += step_x
+            else:
+                t = t_max_y
+                t_max_y += t_delta_y
+                iy += step_y
+    for k in range(n):
+        if not mark[k]:
+            continue
+        ex = int(math.floor(sx + ranges[k] * math.cos(angles[k])))
+        ey = int(math.floor(sy + ranges[k] * math.sin(angles[k])))
+        if 0 <= ex < width and 0 <= ey < height:
+            protect[ey, ex] = 0
+
+
+def warm_up() -> None:
+    """Compile :func:`trace_scan` on a tiny grid so the first real scan does not pay for it."""
+    grid = np.full((4, 4), costs.UNKNOWN, dtype=np.uint8)
+    one = np.ones(1, dtype=np.bool_)
+    trace_scan(
+        grid,
+        np.zeros((4, 4), dtype=np.uint8),
+        1.5,
+        1.5,
+        np.zeros(1),
+        np.ones(1),
+        one,
+        one,
+        np.ones(1),
+        np.array([_BIG, _BIG, -_BIG, -_BIG], dtype=np.int64),
+    )
+
+
+class ObstacleLayer:
+    """Obstacles seen by the lidar, kept until a later beam sees through them."""
+
+    def __init__(
+        self, info: MapInfo, *, obstacle_max_range: float, raytrace_max_range: float
+    ) -> None:
+        self._info = info
+        self._obstacle_max_range = obstacle_max_range
+        self._raytrace_max_range = raytrace_max_range
+        self._grid = np.full((info.height, info.width), costs.UNKNOWN, dtype=np.uint8)
+        self._protect = np.zeros((info.height, info.width), dtype=np.uint8)
+        self._pending: Window | None = None
+        self._touched: Window | None = None
+
+    @property
+    def grid(self) -> npt.NDArray[np.uint8]:
+        """The layer's cells ``[iy, ix]``: UNKNOWN, FREE or LETHAL (read them, do not write)."""
+        return self._grid
+
+    def add_scan(self, pose: Pose2D, scan: LaserScan) -> Window | None:
+        """Mark and clear along every beam of ``scan`` taken with the robot at ``pose``.
+
+        A beam's world angle is ``pose.theta + scan.sensor_pose.theta + angle``. Ranges that are
+        not finite, NaN, below ``range_min`` or above ``range_max`` are no-returns: they mark
+        nothing and clear up to ``min(raytrace_max_range, range_max)`` (the sensor cannot have
+        seen free space beyond its own range). A return clears up to the cell it hit, or up to
+        ``raytrace_max_range``, and marks that cell if it is nearer than ``obstacle_max_range``.
+
+        Returns:
+            The window of cells whose value changed (``None`` if none did).
+        """
+        info = self._info
+        sensor = pose.compose(scan.sensor_pose)
+        # Work in the grid frame, in cells: (0, 0) is the lower-left corner of cell (0, 0).
+        lx, ly = info.origin.inverse().transform_point(sensor.x, sensor.y)
+        res = info.resolution
+        angles = scan.angles.astype(np.float64) + (sensor.theta - info.origin.theta)
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        with np.errstate(invalid="ignore"):
+            valid = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
+        mark = valid & (ranges < self._obstacle_max_range)
+        no_return = min(self._raytrace_max_range, scan.range_max)
+        clear_len = np.where(valid, np.minimum(ranges, self._raytrace_max_range), no_return)
+        bbox = np.array([_BIG, _BIG, -_BIG, -_BIG], dtype=np.int64)
+        trace_scan(
+            self._grid,
+            self._protect,
+            lx / res,
+            ly / res,
+            np.ascontiguousarray(angles),
+            np.where(valid, ranges, 0.0) / res,
+            valid,
+            mark,
+            clear_len / res,
+            bbox,
+        )
+        changed: Window | None = None
+        if bbox[0] < bbox[2]:
+            changed = (int(bbox[0]), int(bbox[1]), int(bbox[2]), int(bbox[3]))
+        self._pending = win.union(self._pending, changed)
+        self._touched = win.union(self._touched, changed)
+        return changed
+
+    def clear(self) -> None:
+        """Forget every observation (the "clear costmap" recovery)."""
+        if self._touched is not None:
+            self._grid[win.slices(self._touched)] = costs.UNKNOWN
+        self._pending = win.union(self._pending, self._touched)
+        self._touched = None
+
+    def update_bounds(self, pose: Pose2D, window: Window | None) -> Window | None:
+        pending, self._pending = self._pending, None
+        return win.union(window, pending)
+
+    def update_costs(self, master: npt.NDArray[np.uint8], window: Window) -> None:
+        region = win.slices(window)
+        layer = self._grid[region]
+        out = master[region]
+        out[layer == costs.LETHAL] = costs.LETHAL
+        out[(layer == costs.FREE) & (out == costs.UNKNOWN)] = costs.FREE
