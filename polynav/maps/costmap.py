@@ -32,6 +32,7 @@ from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.interface import CostmapLayer, Window
 from polynav.maps.keepout import Keepout
+from polynav.maps.layers import inflation as inflation_kernel
 from polynav.maps.layers import obstacle as obstacle_kernel
 from polynav.maps.layers import window as win
 from polynav.maps.layers.inflation import InflationLayer
@@ -291,3 +292,4 @@ class Costmap:
 def warm_up() -> None:
     """Compile the costmap's numba kernels on tiny inputs (call once at start-up)."""
     obstacle_kernel.warm_up()
+    inflation_kernel.warm_up()

@@ -10,11 +10,14 @@ A planner treats the robot as a point, so every obstacle is grown by the robot's
 * distance <= ``inflation_radius``: ``int(252 * exp(-cost_scaling_factor * (d - robot_radius)))``;
 * beyond: FREE.
 
-Distances are between cell centres, from ``scipy.ndimage.distance_transform_edt`` over the dirty
-window grown by the inflation radius (a lethal cell outside the window can still inflate a cell
-inside it). The squared distance in cells is an integer, so the cost is a table lookup, exact and
-the same for every call. Inflation takes the maximum with what the layers below wrote: it never
-lowers a cost, and UNKNOWN (255, the largest value) stays UNKNOWN.
+Distances are between cell centres: an exact Euclidean distance transform over the dirty window
+grown by the inflation radius (a lethal cell outside the window can still inflate a cell inside
+it). It is Felzenszwalb & Huttenlocher's two-pass squared transform ("Distance Transforms of
+Sampled Functions", Theory of Computing 2012) in a numba kernel: it gives the same distances as
+``scipy.ndimage.distance_transform_edt`` (the tests check this) at several times the speed, which
+is most of the cost of a scan update. The squared distance in cells is an integer, so the cost is
+a table lookup, exact and the same for every call. Inflation takes the maximum with what the
+layers below wrote: it never lowers a cost, and UNKNOWN (255, the largest value) stays UNKNOWN.
 
 Lethal cells are stable under inflation (only a lethal cell gets distance 0), so reading them from
 the master outside the window, where the previous inflation already ran, is safe.
@@ -25,9 +28,9 @@ from __future__ import annotations
 import logging
 import math
 
+import numba
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
 
 from polynav.geometry import Pose2D
 from polynav.maps import costs
@@ -53,6 +56,63 @@ def inflation_cost(
         factor = math.exp(-cost_scaling_factor * (distance - robot_radius))
         return int((costs.INSCRIBED - 1) * factor)
     return costs.FREE
+
+
+@numba.njit(cache=True, nogil=True)
+def _squared_distances(lethal: npt.NDArray[np.bool_], out: npt.NDArray[np.int64]) -> None:
+    height, width = lethal.shape
+    # Farther than any cell of the grid can be: stands for "no lethal cell in this column".
+    far = height + width
+    g = np.empty((height, width), dtype=np.int64)
+    for x in range(width):
+        d = far
+        for y in range(height):
+            d = 0 if lethal[y, x] else min(d + 1, far)
+            g[y, x] = d
+        d = far
+        for y in range(height - 1, -1, -1):
+            d = 0 if lethal[y, x] else min(d + 1, far)
+            g[y, x] = min(g[y, x], d)
+    # Per row, the lower envelope of the parabolas (x - q)^2 + g(q)^2.
+    v = np.empty(width, dtype=np.int64)
+    z = np.empty(width + 1, dtype=np.float64)
+    f = np.empty(width, dtype=np.int64)
+    for y in range(height):
+        for q in range(width):
+            f[q] = g[y, q] * g[y, q]
+        k = 0
+        v[0] = 0
+        z[0] = -np.inf
+        z[1] = np.inf
+        for q in range(1, width):
+            s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
+            while s <= z[k]:
+                k -= 1
+                s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
+            k += 1
+            v[k] = q
+            z[k] = s
+            z[k + 1] = np.inf
+        k = 0
+        for q in range(width):
+            while z[k + 1] < q:
+                k += 1
+            out[y, q] = (q - v[k]) * (q - v[k]) + f[v[k]]
+
+
+def squared_distances(lethal: npt.NDArray[np.bool_]) -> npt.NDArray[np.int64]:
+    """Squared distance [cells^2] from each cell centre to the nearest ``True`` cell's centre.
+
+    Where there is no ``True`` cell at all, the values are at least ``(height + width)^2``.
+    """
+    out = np.empty(lethal.shape, dtype=np.int64)
+    _squared_distances(np.ascontiguousarray(lethal, dtype=np.bool_), out)
+    return out
+
+
+def warm_up() -> None:
+    """Compile the distance-transform kernel on a tiny grid."""
+    squared_distances(np.eye(3, dtype=np.bool_))
 
 
 class InflationLayer:
@@ -108,8 +168,7 @@ class InflationLayer:
             slice(window[1] - read[1], window[3] - read[1]),
             slice(window[0] - read[0], window[2] - read[0]),
         )
-        distance = ndimage.distance_transform_edt(~lethal)[inner]
-        d2 = np.rint(distance * distance).astype(np.intp)
+        d2 = squared_distances(lethal)[inner]
         np.minimum(d2, self._table.shape[0] - 1, out=d2)
         out = master[win.slices(window)]
         np.maximum(out, self._table[d2], out=out)

@@ -4,10 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from scipy import ndimage
 
 from polynav.geometry import Pose2D
 from polynav.maps import costs
-from polynav.maps.layers.inflation import InflationLayer, inflation_cost
+from polynav.maps.layers.inflation import InflationLayer, inflation_cost, squared_distances
 from polynav.maps.map import MapInfo
 
 RADII = {"robot_radius": 0.25, "inflation_radius": 0.55, "cost_scaling_factor": 3.0}
@@ -70,3 +71,23 @@ def test_zero_inflation_radius_leaves_the_master_alone() -> None:
     assert math.isclose(
         inflation_cost(0.05, robot_radius=0.0, inflation_radius=0.0, cost_scaling_factor=3.0), 0
     )
+
+
+@pytest.mark.parametrize("density", [0.0005, 0.02, 0.3, 0.9])
+def test_squared_distances_equal_scipy_euclidean_distance_transform(density: float) -> None:
+    rng = np.random.default_rng(11)
+    lethal = rng.random((67, 91)) < density
+    lethal[3, 5] = True  # at least one
+    expected = ndimage.distance_transform_edt(~lethal) ** 2
+    np.testing.assert_array_equal(squared_distances(lethal), np.rint(expected).astype(np.int64))
+
+
+def test_squared_distances_on_a_single_cell_and_a_single_row() -> None:
+    assert squared_distances(np.array([[True]])).tolist() == [[0]]
+    row = np.array([[False, True, False, False]])
+    assert squared_distances(row).tolist() == [[1, 0, 1, 4]]
+
+
+def test_squared_distances_without_lethal_cells_are_farther_than_the_grid() -> None:
+    d2 = squared_distances(np.zeros((4, 6), dtype=bool))
+    assert (d2 >= (4 + 6) ** 2).all()
