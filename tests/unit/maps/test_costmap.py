@@ -243,6 +243,18 @@ def test_return_beyond_obstacle_range_clears_but_does_not_mark() -> None:
     assert costmap.costs[20, 30] == FREE and costmap.costs[20, 35] == FREE
 
 
+def test_scan_on_a_map_with_rotated_origin_marks_the_cell_holding_the_endpoint() -> None:
+    grid = Map.from_occupied(
+        np.zeros((20, 20), dtype=bool), resolution=0.1, origin=Pose2D(1.0, 1.0, math.pi / 2)
+    )
+    costmap = Costmap.from_map(grid, BARE)
+    x, y = grid.info.cell_to_world(5, 5)  # (0.45, 1.55): the grid's +x is the world's +y
+    costmap.update_scan(Pose2D(x, y, 0.0), scan({0.0: 0.5}))
+    assert costmap.cost_at(x + 0.5, y) == LETHAL
+    assert costmap.costs[0, 5] == LETHAL
+    assert np.count_nonzero(costmap.costs == LETHAL) == 1
+
+
 def test_beams_are_turned_by_robot_heading_and_sensor_mount() -> None:
     costmap = Costmap.from_map(free_map(), BARE)
     mount = Pose2D(0.2, 0.0, math.pi / 2)  # 0.2 m ahead, looking left
