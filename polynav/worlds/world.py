@@ -1,0 +1,134 @@
+"""The simulated world: a building of floors, each with its ground-truth map, points and walkers.
+
+A :class:`World` is what the simulator treats as reality. Each :class:`WorldFloor` holds the
+ground-truth occupancy :class:`~polynav.maps.map.Map` (the lidar casts its rays into it and the
+robot collides with it), the floor's named :class:`~polynav.site.Point` s, the lift shaft that
+joins the floors, and the routes the floor's people walk. The same map also serves as the
+navigation map of the demo site, as if it had been surveyed perfectly.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from polynav.errors import InvalidRequest
+from polynav.geometry import Pose2D
+from polynav.maps.map import Map
+from polynav.site import Point
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class PersonRoute:
+    """The way one person walks, over and over, on one floor.
+
+    Attributes:
+        waypoints: corners of the route [m], world frame; at least two.
+        speed: walking speed [m/s].
+        radius: the person's footprint as a circle [m].
+        loop: after the last waypoint walk back to the first (a circuit); if False, turn round
+            and walk the route backwards (back and forth).
+    """
+
+    waypoints: tuple[tuple[float, float], ...]
+    speed: float
+    radius: float = 0.25
+    loop: bool = True
+
+    def __post_init__(self) -> None:
+        if len(self.waypoints) < 2:
+            raise InvalidRequest("waypoints", "a person route needs at least two waypoints")
+        if not self.speed > 0.0:
+            raise InvalidRequest("speed", f"must be > 0, got {self.speed}")
+        if not self.radius > 0.0:
+            raise InvalidRequest("radius", f"must be > 0, got {self.radius}")
+
+
+@dataclass(frozen=True, slots=True)
+class LiftShaft:
+    """The lift car's floor area on one floor: an axis-aligned rectangle in world metres.
+
+    Every floor of a building has its shaft at the same place, which is what lets a lift ride be
+    a change of floor at an unchanged pose.
+
+    Attributes:
+        x, y: centre of the car [m].
+        width: extent along world x [m].
+        depth: extent along world y [m].
+        door_heading: direction [rad] from the car's centre out through its door.
+        door_width: clear width of the door opening [m].
+    """
+
+    x: float
+    y: float
+    width: float
+    depth: float
+    door_heading: float = 0.0
+    door_width: float = 1.2
+
+    def contains(self, x: float, y: float) -> bool:
+        """True if world point (x, y) [m] lies on the car's floor."""
+        return abs(x - self.x) <= 0.5 * self.width and abs(y - self.y) <= 0.5 * self.depth
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(x_min, y_min, x_max, y_max) [m]."""
+        hw, hd = 0.5 * self.width, 0.5 * self.depth
+        return (self.x - hw, self.y - hd, self.x + hw, self.y + hd)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class WorldFloor:
+    """One floor of the world: ground truth, named points, lift shaft and walkers.
+
+    Attributes:
+        name: the floor's name (``"floor1"``).
+        level: storey number, for ordering and lift buttons.
+        map_name: the name of the navigation map of this floor (points refer to it).
+        map: ground-truth occupancy.
+        points: the floor's named points.
+        lift: the lift car's area on this floor, if a lift stops here.
+        people: routes of the people walking on this floor.
+    """
+
+    name: str
+    level: int
+    map_name: str
+    map: Map
+    points: tuple[Point, ...]
+    lift: LiftShaft | None
+    people: tuple[PersonRoute, ...]
+
+    def point(self, name: str) -> Point:
+        """The point called ``name`` on this floor.
+
+        Raises:
+            InvalidRequest: no point has that name.
+        """
+        for p in self.points:
+            if p.name == name:
+                return p
+        raise InvalidRequest("point", f"no point {name!r} on floor {self.name!r}")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class World:
+    """A whole simulated building, and where the robot starts in it."""
+
+    name: str
+    floors: tuple[WorldFloor, ...]
+    start_floor: str
+    start_pose: Pose2D
+
+    def floor(self, name: str) -> WorldFloor:
+        """The floor called ``name``.
+
+        Raises:
+            InvalidRequest: no floor has that name.
+        """
+        for f in self.floors:
+            if f.name == name:
+                return f
+        raise InvalidRequest("floor", f"no floor {name!r} in world {self.name!r}")

@@ -1,0 +1,216 @@
+"""World folders: a ``world.yaml`` beside the ROS map files of each floor.
+
+The layout, every length in metres and every angle in radians::
+
+    name: demo
+    start: {floor: floor1, pose: {x: 3.0, y: 4.5, theta: 1.5708}}
+    floors:
+      - name: floor1
+        level: 1
+        map: floor1.yaml            # a ROS map_server YAML, relative to the folder
+        map_name: floor1            # optional, defaults to the floor name
+        lift: {x: 38.0, y: 22.0, width: 2.0, depth: 2.0, door_heading: -1.5708, door_width: 1.2}
+        points:
+          - {name: lobby, x: 4.0, y: 6.0, theta: 0.0, kind: general, number: 1}
+        people:
+          - {waypoints: [[10.0, 11.5], [30.0, 11.5]], speed: 1.0, radius: 0.25, loop: false}
+
+``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
+``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``
+and ``loop`` may be left out. Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`,
+so any ROS map can be the reality of a simulated floor.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from polynav.errors import InvalidRequest
+from polynav.geometry import Pose2D
+from polynav.maps.ros_map import load_map
+from polynav.site import Point, PointKind
+from polynav.worlds.errors import WorldFormatError
+from polynav.worlds.world import LiftShaft, PersonRoute, World, WorldFloor
+
+log = logging.getLogger(__name__)
+
+WORLD_FILE = "world.yaml"
+
+
+def read_world(folder: str | Path) -> World:
+    """Load the world kept in ``folder``.
+
+    Args:
+        folder: a folder holding ``world.yaml`` and the map files it names.
+
+    Returns:
+        The world, with every floor's ground-truth map loaded.
+
+    Raises:
+        WorldFormatError: ``world.yaml`` is missing or a field is missing or invalid.
+        MapFormatError: a floor's map files are missing or invalid.
+    """
+    root = Path(folder)
+    path = root / WORLD_FILE
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise WorldFormatError(WORLD_FILE, f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise WorldFormatError(WORLD_FILE, f"{path}: cannot read: {exc}") from exc
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise WorldFormatError(WORLD_FILE, f"{path}: not valid YAML: {exc}") from exc
+    if not isinstance(doc, dict):
+        raise WorldFormatError(WORLD_FILE, f"{path}: expected a mapping")
+
+    name = _str(doc, "name", "name")
+    raw_floors = doc.get("floors")
+    if not isinstance(raw_floors, list) or not raw_floors:
+        raise WorldFormatError("floors", "expected a non-empty list of floors")
+    floors = tuple(_floor(root, f, f"floors[{n}]") for n, f in enumerate(raw_floors))
+    names = [f.name for f in floors]
+    if len(set(names)) != len(names):
+        raise WorldFormatError("floors", f"floor names repeat: {names}")
+
+    start = _mapping(doc.get("start"), "start")
+    start_floor = _str(start, "floor", "start.floor")
+    if start_floor not in names:
+        raise WorldFormatError("start.floor", f"no floor {start_floor!r} (floors: {names})")
+    start_pose = _pose(_mapping(start.get("pose"), "start.pose"), "start.pose")
+    world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose)
+    log.info("loaded world %r from %s: floors %s", name, root, names)
+    return world
+
+
+def _floor(root: Path, raw: object, key: str) -> WorldFloor:
+    doc = _mapping(raw, key)
+    name = _str(doc, "name", f"{key}.name")
+    level = doc.get("level")
+    if isinstance(level, bool) or not isinstance(level, int):
+        raise WorldFormatError(f"{key}.level", f"expected an integer, got {level!r}")
+    map_name = doc.get("map_name", name)
+    if not isinstance(map_name, str) or not map_name:
+        raise WorldFormatError(f"{key}.map_name", f"expected a name, got {map_name!r}")
+    grid = load_map(root / _str(doc, "map", f"{key}.map"))
+    lift = None
+    if doc.get("lift") is not None:
+        lift = _lift(_mapping(doc["lift"], f"{key}.lift"), f"{key}.lift")
+    points = tuple(
+        _point(p, map_name, f"{key}.points[{n}]")
+        for n, p in enumerate(_list(doc.get("points", []), f"{key}.points"))
+    )
+    point_names = [p.name for p in points]
+    if len(set(point_names)) != len(point_names):
+        raise WorldFormatError(f"{key}.points", f"point names repeat on floor {name!r}")
+    people = tuple(
+        _person(p, f"{key}.people[{n}]")
+        for n, p in enumerate(_list(doc.get("people", []), f"{key}.people"))
+    )
+    return WorldFloor(
+        name=name, level=level, map_name=map_name, map=grid, points=points, lift=lift,
+        people=people,
+    )
+
+
+def _lift(doc: dict[str, Any], key: str) -> LiftShaft:
+    width = _num(doc, "width", key)
+    depth = _num(doc, "depth", key)
+    door_width = _num(doc, "door_width", key, default=1.2)
+    for field, value in (("width", width), ("depth", depth), ("door_width", door_width)):
+        if value <= 0.0:
+            raise WorldFormatError(f"{key}.{field}", f"must be > 0, got {value}")
+    return LiftShaft(
+        x=_num(doc, "x", key),
+        y=_num(doc, "y", key),
+        width=width,
+        depth=depth,
+        door_heading=_num(doc, "door_heading", key, default=0.0),
+        door_width=door_width,
+    )
+
+
+def _point(raw: object, map_name: str, key: str) -> Point:
+    doc = _mapping(raw, key)
+    kind_value = doc.get("kind", PointKind.GENERAL.value)
+    try:
+        kind = PointKind(kind_value)
+    except ValueError:
+        kinds = ", ".join(k.value for k in PointKind)
+        raise WorldFormatError(f"{key}.kind", f"{kind_value!r} is not one of {kinds}") from None
+    number = doc.get("number")
+    if number is not None and (isinstance(number, bool) or not isinstance(number, int)):
+        raise WorldFormatError(f"{key}.number", f"expected an integer, got {number!r}")
+    return Point(
+        name=_str(doc, "name", f"{key}.name"),
+        map_name=map_name,
+        pose=_pose(doc, key),
+        kind=kind,
+        number=number,
+    )
+
+
+def _person(raw: object, key: str) -> PersonRoute:
+    doc = _mapping(raw, key)
+    waypoints = []
+    for n, wp in enumerate(_list(doc.get("waypoints"), f"{key}.waypoints")):
+        if not isinstance(wp, list) or len(wp) != 2:
+            raise WorldFormatError(f"{key}.waypoints[{n}]", f"expected [x, y], got {wp!r}")
+        waypoints.append((_as_num(wp[0], f"{key}.waypoints[{n}]"),
+                          _as_num(wp[1], f"{key}.waypoints[{n}]")))
+    loop = doc.get("loop", True)
+    if not isinstance(loop, bool):
+        raise WorldFormatError(f"{key}.loop", f"expected true or false, got {loop!r}")
+    try:
+        return PersonRoute(
+            waypoints=tuple(waypoints),
+            speed=_num(doc, "speed", key),
+            radius=_num(doc, "radius", key, default=0.25),
+            loop=loop,
+        )
+    except InvalidRequest as exc:
+        raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
+
+
+def _pose(doc: dict[str, Any], key: str) -> Pose2D:
+    return Pose2D(_num(doc, "x", key), _num(doc, "y", key), _num(doc, "theta", key, default=0.0))
+
+
+def _mapping(value: object, key: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise WorldFormatError(key, f"expected a mapping, got {value!r}")
+    return value
+
+
+def _list(value: object, key: str) -> list[Any]:
+    if not isinstance(value, list):
+        raise WorldFormatError(key, f"expected a list, got {value!r}")
+    return value
+
+
+def _str(doc: dict[str, Any], field: str, key: str) -> str:
+    value = doc.get(field)
+    if not isinstance(value, str) or not value:
+        raise WorldFormatError(key, f"expected a non-empty string, got {value!r}")
+    return value
+
+
+def _num(doc: dict[str, Any], field: str, key: str, default: float | None = None) -> float:
+    if field not in doc:
+        if default is None:
+            raise WorldFormatError(f"{key}.{field}", "missing")
+        return default
+    return _as_num(doc[field], f"{key}.{field}")
+
+
+def _as_num(value: object, key: str) -> float:
+    # bool is an int subclass, and "x: yes" is surely a mistake.
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise WorldFormatError(key, f"expected a finite number, got {value!r}")
+    return float(value)
