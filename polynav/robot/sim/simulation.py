@@ -1,0 +1,366 @@
+"""The simulation: one robot in a :class:`~polynav.worlds.world.World`, on simulated time.
+
+:class:`Simulation` owns a :class:`~polynav.clock.ManualClock` and advances everything by fixed
+physics steps (``SimConfig.physics_rate``). Each step, in order:
+
+1. every floor's people walk (on the robot's floor they stop for the robot, see
+   :mod:`~polynav.robot.sim.people`);
+2. the base ramps toward the last drive command (zero while the e-stop is pressed) and proposes
+   its move; a move that would newly overlap a wall or a person is not made: the base stops
+   dead where it stands and, unless it was already in contact, a :class:`Collision` is
+   recorded (one per contact: the next counts once the robot has got clear again);
+3. odometry and the IMU take in the step's true motion, the battery drains (or charges while
+   the robot stands docked on a charger point);
+4. the clock advances, and the IMU and the lidar sample when they are due, stamped with the new
+   time, so a scan describes the world as it is at its stamp.
+
+Noise is deterministic for a seed: ``SeedSequence(seed).spawn`` gives each noise source (lidar,
+odometry, IMU) its own generator, so adding draws to one never shifts another's. People are
+deterministic without any randomness.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.clock import ManualClock
+from polynav.errors import InvalidRequest
+from polynav.geometry import Pose2D, Twist, angle_diff
+from polynav.maps.map import MapInfo
+from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry
+from polynav.robot.sim.battery import Battery
+from polynav.robot.sim.collision import Collision, Obstacle, person_clearance, wall_clearance
+from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.diff_drive import DiffDrive
+from polynav.robot.sim.imu import Imu
+from polynav.robot.sim.lidar import Lidar
+from polynav.robot.sim.odometry import WheelOdometry
+from polynav.robot.sim.people import Person, as_circles
+from polynav.robot.sim.sim_robot import SimRobot
+from polynav.site import PointKind
+from polynav.worlds.world import World, WorldFloor
+
+log = logging.getLogger(__name__)
+
+_NO_PEOPLE = np.empty((0, 3), dtype=np.float64)
+_EPS = 1e-9
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _FloorState:
+    """What the simulation keeps per floor: ground truth ready for the kernels, and its people."""
+
+    floor: WorldFloor
+    occupied: npt.NDArray[np.bool_]
+    info: MapInfo
+    people: list[Person]
+    chargers: tuple[Pose2D, ...]
+
+
+class Simulation:
+    """A simulated robot in a world.
+
+    Args:
+        world: the ground truth.
+        config: robot, sensor and physics settings.
+        seed: seeds every noise source.
+        floor: floor to start on; defaults to the world's start floor.
+        pose: true start pose; defaults to the world's start pose on the start floor, or to the
+            floor's initial point on another floor.
+        people: whether the floors' walkers walk (see :meth:`set_people`).
+
+    Raises:
+        InvalidRequest: unknown floor, no start pose for it, a start pose inside an obstacle, or
+            a floor map whose origin is rotated.
+    """
+
+    def __init__(
+        self,
+        world: World,
+        *,
+        config: SimConfig = SimConfig(),  # noqa: B008 - frozen, so one shared default is safe
+        seed: int = 0,
+        floor: str | None = None,
+        pose: Pose2D | None = None,
+        people: bool = True,
+    ) -> None:
+        self.world = world
+        self.config = config
+        self.clock = ManualClock()
+        self._floors = {f.name: _floor_state(f, config) for f in world.floors}
+        self._floor = world.floor(floor or world.start_floor).name
+        if pose is None:
+            pose = self._default_pose(self._floor)
+        lidar_seed, odometry_seed, imu_seed = np.random.SeedSequence(seed).spawn(3)
+        now = self.clock.now()
+        self._base = DiffDrive(config, pose)
+        self._lidar = Lidar(config, np.random.default_rng(lidar_seed))
+        self._odometry = WheelOdometry(config, pose, np.random.default_rng(odometry_seed), now)
+        self._imu = Imu(config, pose.theta, np.random.default_rng(imu_seed), now)
+        self._battery = Battery(config, now)
+        self._people_enabled = people
+        self._command = Twist()
+        self._estop = False
+        self._collisions: list[Collision] = []
+        self._in_contact = False
+        self._scan: LaserScan | None = None
+        self._scan_period = 1.0 / config.lidar_rate
+        self._imu_period = 1.0 / config.imu_rate
+        self._next_scan = now
+        self._next_imu = now
+        self._wall_gap = self._check_placement(self._floor, pose)
+        self.robot = SimRobot(self)
+        log.info("simulation of world %r on %s at %s, seed %d", world.name, self._floor, pose, seed)
+
+    # -- what the world looks like ------------------------------------------------------------
+
+    @property
+    def floor(self) -> str:
+        """Name of the floor the robot is on."""
+        return self._floor
+
+    @property
+    def true_pose(self) -> Pose2D:
+        """Ground-truth pose on the current floor's map."""
+        return self._base.pose
+
+    @property
+    def true_twist(self) -> Twist:
+        """Ground-truth velocity of the base."""
+        return self._base.twist
+
+    @property
+    def collisions(self) -> list[Collision]:
+        """Every collision so far, oldest first (a copy)."""
+        return list(self._collisions)
+
+    @property
+    def estop(self) -> bool:
+        """True while the hardware e-stop button is pressed."""
+        return self._estop
+
+    @property
+    def docked(self) -> bool:
+        """True while the base stands still on a charger point of its floor (contacts touch)."""
+        c = self.config
+        pose, twist = self._base.pose, self._base.twist
+        if twist.linear != 0.0 or twist.angular != 0.0:
+            return False
+        return any(
+            pose.distance_to(dock) <= c.dock_distance_tolerance
+            and abs(angle_diff(pose.theta, dock.theta)) <= c.dock_heading_tolerance
+            for dock in self._floors[self._floor].chargers
+        )
+
+    @property
+    def odometry(self) -> Odometry:
+        """The newest wheel odometry (every physics step)."""
+        return self._odometry.reading
+
+    @property
+    def scan(self) -> LaserScan | None:
+        """The newest lidar scan, or ``None`` before the first."""
+        return self._scan
+
+    @property
+    def imu(self) -> ImuReading | None:
+        """The newest IMU sample, or ``None`` before the first."""
+        return self._imu.reading
+
+    @property
+    def battery(self) -> BatteryState:
+        return self._battery.state
+
+    def people_poses(self) -> tuple[Pose2D, ...]:
+        """Where the people on the robot's floor are, heading where they walk (none if off)."""
+        if not self._people_enabled:
+            return ()
+        return tuple(p.pose for p in self._floors[self._floor].people)
+
+    # -- operator and test controls ------------------------------------------------------------
+
+    def press_estop(self) -> None:
+        """Press the e-stop: drive commands are dropped and the base brakes to a stand-still."""
+        if not self._estop:
+            log.info("e-stop pressed at t=%.3f", self.clock.now())
+        self._estop = True
+        self._command = Twist()
+
+    def release_estop(self) -> None:
+        """Release the e-stop; the base stays at rest until the next drive command."""
+        if self._estop:
+            log.info("e-stop released at t=%.3f", self.clock.now())
+        self._estop = False
+
+    def set_people(self, enabled: bool) -> None:
+        """Let the walkers walk, or take them out of the world (they resume where they were)."""
+        self._people_enabled = enabled
+
+    def teleport(self, floor: str, pose: Pose2D) -> None:
+        """Move the robot to ``pose`` on ``floor``, at rest (a lift ride).
+
+        Odometry and the IMU do not notice; a fresh scan is taken at once, so the newest scan
+        shows the new surroundings.
+
+        Raises:
+            InvalidRequest: unknown floor, or the pose overlaps a wall there.
+        """
+        name = self.world.floor(floor).name
+        self._wall_gap = self._check_placement(name, pose)
+        self._floor = name
+        self._base.place(pose)
+        self._in_contact = False
+        now = self.clock.now()
+        self._take_scan(now)
+        self._next_scan = now + self._scan_period
+        log.info("teleported to %s at %s", name, pose)
+
+    def drive(self, command: Twist) -> None:
+        """Command a body velocity (clamped to the limits); ignored while the e-stop is pressed."""
+        if not self._estop:
+            self._command = self._base.clamp(command)
+
+    # -- time ----------------------------------------------------------------------------------
+
+    def step(self, dt: float | None = None) -> None:
+        """Advance one physics period, or ``dt`` [s] in equal steps no longer than one period.
+
+        Raises:
+            InvalidRequest: ``dt`` is not positive.
+        """
+        period = self.config.physics_period
+        if dt is None:
+            self._substep(period)
+            return
+        if not dt > 0.0:
+            raise InvalidRequest("dt", f"must be > 0, got {dt}")
+        n = max(1, math.ceil(dt / period - _EPS))
+        for _ in range(n):
+            self._substep(dt / n)
+
+    def _substep(self, h: float) -> None:
+        c = self.config
+        here = self._floors[self._floor]
+        base = self._base
+        # Nanosecond stamps: sums of 0.02 s would drift off the grid (2.0000000000000013).
+        now = round(self.clock.now() + h, 9)
+        if self._people_enabled:
+            disk = (base.pose.x, base.pose.y, c.robot_radius)
+            for state in self._floors.values():
+                robot = disk if state is here else None
+                for person in state.people:
+                    person.step(h, robot)
+            circles = as_circles(here.people) if here.people else _NO_PEOPLE
+        else:
+            circles = _NO_PEOPLE
+
+        v_before = base.twist.linear
+        step = base.propose(Twist() if self._estop else self._command, h)
+        distance, rotation = step.distance, step.rotation
+        if distance != 0.0 or rotation != 0.0:
+            hit = self._obstacle_hit(here, step.pose, circles)
+            if hit is None:
+                base.apply(step)
+                self._wall_gap = wall_clearance(
+                    here.occupied, here.info, step.pose.x, step.pose.y,
+                    radius=c.robot_radius, horizon=c.collision_release_distance,
+                )
+            else:
+                base.halt()
+                distance = rotation = 0.0
+                if not self._in_contact:
+                    self._collisions.append(Collision(now, base.pose, hit))
+                    log.warning("collision with a %s at t=%.3f, %s", hit, now, base.pose)
+                self._in_contact = True
+        else:
+            base.apply(step)  # a standing base stays put; its velocity may still change
+        if self._in_contact and min(
+            self._wall_gap, person_clearance(base.pose.x, base.pose.y, c.robot_radius, circles)
+        ) >= c.collision_release_distance:
+            self._in_contact = False
+
+        self._odometry.update(distance, rotation, h, now)
+        self._imu.accumulate(rotation)
+        travel = abs(distance) + c.robot_radius * abs(rotation)
+        self._battery.update(h, travel, charging=self.docked, stamp=now)
+        self.clock.set(now)
+        if now >= self._next_imu - _EPS:
+            self._imu.sample(base.twist.angular, (base.twist.linear - v_before) / h, now)
+            self._next_imu = _next_due(self._next_imu, self._imu_period, now)
+        if now >= self._next_scan - _EPS:
+            self._take_scan(now, circles)
+            self._next_scan = _next_due(self._next_scan, self._scan_period, now)
+
+    # -- internals ------------------------------------------------------------------------------
+
+    def _obstacle_hit(
+        self, here: _FloorState, pose: Pose2D, circles: npt.NDArray[np.float64]
+    ) -> Obstacle | None:
+        """What a move to ``pose`` would newly overlap, if anything.
+
+        Moving while overlapping (after a teleport into a tight spot) is allowed as long as the
+        overlap does not deepen, so the robot can always back out.
+        """
+        c = self.config
+        r = c.robot_radius
+        wall = wall_clearance(here.occupied, here.info, pose.x, pose.y, radius=r,
+                              horizon=c.collision_release_distance)
+        if wall < 0.0 and wall < self._wall_gap - _EPS:
+            return "wall"
+        if circles.shape[0]:
+            gap = person_clearance(pose.x, pose.y, r, circles)
+            if gap < 0.0:
+                old = person_clearance(self._base.pose.x, self._base.pose.y, r, circles)
+                if gap < old - _EPS:
+                    return "person"
+        return None
+
+    def _take_scan(self, now: float, circles: npt.NDArray[np.float64] | None = None) -> None:
+        here = self._floors[self._floor]
+        if circles is None:
+            circles = as_circles(here.people) if self._people_enabled and here.people else (
+                _NO_PEOPLE)
+        self._scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
+
+    def _default_pose(self, floor: str) -> Pose2D:
+        if floor == self.world.start_floor:
+            return self.world.start_pose
+        for p in self.world.floor(floor).points:
+            if p.kind is PointKind.INITIAL:
+                return p.pose
+        raise InvalidRequest("pose", f"floor {floor!r} has no initial point; give a pose")
+
+    def _check_placement(self, floor: str, pose: Pose2D) -> float:
+        here = self._floors[floor]
+        c = self.config
+        gap = wall_clearance(here.occupied, here.info, pose.x, pose.y, radius=c.robot_radius,
+                             horizon=c.collision_release_distance)
+        if gap < 0.0:
+            raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps a wall by {-gap:.3f} m")
+        return gap
+
+def _next_due(due: float, period: float, now: float) -> float:
+    """The next sample time on the sensor's own grid, never in the past."""
+    due += period
+    if due <= now + _EPS:
+        due = now + period
+    return due
+
+
+def _floor_state(floor: WorldFloor, config: SimConfig) -> _FloorState:
+    info = floor.map.info
+    if info.origin.theta != 0.0:
+        raise InvalidRequest("floor", f"{floor.name}: the simulator needs a map origin with zero "
+                                      "yaw")
+    people = [
+        Person(route, pause=config.person_pause, stop_distance=config.person_stop_distance)
+        for route in floor.people
+    ]
+    chargers = tuple(p.pose for p in floor.points if p.kind is PointKind.CHARGER)
+    occupied = np.ascontiguousarray(floor.map.occupied())
+    return _FloorState(floor, occupied, info, people, chargers)
