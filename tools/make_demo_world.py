@@ -35,6 +35,8 @@ from scipy import ndimage
 from polynav.geometry import Pose2D
 from polynav.maps.map import FREE, OCCUPIED, UNKNOWN, Map, MapInfo
 from polynav.maps.ros_map import save_map
+from polynav.site import Point, PointKind
+from polynav.worlds.world import PersonRoute
 
 log = logging.getLogger("make_demo_world")
 
@@ -69,8 +71,8 @@ class Floor:
     name: str
     level: int
     grid: npt.NDArray[np.int8] = field(init=False)
-    points: list[dict[str, object]] = field(default_factory=list)
-    people: list[dict[str, object]] = field(default_factory=list)
+    points: list[Point] = field(default_factory=list)
+    people: list[PersonRoute] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         w = round((BUILDING_W + 2 * MARGIN) / RESOLUTION)
@@ -124,19 +126,18 @@ class Floor:
         for d0, d1 in doors:
             self.clear(x, d0, x + WALL, d1)
 
-    def point(self, name: str, x: float, y: float, theta: float, kind: str = "general") -> None:
+    def point(self, name: str, x: float, y: float, theta: float,
+              kind: PointKind = PointKind.GENERAL) -> None:
         # Sums of decimal coordinates carry binary noise (18.900000000000002); the file should not.
-        self.points.append(
-            {"name": name, "x": round(x, 6), "y": round(y, 6), "theta": theta, "kind": kind}
-        )
+        pose = Pose2D(round(x, 6), round(y, 6), theta)
+        self.points.append(Point(name, self.name, pose, kind, number=len(self.points) + 1))
 
     def walker(self, waypoints: list[tuple[float, float]], speed: float, *, loop: bool) -> None:
-        self.people.append({
-            "waypoints": [[round(x, 6), round(y, 6)] for x, y in waypoints],
-            "speed": speed,
-            "radius": 0.25,
-            "loop": loop,
-        })
+        wps = tuple((round(x, 6), round(y, 6)) for x, y in waypoints)
+        self.people.append(PersonRoute(wps, speed=speed, radius=0.25, loop=loop))
+
+    def initial(self) -> Point:
+        return next(p for p in self.points if p.kind is PointKind.INITIAL)
 
     def service_core(self) -> None:
         """The core with the lift car, the same on every floor; the car door is open."""
@@ -205,8 +206,9 @@ def floor_one() -> Floor:
         f.block(x0, y0, x0 + 3.2, y0 + 1.6)
     f.block(38.2, 5.0, 38.6, 5.4)  # pillar
 
-    f.point("initial", 8.0, 8.5, E, "initial")
-    f.point("charger", 0.8, 14.0, W, "charger")  # dock on the west wall: drive in facing west
+    f.point("initial", 8.0, 8.5, E, PointKind.INITIAL)
+    # The dock is on the lobby's west wall: the robot docks driving west.
+    f.point("charger", 0.8, 14.0, W, PointKind.CHARGER)
     f.point("lobby", 5.5, 12.5, E)
     f.point("front_desk", 5.0, 6.0, N)
     f.point("office_1", 14.3, 20.5, N)
@@ -219,8 +221,8 @@ def floor_one() -> Floor:
     f.point("open_office", 34.6, 4.8, N)
     f.point("corridor_west", 13.5, 12.4, E)
     f.point("corridor_east", 29.0, 12.4, E)
-    f.point("lift_1_outside", LIFT_X, 17.6, N, "lift-outside")
-    f.point("lift_1_inside", LIFT_X, LIFT_Y, S, "lift-inside")
+    f.point("lift_1_outside", LIFT_X, 17.6, N, PointKind.LIFT_OUTSIDE)
+    f.point("lift_1_inside", LIFT_X, LIFT_Y, S, PointKind.LIFT_INSIDE)
 
     # Walkers: one up and down the corridor's south lane, one crossing it between offices 2 and
     # 4, one walking the side corridor into the meeting room.
@@ -276,15 +278,15 @@ def floor_two() -> Floor:
     f.block(38.0, 0.2, 39.8, 3.0)  # lockers
     f.block(35.0, 4.0, 36.6, 5.2)  # table
 
-    f.point("initial", 36.0, 15.0, W, "initial")
+    f.point("initial", 36.0, 15.0, W, PointKind.INITIAL)
     f.point("lounge", 4.0, 11.0, N)
     f.point("fitness_room", 4.0, 20.5, N)
     f.point("housekeeping", 4.0, 3.5, S)
     f.point("staff_room", 36.6, 7.5, S)
     f.point("corridor_west", 10.0, 12.4, E)
     f.point("corridor_east", 31.5, 12.4, E)
-    f.point("lift_1_outside", LIFT_X, 17.6, N, "lift-outside")
-    f.point("lift_1_inside", LIFT_X, LIFT_Y, S, "lift-inside")
+    f.point("lift_1_outside", LIFT_X, 17.6, N, PointKind.LIFT_OUTSIDE)
+    f.point("lift_1_inside", LIFT_X, LIFT_Y, S, PointKind.LIFT_INSIDE)
     for room in sorted(rooms):
         f.point(*room)
 
@@ -311,41 +313,42 @@ def check(f: Floor) -> list[str]:
         return grid.info.world_to_cell(x, y)
 
     for p in f.points:
-        ix, iy = cell(float(p["x"]), float(p["y"]))  # type: ignore[arg-type]
+        ix, iy = cell(p.pose.x, p.pose.y)
         if grid.data[iy, ix] != FREE or clearance[iy, ix] < POINT_CLEARANCE:
-            problems.append(f"{f.name}: point {p['name']} clearance {clearance[iy, ix]:.2f} m")
-    initial = next(p for p in f.points if p["kind"] == "initial")
+            problems.append(f"{f.name}: point {p.name} clearance {clearance[iy, ix]:.2f} m")
+    start = f.initial().pose
     for radius in (ROBOT_RADIUS, POINT_CLEARANCE - 0.01):
         passable = (grid.data == FREE) & (clearance >= radius)
         labels, _ = ndimage.label(passable)
-        home = labels[cell(float(initial["x"]), float(initial["y"]))[::-1]]  # type: ignore[arg-type]
+        ix, iy = cell(start.x, start.y)
+        home = labels[iy, ix]
         for p in f.points:
-            ix, iy = cell(float(p["x"]), float(p["y"]))  # type: ignore[arg-type]
+            ix, iy = cell(p.pose.x, p.pose.y)
             if labels[iy, ix] != home:
-                problems.append(f"{f.name}: {p['name']} unreachable for a {radius} m disk")
+                problems.append(f"{f.name}: {p.name} unreachable for a {radius} m disk")
     for n, person in enumerate(f.people):
-        wps = np.asarray(person["waypoints"], dtype=float)
-        if person["loop"]:
+        wps = np.asarray(person.waypoints, dtype=float)
+        if person.loop:
             wps = np.vstack([wps, wps[:1]])
         for a, b in zip(wps[:-1], wps[1:], strict=True):
             steps = max(2, int(np.hypot(*(b - a)) / 0.02))
             for t in np.linspace(0.0, 1.0, steps):
                 x, y = a + t * (b - a)
                 ix, iy = cell(x, y)
-                if clearance[iy, ix] < float(person["radius"]) + 0.05:  # type: ignore[arg-type]
+                if clearance[iy, ix] < person.radius + 0.05:
                     problems.append(f"{f.name}: walker {n} scrapes a wall at ({x:.2f}, {y:.2f})")
                     break
                 for p in f.points:
-                    d = math.hypot(x - float(p["x"]), y - float(p["y"]))  # type: ignore[arg-type]
+                    d = math.hypot(x - p.pose.x, y - p.pose.y)
                     if d < WALKER_POINT_DISTANCE:
-                        problems.append(f"{f.name}: walker {n} passes {d:.2f} m from {p['name']}")
+                        problems.append(f"{f.name}: walker {n} passes {d:.2f} m from {p.name}")
                         break
     return problems
 
 
 def world_document(floors: list[Floor]) -> dict[str, object]:
-    first = floors[0]
-    start = next(p for p in first.points if p["kind"] == "initial")
+    """The ``world.yaml`` content (see :mod:`polynav.worlds.world_file`)."""
+    start = floors[0].initial().pose
     lift = {
         "x": LIFT_X, "y": LIFT_Y, "width": CAR[2] - CAR[0], "depth": CAR[3] - CAR[1],
         "door_heading": LIFT_DOOR_HEADING, "door_width": CAR_DOOR[2] - CAR_DOOR[0],
@@ -354,15 +357,24 @@ def world_document(floors: list[Floor]) -> dict[str, object]:
     lift = {k: v if k == "door_heading" else round(v, 6) for k, v in lift.items()}
     docs = []
     for f in floors:
-        points = [dict(p, number=n + 1) for n, p in enumerate(f.points)]
+        points = [
+            {"name": p.name, "x": p.pose.x, "y": p.pose.y, "theta": p.pose.theta,
+             "kind": p.kind.value, "number": p.number}
+            for p in f.points
+        ]
+        people = [
+            {"waypoints": [list(wp) for wp in r.waypoints], "speed": r.speed,
+             "radius": r.radius, "loop": r.loop}
+            for r in f.people
+        ]
         docs.append({
             "name": f.name, "level": f.level, "map": f"{f.name}.yaml", "map_name": f.name,
-            "lift": dict(lift), "points": points, "people": f.people,
+            "lift": dict(lift), "points": points, "people": people,
         })
     return {
         "name": "demo",
-        "start": {"floor": first.name,
-                  "pose": {"x": start["x"], "y": start["y"], "theta": start["theta"]}},
+        "start": {"floor": floors[0].name,
+                  "pose": {"x": start.x, "y": start.y, "theta": start.theta}},
         "floors": docs,
     }
 
@@ -400,20 +412,20 @@ def preview(f: Floor, path: Path, scale: int = 2) -> None:
         return ((x + MARGIN) / RESOLUTION * scale, (height - (y + MARGIN) / RESOLUTION) * scale)
 
     for person in f.people:
-        wps = [px(x, y) for x, y in person["waypoints"]]  # type: ignore[attr-defined]
-        if person["loop"]:
+        wps = [px(x, y) for x, y in person.waypoints]
+        if person.loop:
             wps.append(wps[0])
         draw.line(wps, fill=(220, 40, 40), width=2)
+    colours = {PointKind.CHARGER: (0, 160, 0), PointKind.INITIAL: (200, 120, 0)}
     for p in f.points:
-        x, y, th = float(p["x"]), float(p["y"]), float(p["theta"])  # type: ignore[arg-type]
+        x, y, th = p.pose.x, p.pose.y, p.pose.theta
         cx, cy = px(x, y)
         r = POINT_CLEARANCE / RESOLUTION * scale
-        colour = {"charger": (0, 160, 0), "initial": (200, 120, 0)}.get(
-            str(p["kind"]), (30, 80, 220))
+        colour = colours.get(p.kind, (30, 80, 220))
         draw.ellipse((cx - r, cy - r, cx + r, cy + r), outline=colour, width=2)
         draw.line((cx, cy, *px(x + 0.7 * math.cos(th), y + 0.7 * math.sin(th))), fill=colour,
                   width=3)
-        draw.text((cx + r + 2, cy - 6), str(p["name"]), fill=colour)
+        draw.text((cx + r + 2, cy - 6), p.name, fill=colour)
     img.save(path)
 
 

@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+import importlib.util
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import ndimage
 
 from polynav.site import PointKind
-from polynav.worlds import load_world
+from polynav.worlds import BUILTIN_DIR, load_world
 from polynav.worlds.world import World, WorldFloor
 
+REPO = Path(__file__).resolve().parents[3]
 ROBOT_RADIUS = 0.25
 POINT_CLEARANCE = 0.45
 
@@ -135,3 +139,22 @@ def test_walkers_cross_the_main_corridor_and_keep_clear_of_walls(
                 ix, iy = floor.map.info.world_to_cell(x, y)
                 assert clearance[iy, ix] >= person.radius, (person, x, y)
     assert corridor_crossings >= 1
+
+
+def test_committed_demo_files_are_what_the_generator_writes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    script = REPO / "tools" / "make_demo_world.py"
+    spec = importlib.util.spec_from_file_location("make_demo_world", script)
+    assert spec is not None and spec.loader is not None
+    generator = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "make_demo_world", generator)  # dataclasses look it up
+    spec.loader.exec_module(generator)
+    floors = [generator.floor_one(), generator.floor_two()]
+    assert [generator.check(f) for f in floors] == [[], []]
+    generator.write(floors, tmp_path)
+    committed = BUILTIN_DIR / "demo"
+    names = sorted(p.name for p in committed.iterdir())
+    assert names == ["floor1.png", "floor1.yaml", "floor2.png", "floor2.yaml", "world.yaml"]
+    for name in names:
+        assert (tmp_path / name).read_bytes() == (committed / name).read_bytes(), name
