@@ -1,0 +1,393 @@
+"""The pose tracker: odometry and IMU prediction corrected by matching each scan to the map.
+
+:class:`PoseTracker` implements :class:`~polynav.localization.interface.Localizer`.
+
+**Prediction.** Each :meth:`PoseTracker.update` moves the map pose by the odometry increment
+(the new odometry pose expressed in the previous one's frame); when an IMU reading is given, its
+integrated-yaw increment replaces the wheels' rotation, which slip and scale more than a gyro.
+
+**Correction.** Each *new* scan (by stamp) is matched with the correlative matcher
+(:mod:`~polynav.localization.scan_matcher`) in a narrow window around the pose predicted *at the
+scan's stamp*: the tracker keeps a second of odometry history, so a scan read a few tens of
+milliseconds after it was taken is not matched as if it had been taken now (at 1 m/s, 50 ms is
+5 cm). The correction found at the scan's stamp is carried forward through the odometry since.
+While tracking, each correction is clamped to ``max_correction_xy`` / ``max_correction_theta``,
+so a controller at 20 Hz never sees a jump of more than a few centimetres; a larger error is
+worked off over the next scans.
+
+**Quality** is the fraction of used endpoints within ``inlier_distance`` of a map surface at the
+matched pose, smoothed by an exponential moving average over scans. It is 1 when the scan fits
+the map, and falls with people, moved furniture, or a wrong pose or map.
+
+**States.**
+
+- ``UNINITIALIZED`` before :meth:`PoseTracker.initialize`, and after it until a wide
+  relocalization search (``relocalize_window_xy`` / ``relocalize_window_theta`` around the given
+  pose, carried along by odometry) finds a match with at least ``relocalize_quality`` inliers.
+  Until then the reported pose is the given one moved by odometry, with quality 0. We chose
+  UNINITIALIZED over "TRACKING with low quality" so that nobody drives on a pose that the scan
+  has not confirmed.
+- ``TRACKING`` once relocalized. When the smoothed quality stays below ``lost_quality`` for
+  ``lost_after`` seconds of ``now`` (never the wall clock), the state becomes ``LOST``. A
+  relocalization that has not succeeded ``lost_after`` seconds after :meth:`initialize` also
+  ends in ``LOST``.
+- ``LOST`` keeps predicting and searches the wider ``lost_window_xy`` / ``lost_window_theta``
+  around the prediction at every scan; a match with at least ``relocalize_quality`` inliers is
+  taken (unclamped: the pose is known to be wrong) and the state returns to ``TRACKING``.
+"""
+
+from __future__ import annotations
+
+import bisect
+import logging
+import math
+from collections import deque
+from dataclasses import dataclass, fields
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.errors import ConfigError
+from polynav.geometry import Pose2D, angle_diff, wrap_angle
+from polynav.localization import scan_matcher
+from polynav.localization.interface import LocalizationEstimate, LocalizationState
+from polynav.localization.likelihood_field import build_likelihood_field
+from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
+from polynav.maps.map import Map
+from polynav.robot.interface import ImuReading, LaserScan, Odometry
+
+log = logging.getLogger(__name__)
+
+_HISTORY_SECONDS = 1.0
+
+
+@dataclass(frozen=True, slots=True)
+class PoseTrackerConfig:
+    """How the tracker predicts, matches and judges its pose.
+
+    Attributes:
+        sigma: standard deviation of the likelihood-field endpoint model [m].
+        max_distance: cap of the distance field [m].
+        beam_step: use every ``beam_step``-th beam while tracking.
+        relocalize_beam_step: use every ``relocalize_beam_step``-th beam when relocalizing or
+            lost (more beams make a wide search harder to fool).
+        track_window_xy: half-width of the tracking search window in x and y [m].
+        track_window_theta: half-width of the tracking heading window [rad].
+        theta_step: fine heading step of every search [rad].
+        coarse_cells: translation step of the coarse level of wide searches [cells].
+        coarse_theta_step: heading step of the coarse level [rad].
+        candidates: coarse poses refined by the fine level.
+        prior_xy: standard deviation of the tracking prior around the prediction [m]; it only
+            breaks ties along directions the scan does not constrain.
+        prior_theta: the same for heading [rad].
+        relocalize_window_xy: half-width of the relocalization window [m] after initialize.
+        relocalize_window_theta: half-width of the relocalization heading window [rad].
+        lost_window_xy: half-width of the search window while lost [m].
+        lost_window_theta: half-width of the heading window while lost [rad].
+        relocalize_quality: inlier fraction a wide search must reach to be believed.
+        accept_quality: inlier fraction below which a tracking match is not applied (the
+            prediction is kept).
+        inlier_distance: an endpoint this close to a map surface is an inlier [m].
+        quality_smoothing: weight of each new scan in the smoothed quality, in (0, 1].
+        lost_quality: smoothed quality below which the tracker starts counting towards LOST.
+        lost_after: how long [s] the quality must stay low before the state becomes LOST.
+        max_correction_xy: largest translation applied by one correction while tracking [m].
+        max_correction_theta: largest rotation applied by one correction while tracking [rad].
+        use_imu: take rotation from the IMU's integrated yaw when a reading is given.
+    """
+
+    sigma: float = 0.05
+    max_distance: float = 0.5
+    beam_step: int = 4
+    relocalize_beam_step: int = 2
+    track_window_xy: float = 0.15
+    track_window_theta: float = math.radians(6.0)
+    theta_step: float = math.radians(0.5)
+    coarse_cells: int = 2
+    coarse_theta_step: float = math.radians(2.0)
+    candidates: int = 8
+    prior_xy: float = 0.5
+    prior_theta: float = 0.5
+    relocalize_window_xy: float = 1.0
+    relocalize_window_theta: float = math.radians(30.0)
+    lost_window_xy: float = 1.0
+    lost_window_theta: float = math.radians(30.0)
+    relocalize_quality: float = 0.6
+    accept_quality: float = 0.3
+    inlier_distance: float = 0.1
+    quality_smoothing: float = 0.3
+    lost_quality: float = 0.35
+    lost_after: float = 3.0
+    max_correction_xy: float = 0.04
+    max_correction_theta: float = math.radians(2.0)
+    use_imu: bool = True
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, float) and not math.isfinite(value):
+                _fail(f.name, f"must be finite, got {value}")
+        positive = (
+            "sigma", "max_distance", "track_window_theta", "theta_step", "coarse_theta_step",
+            "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
+            "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
+            "max_correction_xy", "max_correction_theta",
+        )
+        for name in positive:
+            if not getattr(self, name) > 0.0:
+                _fail(name, f"must be > 0, got {getattr(self, name)}")
+        for name in ("track_window_xy", "lost_after"):
+            if not getattr(self, name) >= 0.0:
+                _fail(name, f"must be >= 0, got {getattr(self, name)}")
+        for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
+            if not getattr(self, name) >= 1:
+                _fail(name, f"must be >= 1, got {getattr(self, name)}")
+        for name in ("relocalize_quality", "accept_quality", "lost_quality"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                _fail(name, f"must be in [0, 1], got {getattr(self, name)}")
+        if self.quality_smoothing > 1.0:
+            _fail("quality_smoothing", f"must be <= 1, got {self.quality_smoothing}")
+        for name in ("track_window_theta", "relocalize_window_theta", "lost_window_theta"):
+            if getattr(self, name) >= math.pi:
+                _fail(name, f"must be < pi, got {getattr(self, name)}")
+        if self.coarse_theta_step < self.theta_step:
+            _fail("coarse_theta_step", "must be >= theta_step")
+
+
+def _fail(name: str, reason: str) -> None:
+    raise ConfigError(f"localization.{name}", reason)
+
+
+class PoseTracker:
+    """Scan-to-map pose tracking on noisy odometry, IMU and lidar (see the module docstring).
+
+    Args:
+        config: the tracker's settings.
+    """
+
+    def __init__(self, config: PoseTrackerConfig = PoseTrackerConfig()) -> None:  # noqa: B008
+        self.config = config
+        self._matcher: ScanMatcher | None = None
+        self._pose = Pose2D()
+        self._state = LocalizationState.UNINITIALIZED
+        self._quality = 0.0
+        self._stamp = 0.0
+        self._awaiting_relocalization = False
+        self._initialized_at = 0.0
+        self._low_since: float | None = None
+        self._last_odometry: Pose2D | None = None
+        self._last_imu_yaw: float | None = None
+        self._last_scan_stamp: float | None = None
+        self._history_stamps: deque[float] = deque()
+        self._history_poses: deque[Pose2D] = deque()
+        self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
+        self.last_match: Match | None = None
+
+    # -- Localizer -----------------------------------------------------------------------------
+
+    def set_map(self, grid: Map) -> None:
+        """Localize against ``grid`` from now on; the state becomes UNINITIALIZED.
+
+        Builds the likelihood field (tens of milliseconds on a building floor).
+        """
+        c = self.config
+        field = build_likelihood_field(grid, sigma=c.sigma, max_distance=c.max_distance)
+        self._matcher = ScanMatcher(field, coarse_cells=c.coarse_cells)
+        self._set_state(LocalizationState.UNINITIALIZED, self._stamp)
+        self._awaiting_relocalization = False
+        self._quality = 0.0
+        self._low_since = None
+
+    def initialize(self, pose: Pose2D, now: float) -> None:
+        """Start (or restart) tracking near ``pose``; the next scans relocalize within the
+        relocalization window, and only then does the state become TRACKING.
+
+        Raises:
+            RuntimeError: no map has been set.
+        """
+        if self._matcher is None:
+            raise RuntimeError("initialize before set_map")
+        self._pose = pose
+        self._stamp = now
+        self._quality = 0.0
+        self._low_since = None
+        self._awaiting_relocalization = True
+        self._initialized_at = now
+        self._set_state(LocalizationState.UNINITIALIZED, now)
+        log.info("localization initialized near %s", pose)
+
+    def update(
+        self,
+        odometry: Odometry,
+        imu: ImuReading | None,
+        scan: LaserScan | None,
+        now: float,
+    ) -> LocalizationEstimate:
+        """Predict with odometry/IMU, correct with ``scan`` when it is new, return the estimate.
+
+        Args:
+            odometry: the newest wheel odometry.
+            imu: the newest IMU reading, if any.
+            scan: the newest scan, if any; one already used (same stamp) is ignored.
+            now: current time [s] (the robot's clock), used for the LOST timer.
+        """
+        self._predict(odometry, imu)
+        self._stamp = now
+        active = self._awaiting_relocalization or (
+            self._state is not LocalizationState.UNINITIALIZED
+        )
+        if (
+            scan is not None
+            and self._matcher is not None
+            and active
+            and scan.stamp != self._last_scan_stamp
+        ):
+            self._last_scan_stamp = scan.stamp
+            self._correct(scan, odometry.pose, now)
+        return self.estimate
+
+    @property
+    def estimate(self) -> LocalizationEstimate:
+        """The newest estimate (quality 0 while UNINITIALIZED)."""
+        quality = 0.0 if self._state is LocalizationState.UNINITIALIZED else self._quality
+        return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state)
+
+    # -- prediction ----------------------------------------------------------------------------
+
+    def _predict(self, odometry: Odometry, imu: ImuReading | None) -> None:
+        last = self._last_odometry
+        delta = Pose2D() if last is None else odometry.pose.relative_to(last)
+        rotation = delta.theta
+        if imu is not None and self.config.use_imu:
+            if self._last_imu_yaw is not None and last is not None:
+                rotation = angle_diff(imu.yaw, self._last_imu_yaw)
+            self._last_imu_yaw = imu.yaw
+        self._last_odometry = odometry.pose
+        if last is not None:
+            self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
+        self._remember(odometry.stamp, odometry.pose)
+
+    def _remember(self, stamp: float, odom: Pose2D) -> None:
+        stamps, poses = self._history_stamps, self._history_poses
+        if stamps and stamp < stamps[-1]:
+            stamps.clear()
+            poses.clear()
+        if stamps and stamp == stamps[-1]:
+            poses[-1] = odom
+        else:
+            stamps.append(stamp)
+            poses.append(odom)
+        while len(stamps) > 2 and stamps[0] < stamp - _HISTORY_SECONDS:
+            stamps.popleft()
+            poses.popleft()
+
+    def _odometry_at(self, stamp: float) -> Pose2D:
+        """Odometry pose at ``stamp``, interpolated in the history (clamped to its ends)."""
+        stamps, poses = self._history_stamps, self._history_poses
+        k = bisect.bisect_left(stamps, stamp)
+        if k <= 0:
+            return poses[0]
+        if k >= len(stamps):
+            return poses[-1]
+        t0, t1 = stamps[k - 1], stamps[k]
+        a, b = poses[k - 1], poses[k]
+        f = (stamp - t0) / (t1 - t0) if t1 > t0 else 1.0
+        return Pose2D(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y),
+                      a.theta + f * angle_diff(b.theta, a.theta))
+
+    # -- correction ----------------------------------------------------------------------------
+
+    def _correct(self, scan: LaserScan, odom_now: Pose2D, now: float) -> None:
+        assert self._matcher is not None
+        c = self.config
+        # Motion since the scan was taken, in the robot frame at the scan's stamp.
+        since_scan = odom_now.relative_to(self._odometry_at(scan.stamp))
+        at_scan = self._pose.compose(since_scan.inverse())
+        tracking = self._state is LocalizationState.TRACKING
+        step = c.beam_step if tracking else c.relocalize_beam_step
+        points = scan_matcher.scan_points(
+            scan.ranges, self._beam_angles(scan), range_min=scan.range_min,
+            range_max=scan.range_max, sensor_pose=scan.sensor_pose, step=step,
+        )
+        if tracking:
+            window = SearchWindow(c.track_window_xy, c.track_window_theta, c.theta_step)
+            match = self._matcher.match(points, at_scan, window, prior_xy=c.prior_xy,
+                                        prior_theta=c.prior_theta,
+                                        inlier_distance=c.inlier_distance)
+        else:
+            wide_xy, wide_theta = (
+                (c.relocalize_window_xy, c.relocalize_window_theta)
+                if self._awaiting_relocalization
+                else (c.lost_window_xy, c.lost_window_theta)
+            )
+            window = SearchWindow(wide_xy, wide_theta, c.theta_step, coarse=True,
+                                  coarse_theta_step=c.coarse_theta_step,
+                                  candidates=c.candidates)
+            match = self._matcher.match(points, at_scan, window, prior_xy=4.0 * wide_xy,
+                                        prior_theta=4.0 * wide_theta,
+                                        inlier_distance=c.inlier_distance)
+        self.last_match = match
+        quality = match.inliers if match.points else 0.0
+
+        if tracking:
+            if quality >= c.accept_quality:
+                corrected = _clamp_step(at_scan, match.pose, c.max_correction_xy,
+                                        c.max_correction_theta)
+                self._pose = corrected.compose(since_scan)
+            self._smooth_quality(quality)
+            if self._quality < c.lost_quality:
+                if self._low_since is None:
+                    self._low_since = now
+                elif now - self._low_since >= c.lost_after:
+                    log.warning("localization lost: quality %.2f below %.2f for %.1f s",
+                                self._quality, c.lost_quality, now - self._low_since)
+                    self._set_state(LocalizationState.LOST, now)
+            else:
+                self._low_since = None
+            return
+
+        if quality >= c.relocalize_quality:
+            self._pose = match.pose.compose(since_scan)
+            self._quality = quality
+            self._low_since = None
+            self._awaiting_relocalization = False
+            log.info("localization relocalized at %s (quality %.2f)", match.pose, quality)
+            self._set_state(LocalizationState.TRACKING, now)
+            return
+        self._smooth_quality(quality)
+        if (self._state is LocalizationState.UNINITIALIZED
+                and now - self._initialized_at >= c.lost_after):
+            log.warning("relocalization failed for %.1f s near %s", now - self._initialized_at,
+                        self._pose)
+            self._awaiting_relocalization = False
+            self._set_state(LocalizationState.LOST, now)
+
+    def _smooth_quality(self, quality: float) -> None:
+        a = self.config.quality_smoothing
+        self._quality = (1.0 - a) * self._quality + a * quality
+
+    def _beam_angles(self, scan: LaserScan) -> npt.NDArray[np.float64]:
+        key = (scan.angle_min, scan.angle_increment, int(scan.ranges.shape[0]))
+        if self._beam_cache is None or self._beam_cache[0] != key:
+            self._beam_cache = (key, scan.angles)
+        return self._beam_cache[1]
+
+    def _set_state(self, state: LocalizationState, now: float) -> None:
+        if state is not self._state:
+            log.info("localization %s -> %s at t=%.3f", self._state.value, state.value, now)
+            self._state = state
+
+
+def _clamp_step(start: Pose2D, target: Pose2D, max_xy: float, max_theta: float) -> Pose2D:
+    """``target``, or the pose ``max_xy`` / ``max_theta`` from ``start`` towards it."""
+    dx, dy = target.x - start.x, target.y - start.y
+    dist = math.hypot(dx, dy)
+    f = 1.0 if dist <= max_xy else max_xy / dist
+    dtheta = angle_diff(target.theta, start.theta)
+    dtheta = max(-max_theta, min(max_theta, dtheta))
+    return Pose2D(start.x + f * dx, start.y + f * dy, wrap_angle(start.theta + dtheta))
+
+
+def warm_up() -> None:
+    """Compile the numba kernels (see :func:`polynav.localization.scan_matcher.warm_up`)."""
+    scan_matcher.warm_up()
