@@ -32,8 +32,10 @@ the map, and falls with people, moved furniture, or a wrong pose or map.
   relocalization that has not succeeded ``lost_after`` seconds after :meth:`initialize` also
   ends in ``LOST``.
 - ``LOST`` keeps predicting and searches the wider ``lost_window_xy`` / ``lost_window_theta``
-  around the prediction at every scan; a match with at least ``relocalize_quality`` inliers is
-  taken (unclamped: the pose is known to be wrong) and the state returns to ``TRACKING``.
+  around the prediction, at most every ``wide_search_interval`` seconds (a wide search costs a
+  few milliseconds, a tracking correction a fraction of one); a match with at least
+  ``relocalize_quality`` inliers is taken (unclamped: the pose is known to be wrong) and the
+  state returns to ``TRACKING``.
 """
 
 from __future__ import annotations
@@ -91,6 +93,8 @@ class PoseTrackerConfig:
         quality_smoothing: weight of each new scan in the smoothed quality, in (0, 1].
         lost_quality: smoothed quality below which the tracker starts counting towards LOST.
         lost_after: how long [s] the quality must stay low before the state becomes LOST.
+        wide_search_interval: while relocalizing or lost, run the wide search at most this
+            often [s] (it costs a few milliseconds; scans in between are skipped).
         max_correction_xy: largest translation applied by one correction while tracking [m].
         max_correction_theta: largest rotation applied by one correction while tracking [rad].
         use_imu: take rotation from the IMU's integrated yaw when a reading is given.
@@ -118,6 +122,7 @@ class PoseTrackerConfig:
     quality_smoothing: float = 0.3
     lost_quality: float = 0.35
     lost_after: float = 3.0
+    wide_search_interval: float = 0.5
     max_correction_xy: float = 0.04
     max_correction_theta: float = math.radians(2.0)
     use_imu: bool = True
@@ -136,7 +141,7 @@ class PoseTrackerConfig:
         for name in positive:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")
-        for name in ("track_window_xy", "lost_after"):
+        for name in ("track_window_xy", "lost_after", "wide_search_interval"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
         for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
@@ -163,6 +168,9 @@ class PoseTracker:
 
     Args:
         config: the tracker's settings.
+
+    Attributes:
+        last_match: the newest scan match, for diagnostics (pose, score, inlier fraction).
     """
 
     def __init__(self, config: PoseTrackerConfig = PoseTrackerConfig()) -> None:  # noqa: B008
@@ -175,6 +183,7 @@ class PoseTracker:
         self._awaiting_relocalization = False
         self._initialized_at = 0.0
         self._low_since: float | None = None
+        self._next_wide_search = -math.inf
         self._last_odometry: Pose2D | None = None
         self._last_imu_yaw: float | None = None
         self._last_scan_stamp: float | None = None
@@ -213,6 +222,7 @@ class PoseTracker:
         self._low_since = None
         self._awaiting_relocalization = True
         self._initialized_at = now
+        self._next_wide_search = -math.inf
         self._set_state(LocalizationState.UNINITIALIZED, now)
         log.info("localization initialized near %s", pose)
 
@@ -244,6 +254,7 @@ class PoseTracker:
         ):
             self._last_scan_stamp = scan.stamp
             self._correct(scan, odometry.pose, now)
+        self._check_lost(now)
         return self.estimate
 
     @property
@@ -304,6 +315,8 @@ class PoseTracker:
         since_scan = odom_now.relative_to(self._odometry_at(scan.stamp))
         at_scan = self._pose.compose(since_scan.inverse())
         tracking = self._state is LocalizationState.TRACKING
+        if not tracking and now < self._next_wide_search:
+            return
         step = c.beam_step if tracking else c.relocalize_beam_step
         points = scan_matcher.scan_points(
             scan.ranges, self._beam_angles(scan), range_min=scan.range_min,
@@ -326,6 +339,7 @@ class PoseTracker:
             match = self._matcher.match(points, at_scan, window, prior_xy=4.0 * wide_xy,
                                         prior_theta=4.0 * wide_theta,
                                         inlier_distance=c.inlier_distance)
+            self._next_wide_search = now + c.wide_search_interval
         self.last_match = match
         quality = match.inliers if match.points else 0.0
 
@@ -335,28 +349,31 @@ class PoseTracker:
                                         c.max_correction_theta)
                 self._pose = corrected.compose(since_scan)
             self._smooth_quality(quality)
-            if self._quality < c.lost_quality:
-                if self._low_since is None:
-                    self._low_since = now
-                elif now - self._low_since >= c.lost_after:
-                    log.warning("localization lost: quality %.2f below %.2f for %.1f s",
-                                self._quality, c.lost_quality, now - self._low_since)
-                    self._set_state(LocalizationState.LOST, now)
-            else:
+            if self._quality >= c.lost_quality:
                 self._low_since = None
-            return
-
-        if quality >= c.relocalize_quality:
+            elif self._low_since is None:
+                self._low_since = now
+        elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
             self._quality = quality
             self._low_since = None
             self._awaiting_relocalization = False
             log.info("localization relocalized at %s (quality %.2f)", match.pose, quality)
             self._set_state(LocalizationState.TRACKING, now)
-            return
-        self._smooth_quality(quality)
-        if (self._state is LocalizationState.UNINITIALIZED
-                and now - self._initialized_at >= c.lost_after):
+        else:
+            self._smooth_quality(quality)
+
+    def _check_lost(self, now: float) -> None:
+        """The LOST timers, checked at every update so they fire on time between scans."""
+        c = self.config
+        if self._state is LocalizationState.TRACKING:
+            if self._low_since is not None and now - self._low_since >= c.lost_after:
+                log.warning("localization lost: quality %.2f below %.2f for %.1f s",
+                            self._quality, c.lost_quality, now - self._low_since)
+                self._set_state(LocalizationState.LOST, now)
+                self._next_wide_search = now
+        elif (self._awaiting_relocalization
+              and now - self._initialized_at >= c.lost_after):
             log.warning("relocalization failed for %.1f s near %s", now - self._initialized_at,
                         self._pose)
             self._awaiting_relocalization = False

@@ -88,6 +88,16 @@ def _run(
     return steps
 
 
+def _matches_while(sim: Simulation, tracker: PoseTracker, seconds: float) -> list[object]:
+    matches = []
+    for _ in range(round(seconds / DT)):
+        sim.step(DT)
+        tracker.update(sim.robot.read_odometry(), sim.robot.read_imu(), sim.robot.read_scan(),
+                       sim.clock.now())
+        matches.append(tracker.last_match)
+    return matches
+
+
 class _Biased:
     """Wheel odometry with a 5 % scale error on travel and turn, and a steady yaw drift."""
 
@@ -229,8 +239,12 @@ def test_lost_after_lost_after_seconds_of_bad_scans_and_recovers(world):
     assert lost[0] <= t_bad + 3.6
     assert all(s.estimate.state is TRACKING for s in bad if s.now < lost[0])
 
+    # While lost, the costly wide search runs every wide_search_interval (0.5 s), not per scan.
+    searches = {id(m) for m in _matches_while(sim, tracker, 2.0)}
+    assert len(searches) == 5  # the match in force at the start, then one per 0.5 s
+
     sim.teleport("floor1", pose)
-    back = _run(sim, tracker, 0.5)
+    back = _run(sim, tracker, 1.0)  # the wide search runs every 0.5 s while lost
     assert back[-1].estimate.state is TRACKING
     assert back[-1].estimate.quality > 0.35
     assert back[-1].error < 0.05
