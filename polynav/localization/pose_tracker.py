@@ -49,7 +49,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 import numpy.typing as npt
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D, angle_diff, wrap_angle
 from polynav.localization import scan_matcher
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
@@ -212,10 +212,10 @@ class PoseTracker:
         relocalization window, and only then does the state become TRACKING.
 
         Raises:
-            RuntimeError: no map has been set.
+            InvalidRequest: no map has been set.
         """
         if self._matcher is None:
-            raise RuntimeError("initialize before set_map")
+            raise InvalidRequest("map", "no map to localize on: set_map first")
         self._pose = pose
         self._stamp = now
         self._quality = 0.0

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.localization.interface import LocalizationEstimate, LocalizationState, Localizer
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig, warm_up
@@ -317,5 +317,5 @@ def test_config_rejects_out_of_range_values():
 
 
 def test_initialize_before_set_map_fails():
-    with pytest.raises(RuntimeError, match="set_map"):
+    with pytest.raises(InvalidRequest, match="set_map"):
         PoseTracker().initialize(Pose2D(), 0.0)
