@@ -429,6 +429,13 @@ class AStar:
 
     def __init__(self, *, capacity: int | None = None) -> None:
         self._buffers = SearchBuffers(capacity)
+        # The tables of the last query, reused while the caller passes the same arrays (the
+        # cached ``step_multipliers`` tables): on small maps this set-up would cost more than
+        # the search.
+        self._prepared_for: tuple[object, object, int, int] | None = None
+        self._prepared: tuple[npt.NDArray[np.float64], int, int, npt.NDArray[np.int64]] = (
+            np.empty(0), 0, 0, np.empty(0, dtype=np.int64)
+        )
 
     def search(
         self,
@@ -445,7 +452,9 @@ class AStar:
             costs: ``[iy, ix]`` uint8 cost grid.
             start: start cell ``(ix, iy)``, inside the grid; expanded whatever its cost.
             goal: goal cell ``(ix, iy)``, inside the grid; reached only if passable.
-            multipliers: step multipliers per cost (``grid_search.step_multipliers``).
+            multipliers: step multipliers per cost (``grid_search.step_multipliers``); treated
+                as immutable (the read-only cached tables are), since set-up derived from them
+                is reused while the same array comes back.
             escape_multipliers: optional table that also allows a band of costs at and above
                 the lethal threshold, entered only from cells of that band (module docstring).
                 Used when the start itself lies in that band.
@@ -462,14 +471,23 @@ class AStar:
         gx, gy = int(goal[0]), int(goal[1])
         if not (0 <= sx < width and 0 <= sy < height and 0 <= gx < width and 0 <= gy < height):
             raise ValueError(f"start {start} or goal {goal} outside the {width}x{height} grid")
-        tables, lo, hi, ring = _prepare(multipliers, escape_multipliers, height, width)
+        last = self._prepared_for
+        if (
+            last is None
+            or last[0] is not multipliers
+            or last[1] is not escape_multipliers
+            or last[2:] != (height, width)
+        ):
+            tables, lo, hi, ring = _prepare(multipliers, escape_multipliers, height, width)
+            self._prepared = (tables, lo, hi, np.empty(ring, dtype=np.int64))
+            self._prepared_for = (multipliers, escape_multipliers, height, width)
+        tables, lo, hi, heads = self._prepared
         buffers = self._buffers
         stamp = buffers.next_stamp((height, width), parent_dtype=np.int8)
         while True:
             status, cost, expansions = search(
                 grid, tables, lo, hi, sx, sy, gx, gy, buffers.g, buffers.state,
-                buffers.parent, buffers.heap, buffers.pool, buffers.next,
-                np.empty(ring, dtype=np.int64), stamp,
+                buffers.parent, buffers.heap, buffers.pool, buffers.next, heads, stamp,
             )
             if status >= 0:
                 break
