@@ -113,8 +113,9 @@ class SearchBuffers:
     """Scratch arrays for one grid size, reused across queries with a generation stamp.
 
     ``state[cell]`` equals ``stamp`` when the cell is open in the current query and ``stamp + 1``
-    when it is closed; any other value means "not seen", whatever ``g`` holds. The stamp grows by
-    2 per query and the arrays are cleared only when it would overflow.
+    when it is closed (a search may use a few more values, up to its stride); any other value
+    means "not seen", whatever ``g`` holds. The stamp grows by the stride per query, and the
+    arrays are cleared only when it would overflow.
 
     The open list lives in ``heap`` (two int64 words per entry, see ``heap``) and, for A*'s
     bucket queue, in ``pool``/``next`` (entries of later buckets, chained per bucket). Their
@@ -138,8 +139,14 @@ class SearchBuffers:
         self.next = np.empty(0, dtype=np.int64)
         self.stamp = 0
 
-    def next_stamp(self, shape: tuple[int, int], *, parent_dtype: type[np.generic]) -> int:
-        """Make the buffers fit ``shape`` and return the stamp of a new query."""
+    def next_stamp(
+        self, shape: tuple[int, int], *, parent_dtype: type[np.generic], stride: int = 2
+    ) -> int:
+        """Make the buffers fit ``shape`` and return the stamp of a new query.
+
+        ``stride`` is how many state values a query may use from its stamp on (2: open and
+        closed; Theta* uses 4); the stamp is a multiple of it.
+        """
         if shape != self.shape or self.parent.dtype != parent_dtype:
             cells = shape[0] * shape[1]
             if cells >= 2**31:
@@ -153,10 +160,10 @@ class SearchBuffers:
             capacity = self._capacity_override or cells + 8
             self._allocate_queue(capacity)
             self.stamp = 0
-        self.stamp += 2
+        self.stamp += stride - self.stamp % stride
         if self.stamp >= _STAMP_LIMIT:
             self.state.fill(0)
-            self.stamp = 2
+            self.stamp = stride
         return self.stamp
 
     def grow_queue(self) -> None:

@@ -105,7 +105,10 @@ def segment_cost(
         next_y = np.inf
     t = 0.0
     total = 0.0
+    height, width = costs.shape
+    inf = np.inf
     # Each step crosses one grid line (two at a corner); this bounds the walk whatever rounding.
+    # The lookups are written out: a jitted call taking the arrays would cost more than the step.
     for _ in range(abs(ex - ix) + abs(ey - iy) + 2):
         if ix == ex and iy == ey:
             break
@@ -115,13 +118,14 @@ def segment_cost(
         total += (t_next - t) * m
         t = t_next
         if abs(next_x - next_y) <= _TIE:
-            if (
-                _multiplier(costs, table, ix + step_x, iy) == np.inf
-                or _multiplier(costs, table, ix, iy + step_y) == np.inf
-            ):
-                return np.inf
-            ix += step_x
-            iy += step_y
+            sx = ix + step_x
+            sy = iy + step_y
+            if sx < 0 or sx >= width or sy < 0 or sy >= height:
+                return inf
+            if table[costs[iy, sx]] == inf or table[costs[sy, ix]] == inf:
+                return inf
+            ix = sx
+            iy = sy
             next_x += delta_x
             next_y += delta_y
         elif next_x < next_y:
@@ -130,9 +134,11 @@ def segment_cost(
         else:
             iy += step_y
             next_y += delta_y
-        m = _multiplier(costs, table, ix, iy)
-        if m == np.inf:
-            return np.inf
+        if ix < 0 or ix >= width or iy < 0 or iy >= height:
+            return inf
+        m = table[costs[iy, ix]]
+        if m == inf:
+            return inf
     total += (1.0 - t) * m
     return total * length
 
