@@ -1,44 +1,101 @@
-"""Regulated pure pursuit: follow a path by steering at a point a lookahead distance ahead.
+"""Regulated pure pursuit: follow a path by steering on the arc through a point ahead on it.
 
 After Macenski, Singh, Martin and Gines, "Regulated Pure Pursuit for Robot Path Tracking"
-(Autonomous Robots, 2023), and the behaviour of Nav2's ``nav2_regulated_pure_pursuit_controller``:
+(Autonomous Robots, 2023), and the behaviour of Nav2's ``nav2_regulated_pure_pursuit_controller``.
+Each control period :meth:`RegulatedPurePursuit.compute` goes through these steps:
 
-- the lookahead grows with speed (``lookahead_time``), bounded by ``min/max_lookahead``;
-- the linear speed is *regulated*: lowered on tight curvature, near obstacles (the costmap cost
-  under the robot), when approaching the goal, and when an obstacle stands on the path ahead;
-- the robot turns in place when the path leaves in a very different direction, and at the end
-  turns in place to the goal heading;
-- the path ahead is checked against the live costmap each period: an obstacle within stopping
-  distance stops the robot (``BLOCKED``, the navigator re-plans), one farther ahead slows it.
+1. **Goal.** Once the robot stands on the goal position it stops translating and turns in place
+   to the goal heading (``ROTATING``), then reports ``ARRIVED``. The position is *latched* (see
+   :mod:`polynav.control.goal_checker`): estimate jitter while turning never restarts driving.
+2. **Place and carrot.** The robot's place on the path is searched forward from the last one
+   (:mod:`polynav.control.tracked_path`); the carrot is where the path leaves the lookahead circle,
+   the lookahead growing with speed. When the rest of the path lies inside the circle the carrot
+   is the goal itself.
+3. **Turn in place** (``ROTATING``) while the carrot is more than ``rotate_to_heading_min_angle``
+   off the heading: at the start when the path leaves sideways or backwards, and mid-path at a
+   hairpin. The turn ends once aligned and slowed down, so driving starts on a straight arc.
+4. **Track**: curvature 2y/L² to the carrot; the linear speed is *regulated* by curvature, by the
+   cost under and just ahead of the robot, and by the distance left to the goal
+   (:mod:`polynav.control.regulation`); the turn rate is speed × curvature.
+5. **Collision check**: the path ahead and the arc about to be driven are looked up in the
+   costmap (:mod:`polynav.control.collision`). An obstacle within the stopping distance (what the
+   robot covers in ``collision_lookahead_time`` plus its braking distance) stops the robot
+   (``BLOCKED``: the navigator re-plans); one within ``slowdown_distance`` slows it (``SLOWING``).
+6. **Limits**: never above the velocity limits, and within the acceleration limits from the
+   *measured* velocity, except the stop when ``BLOCKED``, which is immediate.
 
-Near the goal the carrot is the goal itself. A pure-pursuit arc through a fixed point is a circle
-that passes exactly through it, so the approach converges on the point instead of orbiting it, and
-the :class:`GoalChecker` latch then keeps the robot from creeping while it turns to the heading.
+Precision at the goal. The acceptance tests measure the true pose to 0.1 m / 0.1 rad while the
+controller sees a localization estimate a few centimetres off, so the controller does not spend
+its tolerances on itself: it *aims* at ``goal_aim_fraction`` of each tolerance and keeps the rest
+for the estimate's error. It accepts the full tolerance only when aiming closer would mean driving
+on past the goal (the goal is abeam or behind), turning back past the heading (it overshot), or
+has not succeeded within ``goal_settle_time`` (a base that cannot creep that slowly). Steering at
+the goal itself converges instead of orbiting: the pure pursuit arc through a fixed point passes
+exactly through it, and where the turn rate cannot follow the arc the speed drops so that it can.
+A goal close by but far off to the side is a large bearing, so the robot turns toward it first.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
-from polynav.control.goal_checker import GoalChecker, GoalCheckerConfig
+from polynav.control import collision, regulation
+from polynav.control.goal_checker import GoalChecker
 from polynav.control.interface import ControlCommand, ControlStatus
+from polynav.control.pose_filter import PoseFilter
+from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.maps import costs
 from polynav.maps.interface import CostGrid
 from polynav.planning.path import Path
 
-_AIM_FRACTION = 0.4
-"""The controller aims this fraction of the xy tolerance, keeping the rest for estimate noise."""
+log = logging.getLogger(__name__)
+
+_KEY = "control.pure_pursuit."
 
 
 @dataclass(frozen=True, slots=True)
 class PurePursuitConfig:
-    """Limits [m/s, rad/s, m/s², rad/s²], lookahead [s, m], regulation and goal tolerances."""
+    """Parameters of :class:`RegulatedPurePursuit`, SI units (Nav2 RPP names where they exist).
+
+    Attributes:
+        max_linear_velocity: top forward speed [m/s].
+        max_angular_velocity: top turn rate [rad/s].
+        linear_acceleration: forward speed-up limit [m/s²].
+        linear_deceleration: slow-down limit [m/s²] (not applied to the stop when blocked).
+        angular_acceleration: turn rate change limit [rad/s²].
+        lookahead_time: the lookahead is the distance covered in this time [s] ...
+        min_lookahead: ... but at least this [m] ...
+        max_lookahead: ... and at most this [m].
+        rotate_to_heading_min_angle: turn in place when the carrot is farther off the heading
+            than this [rad].
+        rotate_gain: turn-in-place rate per heading error [1/s] near the end of a turn.
+        min_rotation_speed: slowest turn-in-place rate [rad/s] (static friction of real bases).
+        regulated_min_radius: arcs tighter than this radius [m] slow the robot proportionally.
+        min_regulated_speed: curvature and proximity regulation never go below this [m/s].
+        proximity_cost_threshold: costs above this under or just ahead of the robot slow it.
+        proximity_slowdown: fraction of the speed removed at the highest inflation cost.
+        approach_velocity_scaling_dist: within this path distance [m] of the goal, slow down ...
+        min_approach_velocity: ... but not below this [m/s], so the goal is reached.
+        collision_lookahead_time: an obstacle closer than the distance covered in this time [s]
+            (plus the braking distance) stops the robot.
+        min_stop_distance: that stopping distance is never less than this [m].
+        slowdown_distance: an obstacle on the path closer than this [m] slows the robot.
+        xy_goal_tolerance: accepted final distance [m] to the goal.
+        yaw_goal_tolerance: accepted final heading error [rad].
+        goal_aim_fraction: the controller aims at this fraction of each goal tolerance.
+        goal_settle_time: after this time [s] within a tolerance the full tolerance is accepted.
+        path_search_distance: how far along the path [m] the robot's place and the carrot are
+            searched from the last place.
+        pose_filter_gain: weight of each new pose estimate against the odometry prediction
+            (:mod:`polynav.control.pose_filter`); 1 steers by the raw estimate.
+        pose_filter_reset_distance: an estimate this far [m] from the prediction is taken as is.
+    """
 
     max_linear_velocity: float = 0.6
     max_angular_velocity: float = 1.5
@@ -53,6 +110,7 @@ class PurePursuitConfig:
     min_rotation_speed: float = 0.1
     regulated_min_radius: float = 0.9
     min_regulated_speed: float = 0.1
+    proximity_cost_threshold: int = 128
     proximity_slowdown: float = 0.5
     approach_velocity_scaling_dist: float = 0.6
     min_approach_velocity: float = 0.05
@@ -61,259 +119,362 @@ class PurePursuitConfig:
     slowdown_distance: float = 1.5
     xy_goal_tolerance: float = 0.05
     yaw_goal_tolerance: float = 0.05
+    goal_aim_fraction: float = 0.3
+    goal_settle_time: float = 1.0
+    path_search_distance: float = 2.0
+    pose_filter_gain: float = 0.2
+    pose_filter_reset_distance: float = 0.2
 
     def __post_init__(self) -> None:
         positive = (
             "max_linear_velocity", "max_angular_velocity", "linear_acceleration",
             "linear_deceleration", "angular_acceleration", "lookahead_time", "min_lookahead",
-            "rotate_to_heading_min_angle", "rotate_gain", "regulated_min_radius",
-            "approach_velocity_scaling_dist", "min_approach_velocity", "collision_lookahead_time",
-            "min_stop_distance", "xy_goal_tolerance", "yaw_goal_tolerance",
+            "rotate_gain", "regulated_min_radius", "approach_velocity_scaling_dist",
+            "min_approach_velocity", "collision_lookahead_time", "min_stop_distance",
+            "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time",
         )
         for key in positive:
-            if getattr(self, key) <= 0.0:
-                raise ConfigError(f"control.pure_pursuit.{key}", "must be > 0")
+            value = getattr(self, key)
+            if not (value > 0.0 and math.isfinite(value)):
+                raise ConfigError(_KEY + key, f"must be finite and > 0, got {value}")
         if self.max_lookahead < self.min_lookahead:
-            raise ConfigError("control.pure_pursuit.max_lookahead", "must be >= min_lookahead")
+            raise ConfigError(_KEY + "max_lookahead", "must be >= min_lookahead")
+        if not 0.0 < self.rotate_to_heading_min_angle <= math.pi:
+            raise ConfigError(_KEY + "rotate_to_heading_min_angle", "must be within (0, pi]")
+        if not 0.0 <= self.min_rotation_speed <= self.max_angular_velocity:
+            raise ConfigError(_KEY + "min_rotation_speed", "must be within 0..max_angular_velocity")
         if not 0.0 <= self.min_regulated_speed <= self.max_linear_velocity:
-            raise ConfigError(
-                "control.pure_pursuit.min_regulated_speed", "must be within 0..max_linear_velocity"
-            )
+            raise ConfigError(_KEY + "min_regulated_speed", "must be within 0..max_linear_velocity")
         if self.min_approach_velocity > self.max_linear_velocity:
+            raise ConfigError(_KEY + "min_approach_velocity", "must be <= max_linear_velocity")
+        if not 0 <= self.proximity_cost_threshold < costs.MAX_NON_OBSTACLE:
             raise ConfigError(
-                "control.pure_pursuit.min_approach_velocity", "must be <= max_linear_velocity"
+                _KEY + "proximity_cost_threshold", f"must be within 0..{costs.MAX_NON_OBSTACLE - 1}"
             )
         if not 0.0 <= self.proximity_slowdown < 1.0:
-            raise ConfigError("control.pure_pursuit.proximity_slowdown", "must be within [0, 1)")
+            raise ConfigError(_KEY + "proximity_slowdown", "must be within [0, 1)")
         if self.slowdown_distance < self.min_stop_distance:
-            raise ConfigError(
-                "control.pure_pursuit.slowdown_distance", "must be >= min_stop_distance"
-            )
-        if not 0.0 <= self.min_rotation_speed <= self.max_angular_velocity:
-            raise ConfigError(
-                "control.pure_pursuit.min_rotation_speed", "must be within 0..max_angular_velocity"
-            )
+            raise ConfigError(_KEY + "slowdown_distance", "must be >= min_stop_distance")
+        if not 0.0 < self.goal_aim_fraction <= 1.0:
+            raise ConfigError(_KEY + "goal_aim_fraction", "must be within (0, 1]")
+        if self.xy_goal_tolerance >= self.min_lookahead:
+            # Beyond min_lookahead from a reached goal the robot counts as moved away (pushed,
+            # relocalized) and drives back; a tolerance that large would make that ambiguous.
+            raise ConfigError(_KEY + "xy_goal_tolerance", "must be < min_lookahead")
+        if not 0.0 < self.pose_filter_gain <= 1.0:
+            raise ConfigError(_KEY + "pose_filter_gain", "must be within (0, 1]")
+        if not self.pose_filter_reset_distance > 0.0:
+            raise ConfigError(_KEY + "pose_filter_reset_distance", "must be > 0")
+        if self.path_search_distance < self.max_lookahead:
+            raise ConfigError(_KEY + "path_search_distance", "must be >= max_lookahead")
 
 
 class RegulatedPurePursuit:
-    """The path-following controller (implements ``polynav.control.interface.Controller``)."""
+    """The path-following controller; implements :class:`polynav.control.interface.Controller`."""
 
     def __init__(self, config: PurePursuitConfig | None = None) -> None:
         self.config = config or PurePursuitConfig()
         self._goal_checker = GoalChecker(
-            GoalCheckerConfig(
-                self.config.xy_goal_tolerance * _AIM_FRACTION, self.config.yaw_goal_tolerance
-            )
+            self.config.xy_goal_tolerance, self.config.yaw_goal_tolerance
         )
-        self._points: npt.NDArray[np.float64] = np.zeros((0, 2))
-        self._cumulative: npt.NDArray[np.float64] = np.zeros(0)
+        self._filter = PoseFilter(
+            self.config.pose_filter_gain, self.config.pose_filter_reset_distance
+        )
+        self._path: TrackedPath | None = None
         self._goal: Pose2D | None = None
-        self._closest = 0
+        self._place = 0.0  # the robot's arc length along the path [m]
+        self._rotating = False  # in a turn in place toward the carrot
+        self._arrived = False
+        self._settle = 0.0  # time [s] spent within a goal tolerance without reaching the aim
+        self._status: ControlStatus | None = None
 
     # -- Controller protocol -----------------------------------------------------------------
 
     def set_path(self, path: Path, goal: Pose2D) -> None:
+        """Follow ``path`` to ``goal``; the same goal again (a re-plan) keeps the goal latch."""
         points = np.asarray(path.points, dtype=np.float64).reshape(-1, 2)
-        if points.shape[0] == 0 or not np.allclose(points[-1], (goal.x, goal.y)):
+        if points.shape[0] == 0 or math.hypot(*(points[-1] - (goal.x, goal.y))) > 1e-6:
+            # A grid planner ends on the goal cell's centre; the robot must end on the goal.
             points = np.vstack([points, [goal.x, goal.y]])
-        self._points = points
-        seg = np.hypot(*np.diff(points, axis=0).T) if points.shape[0] > 1 else np.zeros(0)
-        self._cumulative = np.concatenate(([0.0], np.cumsum(seg)))
-        if self._goal is None or goal != self._goal:
+        self._path = TrackedPath.from_points(points)
+        self._place = 0.0
+        if goal != self._goal:
             self._goal_checker.reset()
+            self._arrived = False
+            self._settle = 0.0
+            self._rotating = False
         self._goal = goal
-        self._closest = 0
 
     def reset(self) -> None:
-        self._points = np.zeros((0, 2))
-        self._cumulative = np.zeros(0)
+        """Forget the path, the goal latch and the smoothed pose (a cancel, a recovery)."""
+        self._path = None
         self._goal = None
-        self._closest = 0
+        self._place = 0.0
+        self._rotating = False
+        self._arrived = False
+        self._settle = 0.0
+        self._status = None
         self._goal_checker.reset()
+        self._filter.reset()
 
     def compute(
         self, pose: Pose2D, velocity: Twist, costmap: CostGrid, dt: float
     ) -> ControlCommand:
-        cfg = self.config
-        if self._goal is None:
-            return ControlCommand(Twist(), ControlStatus.BLOCKED)
+        """The velocity for the next ``dt`` [s] from the estimated ``pose`` and measured velocity.
+
+        ``dt`` is also taken as the time since the last call, over which ``velocity`` moved the
+        robot (the pose filter's prediction). Without a path (never set, or after :meth:`reset`)
+        the answer is a stop, ``BLOCKED``.
+        """
+        pose = self._filter.update(pose, velocity, dt)
+        if self._path is None or self._goal is None:
+            return self._answer(Twist(), ControlStatus.BLOCKED)
         goal = self._goal
-        if not self._goal_checker.xy_reached:
-            # Aim well inside the tolerance; accept the tolerance itself only once the goal is
-            # abeam or behind, where driving on would only take the robot away from it.
-            gx, gy = goal.x - pose.x, goal.y - pose.y
-            ahead = gx * math.cos(pose.theta) + gy * math.sin(pose.theta)
-            if math.hypot(gx, gy) <= cfg.xy_goal_tolerance and ahead <= 0.0:
-                self._goal_checker.latch()
-        if self._goal_checker.position_reached(pose, goal):
-            error = angle_diff(goal.theta, pose.theta)
-            if abs(error) <= cfg.yaw_goal_tolerance:
-                return ControlCommand(Twist(), ControlStatus.ARRIVED)
-            return ControlCommand(self._rotate(error, velocity, dt), ControlStatus.ROTATING)
+        distance = pose.distance_to(goal)
+        checker = self._goal_checker
+        if checker.xy_reached and distance > self.config.min_lookahead:
+            log.info("%.2f m from the goal after reaching it (moved?): driving back", distance)
+            checker.reset()
+            self._arrived = False
+            self._settle = 0.0
+        if self._arrived:
+            return self._answer(Twist(), ControlStatus.ARRIVED)
+        if not checker.xy_reached and self._position_done(pose, goal, distance, dt):
+            checker.latch()
+            self._settle = 0.0
+        if checker.xy_reached:
+            return self._turn_to_goal(pose, velocity, dt)
+        return self._track(pose, velocity, costmap, dt)
 
-        self._advance_closest(pose)
-        remaining = self._remaining(pose)
-        lookahead = min(max(abs(velocity.linear) * cfg.lookahead_time, cfg.min_lookahead),
-                        cfg.max_lookahead)
-        cx, cy = self._carrot(pose, lookahead, remaining)
-        # The carrot in the robot frame.
-        dx, dy = cx - pose.x, cy - pose.y
-        c, s = math.cos(pose.theta), math.sin(pose.theta)
-        fx, fy = c * dx + s * dy, -s * dx + c * dy
-        bearing = math.atan2(fy, fx)
-        if abs(bearing) > cfg.rotate_to_heading_min_angle:
-            return ControlCommand(self._rotate(bearing, velocity, dt), ControlStatus.ROTATING)
+    # -- goal --------------------------------------------------------------------------------
 
-        d2 = fx * fx + fy * fy
-        curvature = 2.0 * fy / d2 if d2 > 1e-12 else 0.0
-        speed = self._regulated_speed(pose, curvature, costmap, remaining)
-        blocked_at = self._distance_to_blocked(pose, costmap, cfg.slowdown_distance)
-        status = ControlStatus.TRACKING
-        if blocked_at is not None:
-            braking = velocity.linear**2 / (2.0 * cfg.linear_deceleration)
-            stop_distance = max(cfg.min_stop_distance,
-                                braking + abs(velocity.linear) * cfg.collision_lookahead_time)
-            if blocked_at <= stop_distance:
-                return ControlCommand(Twist(), ControlStatus.BLOCKED)
-            span = max(cfg.slowdown_distance - stop_distance, 1e-6)
-            fraction = min(1.0, (blocked_at - stop_distance) / span)
-            speed = min(speed, max(cfg.min_regulated_speed, cfg.max_linear_velocity * fraction))
-            status = ControlStatus.SLOWING
-
-        linear = _limit(speed, velocity.linear, cfg.linear_acceleration,
-                        cfg.linear_deceleration, dt)
-        angular = linear * curvature
-        if abs(angular) > cfg.max_angular_velocity:
-            # Keep the arc: slow down rather than cut the corner.
-            angular = math.copysign(cfg.max_angular_velocity, angular)
-            linear = abs(angular / curvature)
-        return ControlCommand(Twist(linear, angular), status)
-
-    # -- parts -------------------------------------------------------------------------------
-
-    def _rotate(self, error: float, velocity: Twist, dt: float) -> Twist:
-        """Turn in place toward ``error`` [rad], slowing so it stops on the heading."""
+    def _position_done(self, pose: Pose2D, goal: Pose2D, distance: float, dt: float) -> bool:
+        """Stop translating? At the aim, or within tolerance where getting closer is not on."""
         cfg = self.config
-        magnitude = min(
-            cfg.max_angular_velocity,
-            math.sqrt(2.0 * cfg.angular_acceleration * abs(error)),
-            cfg.rotate_gain * abs(error),
-        )
-        target = math.copysign(max(magnitude, cfg.min_rotation_speed), error)
-        step = cfg.angular_acceleration * dt if dt > 0.0 else math.inf
-        angular = min(max(target, velocity.angular - step), velocity.angular + step)
-        if angular * error < 0.0:
-            # Still turning the wrong way from the last command: brake, never accelerate away.
-            angular = 0.0 if abs(velocity.angular) <= step else angular
-        return Twist(0.0, angular)
+        if distance <= cfg.xy_goal_tolerance * cfg.goal_aim_fraction:
+            return True
+        if distance > cfg.xy_goal_tolerance:
+            self._settle = 0.0
+            return False
+        ahead = (goal.x - pose.x) * math.cos(pose.theta) + (goal.y - pose.y) * math.sin(pose.theta)
+        if ahead <= 0.0:
+            # Abeam or behind: driving on can only take the robot away from the goal.
+            return True
+        self._settle += dt
+        return self._settle >= cfg.goal_settle_time
 
-    def _advance_closest(self, pose: Pose2D) -> None:
-        """Move the nearest-point index forward; the search only looks ahead (PythonRobotics)."""
-        pts = self._points
-        stop = int(np.searchsorted(self._cumulative, self._cumulative[self._closest] + 2.0)) + 1
-        window = pts[self._closest : max(stop, self._closest + 2)]
-        d = np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
-        best = int(np.argmin(d))
-        if d[best] > 0.5:
-            # Far from the window (a relocalization jump): search the whole rest of the path.
-            rest = pts[self._closest :]
-            best = int(np.argmin(np.hypot(rest[:, 0] - pose.x, rest[:, 1] - pose.y)))
-        self._closest += best
-
-    def _remaining(self, pose: Pose2D) -> float:
-        p = self._points[self._closest]
-        return float(self._cumulative[-1] - self._cumulative[self._closest]
-                     + math.hypot(p[0] - pose.x, p[1] - pose.y))
-
-    def _carrot(self, pose: Pose2D, lookahead: float, remaining: float) -> tuple[float, float]:
+    def _turn_to_goal(self, pose: Pose2D, velocity: Twist, dt: float) -> ControlCommand:
+        cfg = self.config
         goal = self._goal
         assert goal is not None
-        if math.hypot(goal.x - pose.x, goal.y - pose.y) <= lookahead or remaining <= lookahead:
-            return (goal.x, goal.y)
-        pts = self._points
-        for j in range(self._closest + 1, pts.shape[0]):
-            if math.hypot(pts[j, 0] - pose.x, pts[j, 1] - pose.y) >= lookahead:
-                return _circle_crossing(pts[j - 1], pts[j], pose, lookahead)
-        return (goal.x, goal.y)
+        error = angle_diff(goal.theta, pose.theta)
+        if self._goal_checker.heading_reached(pose, goal):
+            self._settle += dt
+            overshot = error * velocity.angular < 0.0
+            if (
+                abs(error) <= cfg.yaw_goal_tolerance * cfg.goal_aim_fraction
+                or overshot
+                or self._settle >= cfg.goal_settle_time
+            ):
+                self._arrived = True
+                log.debug("arrived: %.3f m and %.3f rad from the goal", pose.distance_to(goal),
+                          error)
+                return self._answer(Twist(), ControlStatus.ARRIVED)
+        else:
+            self._settle = 0.0
+        return self._answer(self._turn(error, velocity, dt), ControlStatus.ROTATING)
 
-    def _regulated_speed(
-        self, pose: Pose2D, curvature: float, costmap: CostGrid, remaining: float
-    ) -> float:
+    def _turn(self, error: float, velocity: Twist, dt: float) -> Twist:
+        """Turn in place toward a heading ``error`` [rad] away, braking any forward motion."""
         cfg = self.config
-        speed = cfg.max_linear_velocity
-        if abs(curvature) > 1e-9:
-            radius = 1.0 / abs(curvature)
-            if radius < cfg.regulated_min_radius:
-                speed *= radius / cfg.regulated_min_radius
-        cost = _cost_at(costmap, pose.x, pose.y)
-        if 0 < cost < costs.INSCRIBED:
-            speed *= 1.0 - cfg.proximity_slowdown * cost / costs.MAX_NON_OBSTACLE
-        speed = max(speed, cfg.min_regulated_speed)
-        if remaining < cfg.approach_velocity_scaling_dist:
-            approach = cfg.max_linear_velocity * remaining / cfg.approach_velocity_scaling_dist
-            speed = min(speed, max(approach, cfg.min_approach_velocity))
-        return speed
+        target = regulation.rotation_speed(
+            error,
+            max_speed=cfg.max_angular_velocity,
+            acceleration=cfg.angular_acceleration,
+            gain=cfg.rotate_gain,
+            min_speed=cfg.min_rotation_speed,
+        )
+        angular = regulation.limit_angular(
+            target, velocity.angular, acceleration=cfg.angular_acceleration, dt=dt
+        )
+        linear = regulation.limit_linear(
+            0.0,
+            velocity.linear,
+            acceleration=cfg.linear_acceleration,
+            deceleration=cfg.linear_deceleration,
+            dt=dt,
+        )
+        return Twist(linear, angular)
 
-    def _distance_to_blocked(
-        self, pose: Pose2D, costmap: CostGrid, horizon: float
-    ) -> float | None:
-        """Path distance [m] from the robot to the first cell ahead its footprint would hit."""
-        start = self._closest
-        stop = int(np.searchsorted(self._cumulative, self._cumulative[start] + horizon)) + 1
-        pts = self._points[start:stop]
-        if pts.shape[0] == 0:
-            return None
-        info = costmap.info
-        cells = info.world_to_cells(pts)
-        ix, iy = cells[:, 0], cells[:, 1]
-        inside = (ix >= 0) & (iy >= 0) & (ix < info.width) & (iy < info.height)
-        values = np.full(pts.shape[0], costs.LETHAL, dtype=np.int64)
-        values[inside] = costmap.costs[iy[inside], ix[inside]]
-        blocked = (values >= costs.INSCRIBED) & (values != costs.UNKNOWN)
-        if blocked[0]:
-            # The robot starts in an inscribed cell (pushed against a wall, or a plan that
-            # escapes one): only a blocked cell after the first clear one counts.
-            clear = np.flatnonzero(~blocked)
-            if clear.size == 0:
-                return None
-            blocked[: clear[0]] = False
-        hits = np.flatnonzero(blocked)
-        if hits.size == 0:
-            return None
-        k = int(hits[0])
-        p = pts[0]
-        return float(self._cumulative[start + k] - self._cumulative[start]
-                     + math.hypot(p[0] - pose.x, p[1] - pose.y))
+    # -- tracking ----------------------------------------------------------------------------
 
+    def _track(
+        self, pose: Pose2D, velocity: Twist, costmap: CostGrid, dt: float
+    ) -> ControlCommand:
+        cfg = self.config
+        path, goal = self._path, self._goal
+        assert path is not None and goal is not None
+        self._place = path.project(
+            pose.x,
+            pose.y,
+            start=self._place,
+            window=cfg.path_search_distance,
+            heading=pose.theta,
+        )
+        lookahead = regulation.lookahead_distance(
+            velocity.linear,
+            lookahead_time=cfg.lookahead_time,
+            min_lookahead=cfg.min_lookahead,
+            max_lookahead=cfg.max_lookahead,
+        )
+        carrot = path.lookahead(
+            pose.x, pose.y, start=self._place, radius=lookahead, window=cfg.path_search_distance
+        )
+        at_goal = carrot is None
+        cx, cy = (goal.x, goal.y) if carrot is None else carrot
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        fx = c * (cx - pose.x) + s * (cy - pose.y)
+        fy = -s * (cx - pose.x) + c * (cy - pose.y)
+        bearing = math.atan2(fy, fx)
 
-def _limit(target: float, current: float, accel: float, decel: float, dt: float) -> float:
-    """``target`` within what the base can reach from ``current`` in ``dt`` (forward motion)."""
-    if dt <= 0.0:
-        return target
-    if target >= current:
-        return min(target, current + accel * dt)
-    return max(target, current - decel * dt)
+        if self._rotating:
+            # Leave the turn only once aligned, where its rate has come down to what one period
+            # of angular acceleration can take away: tracking then starts on a nearly straight
+            # arc, and the bearing cannot hover about the entry angle, flipping in and out.
+            settled = max(cfg.angular_acceleration * dt, cfg.min_rotation_speed)
+            if abs(bearing) <= settled / cfg.rotate_gain and abs(velocity.angular) <= settled:
+                self._rotating = False
+        elif abs(bearing) > cfg.rotate_to_heading_min_angle:
+            self._rotating = True
+        if self._rotating:
+            if velocity.linear > 0.0 and self._coasting_collides(pose, velocity, costmap):
+                return self._answer(Twist(), ControlStatus.BLOCKED)
+            return self._answer(self._turn(bearing, velocity, dt), ControlStatus.ROTATING)
 
+        if at_goal:
+            # Steer to pass within half the aim, not through the goal's centre: a straight line
+            # already doing so needs no turn (its closest approach is inside the aim, at a
+            # bearing under 30 degrees), and steering by the last centimetres of a noisy lateral
+            # offset (curvature grows as 1/distance²) would only make the robot wriggle.
+            band = 0.5 * cfg.xy_goal_tolerance * cfg.goal_aim_fraction
+            lateral = math.copysign(max(abs(fy) - band, 0.0), fy)
+            kappa = 2.0 * lateral / max(fx * fx + fy * fy, 1e-12)
+        else:
+            kappa = regulation.curvature(fx, fy)
+        # Near the goal the straight-line distance is the one that matters (the robot may be a
+        # little off the path's last segment); before that, the distance along the path.
+        remaining = pose.distance_to(goal) if at_goal else path.length - self._place
+        stop_at = regulation.stop_distance(
+            velocity.linear,
+            deceleration=cfg.linear_deceleration,
+            lookahead_time=cfg.collision_lookahead_time,
+            minimum=cfg.min_stop_distance,
+        )
+        step = 0.5 * costmap.info.resolution
+        horizon = max(cfg.slowdown_distance, stop_at)
+        arc_s = np.arange(self._place, min(path.length, self._place + horizon) + step, step)
+        arc_s = np.minimum(arc_s, path.length)
+        ahead = collision.costs_at(costmap, path.points_at(arc_s))
 
-def _cost_at(costmap: CostGrid, x: float, y: float) -> int:
-    ix, iy = costmap.info.world_to_cell(x, y)
-    if not costmap.info.contains(ix, iy):
-        return costs.LETHAL
-    return int(costmap.costs[iy, ix])
+        speed = regulation.curvature_speed(
+            cfg.max_linear_velocity, kappa, min_radius=cfg.regulated_min_radius
+        )
+        preview = velocity.linear**2 / (2.0 * cfg.linear_deceleration) + step
+        near = ahead[arc_s - self._place <= preview]
+        cost = max(collision.cost_at(costmap, pose.x, pose.y),
+                   int(near[near != costs.UNKNOWN].max(initial=0)))
+        factor = regulation.proximity_factor(
+            cost, cost_threshold=cfg.proximity_cost_threshold, slowdown=cfg.proximity_slowdown
+        )
+        slowing = factor < 1.0
+        speed = max(speed * factor, cfg.min_regulated_speed)
+        speed = regulation.approach_speed(
+            speed,
+            remaining,
+            scaling_distance=cfg.approach_velocity_scaling_dist,
+            min_speed=cfg.min_approach_velocity,
+        )
 
+        hit = collision.first_collision(ahead)
+        if hit is not None:
+            obstacle = float(arc_s[hit]) - self._place
+            if obstacle <= stop_at:
+                log.debug("obstacle on the path %.2f m ahead: blocked", obstacle)
+                return self._answer(Twist(), ControlStatus.BLOCKED)
+            capped = regulation.obstacle_speed(
+                obstacle,
+                stop_at=stop_at,
+                slowdown_distance=cfg.slowdown_distance,
+                max_speed=cfg.max_linear_velocity,
+                min_speed=cfg.min_regulated_speed,
+            )
+            if capped < speed:
+                speed, slowing = capped, True
+        if self._arc_collides(pose, kappa, math.hypot(fx, fy), stop_at, costmap):
+            log.debug("the arc to the carrot runs into an obstacle: blocked")
+            return self._answer(Twist(), ControlStatus.BLOCKED)
 
-def _circle_crossing(
-    a: npt.NDArray[np.float64], b: npt.NDArray[np.float64], pose: Pose2D, radius: float
-) -> tuple[float, float]:
-    """Where segment a→b leaves the circle of ``radius`` around the robot (a inside, b outside)."""
-    ax, ay = a[0] - pose.x, a[1] - pose.y
-    bx, by = b[0] - pose.x, b[1] - pose.y
-    dx, dy = bx - ax, by - ay
-    qa = dx * dx + dy * dy
-    if qa < 1e-12:
-        return (float(b[0]), float(b[1]))
-    qb = 2.0 * (ax * dx + ay * dy)
-    qc = ax * ax + ay * ay - radius * radius
-    disc = max(qb * qb - 4.0 * qa * qc, 0.0)
-    t = min(max((-qb + math.sqrt(disc)) / (2.0 * qa), 0.0), 1.0)
-    return (float(a[0] + t * dx), float(a[1] + t * dy))
+        twist = self._limit(speed, kappa, velocity, dt)
+        return self._answer(twist, ControlStatus.SLOWING if slowing else ControlStatus.TRACKING)
+
+    def _arc_collides(
+        self, pose: Pose2D, kappa: float, chord: float, stop_at: float, costmap: CostGrid
+    ) -> bool:
+        """Does the arc about to be driven hit an obstacle within the stopping distance?
+
+        The path check alone misses a robot cutting a corner into a wall. The arc is checked only
+        up to the carrot, ``chord`` [m] away, where it meets the path again: beyond it the robot
+        would follow the path, not the arc, and the path check covers that stretch.
+        """
+        half = min(abs(kappa) * chord / 2.0, 1.0)
+        to_carrot = chord if abs(kappa) < 1e-9 else 2.0 * math.asin(half) / abs(kappa)
+        return self._collides(pose, kappa, min(stop_at, to_carrot), costmap)
+
+    def _coasting_collides(self, pose: Pose2D, velocity: Twist, costmap: CostGrid) -> bool:
+        """While braking into a turn in place, does the robot roll into an obstacle?"""
+        cfg = self.config
+        kappa = velocity.angular / velocity.linear
+        braking = velocity.linear**2 / (2.0 * cfg.linear_deceleration)
+        return self._collides(pose, kappa, braking + cfg.min_stop_distance, costmap)
+
+    def _collides(self, pose: Pose2D, kappa: float, length: float, costmap: CostGrid) -> bool:
+        if length <= 0.0:
+            return False
+        points = collision.arc_points(pose, kappa, length, 0.5 * costmap.info.resolution)
+        return collision.first_collision(collision.costs_at(costmap, points)) is not None
+
+    def _limit(self, speed: float, kappa: float, velocity: Twist, dt: float) -> Twist:
+        """Velocity and acceleration limits, keeping to the arc where the turn rate allows."""
+        cfg = self.config
+        linear = regulation.limit_linear(
+            min(speed, cfg.max_linear_velocity),
+            velocity.linear,
+            acceleration=cfg.linear_acceleration,
+            deceleration=cfg.linear_deceleration,
+            dt=dt,
+        )
+        wanted = linear * kappa
+        turn = max(min(wanted, cfg.max_angular_velocity), -cfg.max_angular_velocity)
+        angular = regulation.limit_angular(
+            turn, velocity.angular, acceleration=cfg.angular_acceleration, dt=dt
+        )
+        if linear > 0.0 and abs(angular - wanted) > 1e-12:
+            # The turn rate cannot follow the arc at this speed: slow down to stay on it (cutting
+            # or widening the arc is what makes a robot orbit a goal), as far as braking allows.
+            on_arc = angular / kappa if angular * kappa > 0.0 else 0.0
+            floor = regulation.limit_linear(
+                0.0,
+                velocity.linear,
+                acceleration=cfg.linear_acceleration,
+                deceleration=cfg.linear_deceleration,
+                dt=dt,
+            )
+            linear = min(linear, max(on_arc, floor))
+        return Twist(linear, angular)
+
+    def _answer(self, twist: Twist, status: ControlStatus) -> ControlCommand:
+        if status is not self._status:
+            log.debug("controller %s -> %s", self._status.value if self._status else None,
+                      status.value)
+            self._status = status
+        return ControlCommand(twist, status)

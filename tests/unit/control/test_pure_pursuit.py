@@ -3,247 +3,476 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
+from polynav.control import collision
 from polynav.control.interface import ControlStatus
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist
 from polynav.maps import costs
-from polynav.maps.map import MapInfo
 from polynav.planning.path import Path
+from tests.unit.control.unicycle import DT, Grid, Run, drive, empty_grid, polyline, with_disc
 
-DT = 0.05
 CFG = PurePursuitConfig()
-
-
-@dataclass(frozen=True)
-class Grid:
-    info: MapInfo
-    costs: np.ndarray
-
-
-def empty_grid(size_m: float = 20.0, res: float = 0.05) -> Grid:
-    n = int(size_m / res)
-    return Grid(MapInfo(res, n, n, Pose2D(-size_m / 2, -size_m / 2, 0.0)),
-                np.zeros((n, n), dtype=np.uint8))
-
-
-def polyline(*corners: tuple[float, float], spacing: float = 0.05) -> Path:
-    pts = [np.array(corners[0], dtype=float)]
-    for a, b in zip(corners, corners[1:], strict=False):
-        a_, b_ = np.array(a, float), np.array(b, float)
-        n = max(1, int(math.ceil(np.linalg.norm(b_ - a_) / spacing)))
-        for k in range(1, n + 1):
-            pts.append(a_ + (b_ - a_) * k / n)
-    return Path(np.array(pts))
-
-
-@dataclass
-class Run:
-    pose: Pose2D
-    commands: list[Twist]
-    statuses: list[ControlStatus]
-
-
-def drive(controller: RegulatedPurePursuit, start: Pose2D, grid: Grid, *, seconds: float = 60.0,
-          noise: float = 0.0, seed: int = 0) -> Run:
-    """Integrate exact unicycle motion under the controller's commands until it arrives."""
-    rng = np.random.default_rng(seed)
-    pose, velocity = start, Twist()
-    commands: list[Twist] = []
-    statuses: list[ControlStatus] = []
-    for _ in range(int(seconds / DT)):
-        seen = pose
-        if noise:
-            seen = Pose2D(pose.x + rng.normal(0, noise), pose.y + rng.normal(0, noise),
-                          pose.theta + rng.normal(0, noise))
-        cmd = controller.compute(seen, velocity, grid, DT)
-        commands.append(cmd.twist)
-        statuses.append(cmd.status)
-        if cmd.status is ControlStatus.ARRIVED:
-            break
-        v, w = cmd.twist.linear, cmd.twist.angular
-        if abs(w) < 1e-9:
-            pose = Pose2D(pose.x + v * DT * math.cos(pose.theta),
-                          pose.y + v * DT * math.sin(pose.theta), pose.theta)
-        else:
-            th = pose.theta + w * DT
-            pose = Pose2D(pose.x + v / w * (math.sin(th) - math.sin(pose.theta)),
-                          pose.y - v / w * (math.cos(th) - math.cos(pose.theta)), th)
-        velocity = cmd.twist
-    return Run(pose, commands, statuses)
+RAW = PurePursuitConfig(pose_filter_gain=1.0)  # steers by the pose exactly as given
+EPS = 1e-9
 
 
 def assert_within_limits(run: Run, cfg: PurePursuitConfig = CFG) -> None:
-    prev = Twist()
-    for cmd in run.commands:
-        assert abs(cmd.linear) <= cfg.max_linear_velocity + 1e-9
-        assert abs(cmd.angular) <= cfg.max_angular_velocity + 1e-9
-        assert cmd.linear >= 0.0
-        if cmd.linear > prev.linear:
-            assert (cmd.linear - prev.linear) / DT <= cfg.linear_acceleration + 1e-6
-        elif cmd.linear > 0.0:  # slowing, not an emergency stop
-            assert (prev.linear - cmd.linear) / DT <= cfg.linear_deceleration + 1e-6
-        if cmd.linear == 0.0 and prev.linear == 0.0 and cmd.angular != 0.0:
-            assert abs(cmd.angular - prev.angular) / DT <= cfg.angular_acceleration + 1e-6
-        prev = cmd
+    """Every command within the velocity limits, and within the acceleration limits of the last
+    one (the exact base achieves each command), except a stop when BLOCKED."""
+    previous = Twist()
+    for command, status in zip(run.commands, run.statuses, strict=True):
+        assert 0.0 <= command.linear <= cfg.max_linear_velocity + EPS
+        assert abs(command.angular) <= cfg.max_angular_velocity + EPS
+        dv = (command.linear - previous.linear) / DT
+        if status is not ControlStatus.BLOCKED:
+            assert dv <= cfg.linear_acceleration + 1e-6
+            assert -dv <= cfg.linear_deceleration + 1e-6
+            dw = abs(command.angular - previous.angular) / DT
+            assert dw <= cfg.angular_acceleration + 1e-6
+        previous = command
 
 
-def assert_arrived(run: Run, goal: Pose2D, xy: float = 0.02, yaw: float = 0.05) -> None:
+def assert_arrived(run: Run, goal: Pose2D, *, xy: float, yaw: float) -> None:
     assert run.statuses[-1] is ControlStatus.ARRIVED
+    assert run.commands[-1] == Twist()
     assert run.pose.distance_to(goal) <= xy
     assert abs(run.pose.heading_error_to(goal)) <= yaw
 
 
-def test_follows_a_straight_path_and_stops_on_the_goal() -> None:
+def cross_track(run: Run, *corners: tuple[float, float]) -> float:
+    """Largest distance [m] of the robot from the polyline through ``corners`` over the run."""
+    pts = polyline(*corners, spacing=0.002).points
+    return max(float(np.min(np.hypot(pts[:, 0] - p.x, pts[:, 1] - p.y))) for p in run.poses)
+
+
+# -- following paths -----------------------------------------------------------------------------
+
+
+def test_straight_path_is_followed_at_full_speed_and_ends_on_the_goal() -> None:
     ctrl = RegulatedPurePursuit()
     goal = Pose2D(6.0, 0.0, 0.0)
-    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), goal)
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), empty_grid())
-    assert_arrived(run, goal)
+    path = polyline((0.0, 0.0), (6.0, 0.0))
+    ctrl.set_path(path, goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
     assert_within_limits(run)
     assert max(c.linear for c in run.commands) == pytest.approx(CFG.max_linear_velocity)
+    assert cross_track(run, (0.0, 0.0), (6.0, 0.0)) < 0.002
+    assert ControlStatus.ROTATING not in run.statuses
+    assert set(run.statuses[:-1]) == {ControlStatus.TRACKING}
 
 
-def test_follows_an_l_shaped_path() -> None:
+def test_l_shaped_path_is_followed_without_stopping_at_the_corner() -> None:
     ctrl = RegulatedPurePursuit()
     goal = Pose2D(4.0, 4.0, math.pi / 2)
-    ctrl.set_path(polyline((0.0, 0.0), (4.0, 0.0), (4.0, 4.0)), goal)
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), empty_grid())
-    assert_arrived(run, goal)
+    path = polyline((0.0, 0.0), (4.0, 0.0), (4.0, 4.0))
+    ctrl.set_path(path, goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
     assert_within_limits(run)
+    # Pure pursuit cuts the corner, by less than this.
+    assert cross_track(run, (0.0, 0.0), (4.0, 0.0), (4.0, 4.0)) < 0.15
+    assert ControlStatus.ROTATING not in run.statuses
+    corner = min(range(len(run.poses)), key=lambda i: run.poses[i].distance_to(Pose2D(4.0, 0.0)))
+    assert run.commands[corner].linear > 0.15  # slowed by the curvature, never stopped
 
 
-def test_u_turn_ends_facing_back() -> None:
+def test_u_turn_is_driven_around_and_ends_facing_back() -> None:
     ctrl = RegulatedPurePursuit()
     goal = Pose2D(0.0, 1.5, math.pi)
-    ctrl.set_path(polyline((0.0, 0.0), (4.0, 0.0), (4.0, 1.5), (0.0, 1.5)), goal)
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), empty_grid())
-    assert_arrived(run, goal)
+    path = polyline((0.0, 0.0), (4.0, 0.0), (4.0, 1.5), (0.0, 1.5))
+    ctrl.set_path(path, goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
     assert_within_limits(run)
+    assert cross_track(run, (0.0, 0.0), (4.0, 0.0), (4.0, 1.5), (0.0, 1.5)) < 0.2
+    assert max(p.x for p in run.poses) > 3.7  # went round, did not cut across
 
 
 def test_path_behind_the_robot_starts_with_a_turn_in_place() -> None:
     ctrl = RegulatedPurePursuit()
     goal = Pose2D(-3.0, 0.0, math.pi)
     ctrl.set_path(polyline((0.0, 0.0), (-3.0, 0.0)), goal)
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), empty_grid())
-    assert run.statuses[0] is ControlStatus.ROTATING
-    first_drive = next(i for i, c in enumerate(run.commands) if c.linear > 0)
-    assert all(c.linear == 0.0 for c in run.commands[:first_drive])
+    run = drive(ctrl, Pose2D(), empty_grid())
+    first_drive = next(i for i, c in enumerate(run.commands) if c.linear > 0.0)
+    assert first_drive > 10
     assert all(s is ControlStatus.ROTATING for s in run.statuses[:first_drive])
-    assert_arrived(run, goal)
-
-
-@pytest.mark.parametrize("seed", range(12))
-def test_random_goals_end_precisely(seed: int) -> None:
-    rng = np.random.default_rng(seed)
-    start = Pose2D(0.0, 0.0, rng.uniform(-math.pi, math.pi))
-    mid = (rng.uniform(-4, 4), rng.uniform(-4, 4))
-    end = (rng.uniform(-4, 4), rng.uniform(-4, 4))
-    goal = Pose2D(*end, rng.uniform(-math.pi, math.pi))
-    ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), mid, end), goal)
-    run = drive(ctrl, start, empty_grid())
-    assert_arrived(run, goal)
+    assert all(c.angular != 0.0 for c in run.commands[:first_drive])
+    # The turn ends aligned, so the drive starts nearly straight.
+    assert abs(run.poses[first_drive].heading_error_to(goal)) < 0.07
+    assert run.statuses[first_drive] is ControlStatus.TRACKING
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
     assert_within_limits(run)
 
 
-@pytest.mark.parametrize("seed", range(6))
-def test_pose_noise_of_two_centimetres_still_ends_within_five(seed: int) -> None:
+def test_path_a_little_to_the_side_is_tracked_without_turning_in_place() -> None:
+    ctrl = RegulatedPurePursuit()
+    goal = Pose2D(4.0, 1.0, 0.0)
+    ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.5), (4.0, 1.0)), goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    on_the_way = [s for s, p in zip(run.statuses, run.poses, strict=True)
+                  if p.distance_to(goal) > 0.05]
+    assert set(on_the_way) == {ControlStatus.TRACKING}
+    assert run.statuses[-2] is ControlStatus.ROTATING  # only to the goal heading at the end
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
+
+
+def test_sparse_any_angle_path_is_followed_like_a_dense_one() -> None:
+    ctrl = RegulatedPurePursuit()
+    goal = Pose2D(5.0, 3.0, 0.5)
+    path = Path(np.array([[0.0, 0.0], [3.0, 0.0], [5.0, 3.0]]))
+    ctrl.set_path(path, goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
+    assert_within_limits(run)
+    assert cross_track(run, (0.0, 0.0), (3.0, 0.0), (5.0, 3.0)) < 0.2
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_random_goals_end_within_two_centimetres_and_within_limits(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    start = Pose2D(0.0, 0.0, rng.uniform(-math.pi, math.pi))
+    via = (rng.uniform(-4, 4), rng.uniform(-4, 4))
+    end = (rng.uniform(-4, 4), rng.uniform(-4, 4))
+    goal = Pose2D(*end, rng.uniform(-math.pi, math.pi))
+    ctrl = RegulatedPurePursuit()
+    ctrl.set_path(polyline((0.0, 0.0), via, end), goal)
+    run = drive(ctrl, start, empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
+    assert_within_limits(run)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_two_centimetre_pose_noise_still_ends_within_five(seed: int) -> None:
     rng = np.random.default_rng(100 + seed)
-    goal = Pose2D(rng.uniform(2, 5), rng.uniform(-3, 3), rng.uniform(-math.pi, math.pi))
+    start = Pose2D(0.0, 0.0, rng.uniform(-math.pi, math.pi))
+    via = (rng.uniform(-4, 4), rng.uniform(-4, 4))
+    end = (rng.uniform(-4, 4), rng.uniform(-4, 4))
+    goal = Pose2D(*end, rng.uniform(-math.pi, math.pi))
     ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), (goal.x, goal.y)), goal)
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), empty_grid(), noise=0.02 / math.sqrt(2),
-                seed=seed)
-    assert run.statuses[-1] is ControlStatus.ARRIVED
-    assert run.pose.distance_to(goal) <= 0.05 + 0.03
-    assert abs(run.pose.heading_error_to(goal)) <= 0.05 + 0.03
+    ctrl.set_path(polyline((0.0, 0.0), via, end), goal)
+    run = drive(ctrl, start, empty_grid(), noise_xy=0.02, noise_theta=0.01, rng=rng)
+    assert_arrived(run, goal, xy=0.05, yaw=0.05)
+    assert_within_limits(run)
 
 
-def test_obstacle_on_the_path_blocks_before_it_is_reached() -> None:
-    grid = empty_grid()
-    ix, iy = grid.info.world_to_cell(3.0, 0.0)
-    grid.costs[iy - 2 : iy + 3, ix - 2 : ix + 3] = costs.LETHAL
+def test_pose_noise_without_smoothing_is_what_makes_the_filter_needed() -> None:
+    # The same noisy runs steered by the raw estimate end farther off: the filter is doing work.
+    errors = {}
+    for gain in (1.0, CFG.pose_filter_gain):
+        worst = 0.0
+        for seed in range(12):
+            rng = np.random.default_rng(500 + seed)
+            goal = Pose2D(rng.uniform(1, 4), rng.uniform(-3, 3), rng.uniform(-math.pi, math.pi))
+            ctrl = RegulatedPurePursuit(PurePursuitConfig(pose_filter_gain=gain))
+            ctrl.set_path(polyline((0.0, 0.0), (goal.x, goal.y)), goal)
+            run = drive(ctrl, Pose2D(), empty_grid(), noise_xy=0.02, rng=rng)
+            worst = max(worst, run.pose.distance_to(goal))
+        errors[gain] = worst
+    assert errors[CFG.pose_filter_gain] < 0.6 * errors[1.0]
+
+
+# -- near the goal -------------------------------------------------------------------------------
+
+
+def test_goal_close_beside_the_robot_is_reached_by_turning_first_not_orbiting() -> None:
     ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
-    run = drive(ctrl, Pose2D(0.0, 0.0, 0.0), grid, seconds=20.0)
-    blocked = run.statuses.index(ControlStatus.BLOCKED)
-    assert run.commands[blocked] == Twist()
-    assert ControlStatus.SLOWING in run.statuses[:blocked]
-    assert run.pose.x < 3.0 - 0.1 - 0.25  # never touches it: front of the robot clear of it
-    assert ControlStatus.ARRIVED not in run.statuses
+    goal = Pose2D(0.0, 0.2, 0.0)
+    ctrl.set_path(polyline((0.0, 0.0), (0.0, 0.2)), goal)
+    run = drive(ctrl, Pose2D(), empty_grid())
+    assert run.statuses[0] is ControlStatus.ROTATING
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
+    travelled = sum(c.linear * DT for c in run.commands)
+    assert travelled < 0.2 + 0.01  # straight to it, no loop around it
 
 
-def test_obstacle_farther_ahead_slows_the_robot() -> None:
-    grid = empty_grid()
-    ix, iy = grid.info.world_to_cell(4.0, 0.0)
-    grid.costs[iy, ix] = costs.INSCRIBED
-    ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
-    at_speed = Twist(CFG.max_linear_velocity, 0.0)
-    free = ctrl.compute(Pose2D(0.0, 0.0, 0.0), at_speed, empty_grid(), DT)
-    near = ctrl.compute(Pose2D(3.0, 0.0, 0.0), at_speed, grid, DT)
-    assert free.status is ControlStatus.TRACKING
-    assert near.status is ControlStatus.SLOWING
-    assert near.twist.linear < free.twist.linear
-
-
-def test_inflation_under_the_robot_lowers_the_speed() -> None:
-    grid = empty_grid()
-    grid.costs[:, :] = 200
-    ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
-    cmd = ctrl.compute(Pose2D(0.0, 0.0, 0.0), Twist(0.4, 0.0), grid, DT)
-    expected = CFG.max_linear_velocity * (1 - CFG.proximity_slowdown * 200 / 252)
-    assert cmd.twist.linear == pytest.approx(expected)
-
-
-def test_start_in_inscribed_cell_does_not_block_the_escape() -> None:
-    grid = empty_grid()
-    ix0, iy0 = grid.info.world_to_cell(0.0, 0.0)
-    grid.costs[iy0 - 3 : iy0 + 4, ix0 - 3 : ix0 + 4] = costs.INSCRIBED
-    ctrl = RegulatedPurePursuit()
-    ctrl.set_path(polyline((0.0, 0.0), (3.0, 0.0)), Pose2D(3.0, 0.0, 0.0))
-    cmd = ctrl.compute(Pose2D(0.0, 0.0, 0.0), Twist(), grid, DT)
-    assert cmd.status is not ControlStatus.BLOCKED
-    assert cmd.twist.linear > 0.0
-
-
-def test_goal_latch_keeps_turning_in_place_despite_jitter() -> None:
-    ctrl = RegulatedPurePursuit()
+def test_goal_latch_keeps_the_robot_turning_in_place_despite_jitter() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
     goal = Pose2D(1.0, 0.0, math.pi / 2)
     ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
-    cmd = ctrl.compute(Pose2D(0.97, 0.0, 0.0), Twist(), empty_grid(), DT)
-    assert cmd.status is ControlStatus.TRACKING  # within tolerance, but the goal is still ahead
-    cmd = ctrl.compute(Pose2D(0.99, 0.0, 0.0), Twist(), empty_grid(), DT)
+    grid = empty_grid()
+    # Within tolerance but short of the aim, the goal ahead: keep driving in.
+    cmd = ctrl.compute(Pose2D(0.97, 0.0, 0.0), Twist(0.05, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.TRACKING and cmd.twist.linear > 0.0
+    cmd = ctrl.compute(Pose2D(0.99, 0.0, 0.0), Twist(0.05, 0.0), grid, DT)
     assert cmd.status is ControlStatus.ROTATING
-    # The estimate jitters 6 cm away while turning: no driving again.
-    cmd = ctrl.compute(Pose2D(0.94, 0.0, 0.5), Twist(0.0, 0.5), empty_grid(), DT)
+    assert cmd.twist.linear == 0.0 and cmd.twist.angular > 0.0
+    # The estimate jumps 6 cm off while turning: still turning in place, never driving again.
+    cmd = ctrl.compute(Pose2D(0.94, 0.0, 0.5), Twist(0.0, 0.5), grid, DT)
     assert cmd.status is ControlStatus.ROTATING and cmd.twist.linear == 0.0
-    cmd = ctrl.compute(Pose2D(0.94, 0.0, math.pi / 2 - 0.01), Twist(0.0, 0.1), empty_grid(), DT)
+    cmd = ctrl.compute(Pose2D(1.0, 0.05, math.pi / 2 - 0.01), Twist(0.0, 0.1), grid, DT)
+    assert cmd.status is ControlStatus.ARRIVED and cmd.twist == Twist()
+    # Arrival is latched too: jitter after it changes nothing.
+    cmd = ctrl.compute(Pose2D(0.96, 0.0, math.pi / 2 + 0.04), Twist(), grid, DT)
     assert cmd.status is ControlStatus.ARRIVED and cmd.twist == Twist()
 
 
-def test_reset_forgets_the_path() -> None:
+def test_goal_abeam_within_tolerance_stops_driving() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    goal = Pose2D(1.0, 0.0, 0.0)
+    ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
+    # 3 cm to the side, abeam: driving on only goes away from it.
+    cmd = ctrl.compute(Pose2D(1.0, 0.03, 0.0), Twist(0.05, 0.0), empty_grid(), DT)
+    assert cmd.status is ControlStatus.ARRIVED
+
+
+def test_heading_short_of_the_aim_is_turned_further() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    goal = Pose2D(1.0, 0.0, 0.0)
+    ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
+    cmd = ctrl.compute(Pose2D(1.0, 0.0, -0.04), Twist(), empty_grid(), DT)
+    assert cmd.status is ControlStatus.ROTATING
+    assert cmd.twist == Twist(0.0, pytest.approx(CFG.min_rotation_speed))
+    # Past the aim: arrived. Overshooting within tolerance: arrived, no turning back.
+    assert ctrl.compute(Pose2D(1.0, 0.0, -0.01), Twist(0.0, 0.1), empty_grid(), DT).status is (
+        ControlStatus.ARRIVED
+    )
+    other = RegulatedPurePursuit(RAW)
+    other.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
+    cmd = other.compute(Pose2D(1.0, 0.0, 0.04), Twist(0.0, 0.1), empty_grid(), DT)
+    assert cmd.status is ControlStatus.ARRIVED
+
+
+def test_robot_moved_away_after_arrival_drives_back() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    goal = Pose2D(1.0, 0.0, 0.0)
+    ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
+    assert ctrl.compute(Pose2D(1.0, 0.0, 0.0), Twist(), empty_grid(), DT).status is (
+        ControlStatus.ARRIVED
+    )
+    cmd = ctrl.compute(Pose2D(0.5, 0.0, 0.0), Twist(), empty_grid(), DT)
+    assert cmd.status is ControlStatus.TRACKING and cmd.twist.linear > 0.0
+
+
+def test_replanning_to_the_same_goal_keeps_the_latch_and_a_new_goal_clears_it() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    goal = Pose2D(1.0, 0.0, math.pi / 2)
+    ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), goal)
+    assert ctrl.compute(Pose2D(1.0, 0.0, 0.0), Twist(), empty_grid(), DT).status is (
+        ControlStatus.ROTATING
+    )
+    ctrl.set_path(polyline((0.96, 0.0), (1.0, 0.0)), goal)
+    cmd = ctrl.compute(Pose2D(0.96, 0.0, 0.3), Twist(0.0, 0.3), empty_grid(), DT)
+    assert cmd.status is ControlStatus.ROTATING and cmd.twist.linear == 0.0
+    ctrl.set_path(polyline((0.96, 0.0), (1.0, 0.0)), Pose2D(1.0, 0.0, 0.3))
+    cmd = ctrl.compute(Pose2D(0.96, 0.0, 0.3), Twist(0.0, 0.3), empty_grid(), DT)
+    assert cmd.status is ControlStatus.TRACKING
+
+
+def test_reset_forgets_the_path_and_stops() -> None:
     ctrl = RegulatedPurePursuit()
     ctrl.set_path(polyline((0.0, 0.0), (1.0, 0.0)), Pose2D(1.0, 0.0, 0.0))
     ctrl.reset()
-    cmd = ctrl.compute(Pose2D(), Twist(), empty_grid(), DT)
-    assert cmd.twist == Twist()
+    cmd = ctrl.compute(Pose2D(), Twist(0.3, 0.0), empty_grid(), DT)
+    assert cmd == cmd.__class__(Twist(), ControlStatus.BLOCKED)
+
+
+# -- limits --------------------------------------------------------------------------------------
+
+
+def test_acceleration_is_limited_from_the_measured_velocity() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
+    grid = empty_grid()
+    assert ctrl.compute(Pose2D(), Twist(), grid, DT).twist == Twist(
+        pytest.approx(CFG.linear_acceleration * DT), 0.0
+    )
+    assert ctrl.compute(Pose2D(), Twist(0.3, 0.0), grid, DT).twist == Twist(
+        pytest.approx(0.3 + CFG.linear_acceleration * DT), 0.0
+    )
+    # Measured faster than the limit (a push downhill): brought back within the limit.
+    assert ctrl.compute(Pose2D(), Twist(0.65, 0.0), grid, DT).twist.linear == pytest.approx(0.6)
+
+
+def test_still_rolling_backwards_is_braked_not_reversed_at_once() -> None:
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
+    cmd = ctrl.compute(Pose2D(), Twist(-0.2, 0.0), empty_grid(), DT)
+    assert cmd.twist.linear == pytest.approx(-0.2 + CFG.linear_deceleration * DT)
+
+
+def test_slower_configured_limits_are_kept() -> None:
+    cfg = PurePursuitConfig(max_linear_velocity=0.3, max_angular_velocity=0.6,
+                            linear_acceleration=0.3, angular_acceleration=1.0)
+    ctrl = RegulatedPurePursuit(cfg)
+    goal = Pose2D(2.0, 2.0, math.pi / 2)
+    ctrl.set_path(polyline((0.0, 0.0), (2.0, 0.0), (2.0, 2.0)), goal)
+    run = drive(ctrl, Pose2D(0.0, 0.0, 1.0), empty_grid())
+    assert_arrived(run, goal, xy=0.02, yaw=0.02)
+    assert_within_limits(run, cfg)
+
+
+# -- obstacles -----------------------------------------------------------------------------------
+
+
+def test_obstacle_on_the_path_blocks_before_the_robot_reaches_it() -> None:
+    # A 0.1 m post at x = 3, inflated by a 0.25 m robot radius: the centre must stay 0.35 m away.
+    grid = with_disc(empty_grid(), 3.0, 0.0, 0.1, inscribed=0.25, inflation=0.55)
+    ctrl = RegulatedPurePursuit()
+    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    run = drive(ctrl, Pose2D(), grid, seconds=30.0, until=ControlStatus.BLOCKED)
+    assert run.statuses[-1] is ControlStatus.BLOCKED
+    assert run.commands[-1] == Twist()
+    assert ControlStatus.SLOWING in run.statuses
+    first_slow = run.statuses.index(ControlStatus.SLOWING)
+    assert run.commands[first_slow].linear < run.commands[first_slow - 1].linear
+    # Stopped short of the inscribed zone by about the minimum stopping distance.
+    gap = 3.0 - 0.1 - 0.25 - run.pose.x
+    assert CFG.min_stop_distance - 0.05 <= gap <= CFG.min_stop_distance + 0.05
+    assert_within_limits(run)
+
+
+def test_obstacle_appearing_close_ahead_at_full_speed_stops_at_once() -> None:
+    grid = with_disc(empty_grid(), 1.0, 0.0, 0.05, inscribed=0.25)
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    cmd = ctrl.compute(Pose2D(), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.BLOCKED and cmd.twist == Twist()
+
+
+def test_obstacle_beside_the_path_slows_the_robot_while_it_passes() -> None:
+    grid = with_disc(empty_grid(), 3.0, 0.5, 0.1, inscribed=0.25, inflation=0.55)
+    ctrl = RegulatedPurePursuit()
+    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    run = drive(ctrl, Pose2D(), grid)
+    assert_arrived(run, Pose2D(6.0, 0.0, 0.0), xy=0.02, yaw=0.02)
+    slowing = [i for i, s in enumerate(run.statuses) if s is ControlStatus.SLOWING]
+    assert slowing
+    assert all(2.0 < run.poses[i].x < 4.0 for i in slowing)
+    passing = min(range(len(run.poses)), key=lambda i: abs(run.poses[i].x - 3.0))
+    assert run.statuses[passing] is ControlStatus.SLOWING
+    assert run.commands[passing].linear < 0.9 * CFG.max_linear_velocity
+    assert ControlStatus.BLOCKED not in run.statuses
+    assert_within_limits(run)
+
+
+def test_obstacle_beyond_the_slowdown_distance_does_not_slow() -> None:
+    grid = with_disc(empty_grid(), 4.0, 0.0, 0.05, inscribed=0.25)
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
+    cmd = ctrl.compute(Pose2D(2.0, 0.0, 0.0), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.TRACKING and cmd.twist.linear == pytest.approx(0.6)
+    cmd = ctrl.compute(Pose2D(2.5, 0.0, 0.0), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.SLOWING and cmd.twist.linear < 0.6
+
+
+def test_proximity_cost_under_the_robot_lowers_the_speed() -> None:
+    grid = empty_grid()
+    grid.costs[:, :] = 190  # halfway between the threshold 128 and 252
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (8.0, 0.0)), Pose2D(8.0, 0.0, 0.0))
+    cmd = ctrl.compute(Pose2D(), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.SLOWING
+    expected = CFG.max_linear_velocity * (1.0 - CFG.proximity_slowdown * 62 / 124)
+    assert cmd.twist.linear == pytest.approx(max(expected, 0.6 - CFG.linear_deceleration * DT))
+    grid.costs[:, :] = CFG.proximity_cost_threshold
+    assert ctrl.compute(Pose2D(), Twist(0.6, 0.0), grid, DT).status is ControlStatus.TRACKING
+
+
+def test_start_inside_an_inscribed_zone_drives_out_instead_of_blocking() -> None:
+    grid = with_disc(empty_grid(), -0.3, 0.0, 0.1, inscribed=0.25)
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (3.0, 0.0)), Pose2D(3.0, 0.0, 0.0))
+    assert collision.cost_at(grid, 0.0, 0.0) == costs.INSCRIBED
+    cmd = ctrl.compute(Pose2D(), Twist(), grid, DT)
+    assert cmd.status is not ControlStatus.BLOCKED and cmd.twist.linear > 0.0
+
+
+def test_arc_cutting_into_an_obstacle_off_the_path_blocks() -> None:
+    # The robot is 0.25 m beside its path and steers back onto it; an obstacle sits on that arc,
+    # not on the path.
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((-1.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    pose = Pose2D(0.0, 0.25, 0.0)
+    assert ctrl.compute(pose, Twist(0.3, 0.0), empty_grid(), DT).status is ControlStatus.TRACKING
+    # Lookahead 0.45 m at 0.3 m/s: the carrot is on the path, 0.25 m to the right of the robot.
+    kappa = 2.0 * -0.25 / 0.45**2
+    mid = collision.arc_points(pose, kappa, 0.2, 0.2)[-1]
+    grid = empty_grid()
+    ix, iy = grid.info.world_to_cell(float(mid[0]), float(mid[1]))
+    grid.costs[iy, ix] = costs.LETHAL
+    assert collision.first_collision(
+        collision.costs_at(grid, np.column_stack((np.linspace(0, 2, 81), np.zeros(81))))
+    ) is None
+    fresh = RegulatedPurePursuit(RAW)
+    fresh.set_path(polyline((-1.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    assert fresh.compute(pose, Twist(0.3, 0.0), grid, DT).status is ControlStatus.BLOCKED
+
+
+def test_braking_into_a_turn_in_place_stops_for_an_obstacle_ahead() -> None:
+    # The path leaves backwards while the robot still rolls forward at full speed: it brakes as
+    # it turns, and an obstacle within that braking run stops it at once.
+    path, goal = polyline((0.0, 0.0), (-3.0, 0.0)), Pose2D(-3.0, 0.0, math.pi)
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(path, goal)
+    cmd = ctrl.compute(Pose2D(), Twist(0.6, 0.0), empty_grid(), DT)
+    assert cmd.status is ControlStatus.ROTATING
+    assert cmd.twist.linear == pytest.approx(0.6 - CFG.linear_deceleration * DT)
+    grid = with_disc(empty_grid(), 0.6, 0.0, 0.05, inscribed=0.25)
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(path, goal)
+    cmd = ctrl.compute(Pose2D(), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.BLOCKED and cmd.twist == Twist()
+
+
+def test_unknown_cells_and_the_grid_edge_are_not_obstacles() -> None:
+    grid = empty_grid(size_m=4.0)
+    grid.costs[:, 50:] = costs.UNKNOWN
+    ctrl = RegulatedPurePursuit(RAW)
+    ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
+    cmd = ctrl.compute(Pose2D(1.0, 0.0, 0.0), Twist(0.6, 0.0), grid, DT)
+    assert cmd.status is ControlStatus.TRACKING and cmd.twist.linear == pytest.approx(0.6)
+
+
+# -- configuration -------------------------------------------------------------------------------
 
 
 @pytest.mark.parametrize(
     ("field", "value"),
-    [("max_linear_velocity", 0.0), ("min_lookahead", -1.0), ("max_lookahead", 0.1),
-     ("proximity_slowdown", 1.0), ("slowdown_distance", 0.1), ("min_regulated_speed", 5.0)],
+    [
+        ("max_linear_velocity", 0.0),
+        ("max_angular_velocity", -1.0),
+        ("linear_deceleration", math.nan),
+        ("min_lookahead", -1.0),
+        ("max_lookahead", 0.1),
+        ("rotate_to_heading_min_angle", 4.0),
+        ("min_rotation_speed", 2.0),
+        ("min_regulated_speed", 5.0),
+        ("min_approach_velocity", 1.0),
+        ("proximity_cost_threshold", 252),
+        ("proximity_slowdown", 1.0),
+        ("slowdown_distance", 0.1),
+        ("xy_goal_tolerance", 0.3),
+        ("yaw_goal_tolerance", 0.0),
+        ("goal_aim_fraction", 0.0),
+        ("path_search_distance", 0.5),
+        ("pose_filter_gain", 1.5),
+        ("pose_filter_reset_distance", 0.0),
+    ],
 )
-def test_config_rejects_bad_values(field: str, value: float) -> None:
+def test_config_rejects_out_of_range_and_conflicting_values(field: str, value: float) -> None:
     with pytest.raises(ConfigError) as err:
         PurePursuitConfig(**{field: value})
-    assert f"control.pure_pursuit.{field}" in str(err.value)
+    assert err.value.key == f"control.pure_pursuit.{field}"
+
+
+def test_default_config_is_valid_and_matches_the_documented_defaults() -> None:
+    cfg = PurePursuitConfig()
+    assert (cfg.max_linear_velocity, cfg.max_angular_velocity) == (0.6, 1.5)
+    assert (cfg.linear_acceleration, cfg.linear_deceleration, cfg.angular_acceleration) == (
+        0.8, 1.2, 3.0)
+    assert (cfg.lookahead_time, cfg.min_lookahead, cfg.max_lookahead) == (1.5, 0.3, 0.9)
+    assert (cfg.xy_goal_tolerance, cfg.yaw_goal_tolerance) == (0.05, 0.05)
+
+
+def test_grid_helper_marks_the_disc_as_the_costmap_would() -> None:
+    grid: Grid = with_disc(empty_grid(), 0.0, 0.0, 0.1, inscribed=0.25, inflation=0.55)
+    assert collision.cost_at(grid, 0.0, 0.0) == costs.LETHAL
+    assert collision.cost_at(grid, 0.3, 0.0) == costs.INSCRIBED
+    assert 0 < collision.cost_at(grid, 0.5, 0.0) < costs.INSCRIBED
+    assert collision.cost_at(grid, 0.7, 0.0) == costs.FREE
