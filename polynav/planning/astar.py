@@ -37,7 +37,12 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.planning import heap
-from polynav.planning.grid_search import CellPath, SearchBuffers, step_multipliers
+from polynav.planning.grid_search import (
+    CellPath,
+    SearchBuffers,
+    check_key_range,
+    step_multipliers,
+)
 
 log = logging.getLogger(__name__)
 
@@ -520,10 +525,9 @@ def _prepare(
         band = np.flatnonzero(np.isinf(multipliers) & np.isfinite(escape))
         if band.size:
             lo, hi = int(band[0]), int(band[-1]) + 1
+    check_key_range(both, (height, width))
     finite = both[np.isfinite(both)]
     largest = float(finite.max()) if finite.size else 1.0
-    if largest * SQRT2 * height * width + height + width >= heap.MAX_F:
-        raise ValueError("step multipliers too large for this grid's open-list keys")
     # Buckets a child's f can reach beyond its parent's, plus slack for rounding.
     span = int(math.ceil(SQRT2 * (largest + 1.0) * 2.0 ** (32 - BUCKET_SHIFT))) + 3
     ring = 1 << max(2, (span - 1).bit_length())

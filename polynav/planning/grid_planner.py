@@ -132,7 +132,7 @@ class GridPlanner:
         self._config = config or GridPlannerConfig()
         self._search = SEARCHES[self._config.algorithm]()
         # Theta* cannot leave a start it may not stand on; A* takes that first leg.
-        self._astar = self._search if isinstance(self._search, AStar) else AStar()
+        self._astar = self._search if self._config.algorithm == "astar" else AStar()
         self._last: GridSearch = self._search
 
     @property
@@ -148,8 +148,8 @@ class GridPlanner:
             goal: the goal pose; only the position matters.
 
         Returns:
-            World points [m], exact start first and exact goal last (or the centre of the
-            substitute cell under ``goal_tolerance``), with ``cost`` in metres.
+            At least two world points [m], the exact start first and the exact goal last (or
+            the centre of the substitute cell under ``goal_tolerance``), with ``cost`` in metres.
 
         Raises:
             OutsideMap: start or goal outside the grid.

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import functools
 import logging
+import math
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -23,6 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.maps import costs as cost_values
+from polynav.planning.heap import MAX_F
 
 log = logging.getLogger(__name__)
 
@@ -89,11 +91,11 @@ def step_multipliers(
         A read-only float64 array of 256 multipliers, each ``>= 1`` or ``inf``.
 
     Raises:
-        ValueError: a negative weight, a threshold outside 1..256, or an unknown cost at or above
-            the threshold.
+        ValueError: a negative or infinite weight, a threshold outside 1..256, or an unknown
+            cost at or above the threshold.
     """
-    if not cost_weight >= 0.0:
-        raise ValueError(f"cost_weight must be >= 0, got {cost_weight}")
+    if not (cost_weight >= 0.0 and math.isfinite(cost_weight)):
+        raise ValueError(f"cost_weight must be finite and >= 0, got {cost_weight}")
     if not 1 <= lethal_threshold <= 256:
         raise ValueError(f"lethal_threshold must be within 1..256, got {lethal_threshold}")
     values = np.arange(256, dtype=np.float64)
@@ -107,6 +109,20 @@ def step_multipliers(
         table[cost_values.UNKNOWN] = 1.0 + cost_weight * unknown_cost / cost_values.MAX_NON_OBSTACLE
     table.flags.writeable = False
     return table
+
+
+def check_key_range(multipliers: npt.NDArray[np.float64], shape: tuple[int, int]) -> None:
+    """Refuse a grid and table whose path costs could overflow the open-list keys.
+
+    Raises:
+        ValueError: the dearest possible path (every cell at the largest finite multiplier)
+            could reach ``heap.MAX_F``.
+    """
+    finite = multipliers[np.isfinite(multipliers)]
+    largest = float(finite.max()) if finite.size else 1.0
+    height, width = shape
+    if largest * math.sqrt(2.0) * height * width + height + width >= MAX_F:
+        raise ValueError("step multipliers too large for this grid's open-list keys")
 
 
 class SearchBuffers:

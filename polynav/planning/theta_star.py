@@ -35,7 +35,12 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.planning import heap
-from polynav.planning.grid_search import CellPath, SearchBuffers, step_multipliers
+from polynav.planning.grid_search import (
+    CellPath,
+    SearchBuffers,
+    check_key_range,
+    step_multipliers,
+)
 from polynav.planning.line_of_sight import centre_cost
 
 log = logging.getLogger(__name__)
@@ -316,6 +321,7 @@ class ThetaStar:
             raise ValueError(f"start {start} or goal {goal} outside the {width}x{height} grid")
         if not np.isfinite(multipliers[grid[sy, sx]]):
             raise ValueError(f"start {start} is impassable")
+        check_key_range(multipliers, (height, width))
         buffers = self._buffers
         while True:
             stamp = buffers.next_stamp((height, width), parent_dtype=np.int64, stride=4)
