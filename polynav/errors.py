@@ -32,3 +32,19 @@ class InvalidRequest(PolynavError, ValueError):
 
 class StorageError(PolynavError):
     """Reading or writing site data failed."""
+
+
+class NotFound(PolynavError, KeyError):
+    """A named thing (map, point, floor, setting) does not exist."""
+
+    def __init__(self, kind: str, name: str) -> None:
+        super().__init__(f"{kind} {name!r} not found")
+        self.kind = kind
+        self.name = name
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+class Conflict(PolynavError):
+    """The command is valid but not in the robot's current state (wrong mode, already running)."""
