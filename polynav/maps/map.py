@@ -53,10 +53,12 @@ class MapInfo:
     def contains(self, ix: int, iy: int) -> bool:
         return 0 <= ix < self.width and 0 <= iy < self.height
 
-    def world_to_cells(
-        self, xy: npt.NDArray[np.float64]
-    ) -> npt.NDArray[np.int64]:
-        """Vectorised :meth:`world_to_cell` for an (N, 2) array of points; returns (N, 2) [ix, iy]."""
+    def world_to_cells(self, xy: npt.NDArray[np.float64]) -> npt.NDArray[np.int64]:
+        """Vectorised :meth:`world_to_cell` for an (N, 2) array of points.
+
+        Returns:
+            (N, 2) array of [ix, iy].
+        """
         pts = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
         c, s = math.cos(self.origin.theta), math.sin(self.origin.theta)
         dx = pts[:, 0] - self.origin.x
@@ -101,9 +103,14 @@ class Map:
 
     @classmethod
     def from_occupied(
-        cls, occupied: npt.NDArray[np.bool_], *, resolution: float, origin: Pose2D = Pose2D()
+        cls,
+        occupied: npt.NDArray[np.bool_],
+        *,
+        resolution: float,
+        origin: Pose2D | None = None,
     ) -> Map:
         """A free/occupied map from a boolean grid (``True`` = occupied), ``[iy, ix]``."""
+        origin = origin or Pose2D()
         h, w = occupied.shape
         data = np.where(occupied, OCCUPIED, FREE).astype(np.int8)
         return cls(MapInfo(resolution=resolution, width=w, height=h, origin=origin), data)

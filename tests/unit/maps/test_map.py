@@ -25,7 +25,7 @@ def test_rotated_origin_conversions_agree_with_vectorised_forms() -> None:
     info = MapInfo(resolution=0.1, width=30, height=20, origin=Pose2D(1.0, 2.0, math.pi / 2))
     cells = np.array([[0, 0], [5, 7], [29, 19]])
     world = info.cells_to_world(cells)
-    for (ix, iy), (x, y) in zip(cells, world):
+    for (ix, iy), (x, y) in zip(cells, world, strict=True):
         assert info.cell_to_world(ix, iy) == pytest.approx((x, y))
         assert info.world_to_cell(x, y) == (ix, iy)
     assert np.array_equal(info.world_to_cells(world), cells)
