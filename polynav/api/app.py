@@ -1,0 +1,52 @@
+"""The FastAPI application of the native API: a factory, never a global (STYLE R5)."""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from fastapi import FastAPI
+from fastapi.routing import APIRoute
+
+from polynav.api.config import ApiConfig
+from polynav.api.errors import install_error_handlers
+from polynav.api.routes import control, maps, navigation, points, settings, status, ws
+
+log = logging.getLogger(__name__)
+
+ROUTERS = (status, maps, points, navigation, control, settings, ws)
+
+
+def _operation_id(route: APIRoute) -> str:
+    """Stable OpenAPI operation ids: the route function's name (unique across routers)."""
+    return route.name
+
+
+def create_app(runtime: Any, config: ApiConfig, *, store: Any | None = None) -> FastAPI:
+    """Build the native API around one running robot.
+
+    Args:
+        runtime: the RobotRuntime to command; its tick thread is started and stopped by the
+            caller (``polynav run``), so the app never owns the robot's lifetime.
+        config: where it listens and how its WebSocket streams behave.
+        store: the site store for maps and points; defaults to ``runtime.store``.
+
+    Returns:
+        The application, with OpenAPI at ``/docs`` and ``/openapi.json``.
+    """
+    from polynav import __version__
+
+    app = FastAPI(
+        title="polynav native API",
+        version=__version__,
+        description="Drive a polynav robot: status, maps, points, navigation, control, "
+        "settings, and a WebSocket of status and events.",
+        generate_unique_id_function=_operation_id,
+    )
+    app.state.runtime = runtime
+    app.state.store = store if store is not None else runtime.store
+    app.state.api_config = config
+    install_error_handlers(app)
+    for module in ROUTERS:
+        app.include_router(module.router)
+    return app

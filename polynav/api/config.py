@@ -1,0 +1,47 @@
+"""Configuration of the native API server."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from polynav.errors import ConfigError
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class ApiConfig:
+    """Where the native API listens and how its WebSocket streams behave.
+
+    Attributes:
+        host: interface to bind; loopback by default so a demo is never exposed by accident.
+        port: TCP port [1, 65535], or 0 to let the OS choose (tests).
+        ws_default_rate: status messages per SIMULATED second when ``?rate=`` is absent [Hz].
+        ws_max_rate: the highest rate a client may ask for [Hz], so a client cannot flood itself.
+        ws_poll_interval: how often a WebSocket task looks at the snapshot and the event queue
+            [s wall]; small enough to follow the fastest simulated rate, large enough to stay idle.
+    """
+
+    host: str = "127.0.0.1"
+    port: int = 8000
+    ws_default_rate: float = 5.0
+    ws_max_rate: float = 50.0
+    ws_poll_interval: float = 0.005
+
+    def __post_init__(self) -> None:
+        if not self.host:
+            raise ConfigError("api.host", "must not be empty")
+        if not 0 <= self.port <= 65535:
+            raise ConfigError("api.port", f"must be in [0, 65535], got {self.port}")
+        if not 0.0 < self.ws_max_rate <= 1000.0:
+            raise ConfigError("api.ws_max_rate", f"must be in (0, 1000], got {self.ws_max_rate}")
+        if not 0.0 < self.ws_default_rate <= self.ws_max_rate:
+            raise ConfigError(
+                "api.ws_default_rate",
+                f"must be in (0, ws_max_rate={self.ws_max_rate}], got {self.ws_default_rate}",
+            )
+        if not 0.0 < self.ws_poll_interval <= 1.0:
+            raise ConfigError(
+                "api.ws_poll_interval", f"must be in (0, 1], got {self.ws_poll_interval}"
+            )

@@ -1,0 +1,28 @@
+"""Dependencies of the routes, as ``Annotated`` aliases (the full-stack-fastapi-template way).
+
+The runtime and the site store hang on ``app.state``; ``create_app`` puts them there, so there is
+no global to import and two apps in one process (tests) never share a robot.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Annotated, Any
+
+from fastapi import Depends, Request
+
+log = logging.getLogger(__name__)
+
+
+def get_runtime(request: Request) -> Any:
+    """The RobotRuntime this app serves."""
+    return request.app.state.runtime
+
+
+def get_store(request: Request) -> Any:
+    """The SiteStore of that runtime (maps, points, settings on disk)."""
+    return request.app.state.store
+
+
+RuntimeDep = Annotated[Any, Depends(get_runtime)]
+StoreDep = Annotated[Any, Depends(get_store)]

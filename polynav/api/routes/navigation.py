@@ -1,0 +1,65 @@
+"""Navigation on a map: start/stop, initial pose, goals, cancel/pause/resume."""
+
+from __future__ import annotations
+
+import logging
+
+from fastapi import APIRouter
+
+from polynav.api.deps import RuntimeDep
+from polynav.api.schemas import GoalAccepted, GoalIn, NavigationStartIn, Ok, PoseIn
+
+log = logging.getLogger(__name__)
+
+router = APIRouter(prefix="/api/navigation", tags=["navigation"])
+
+
+@router.post("/start", operation_id="start_navigation", response_model=Ok)
+def start_navigation(body: NavigationStartIn, runtime: RuntimeDep) -> Ok:
+    """Load a map and navigate on it, localized at ``point``, at the pose, or where the simulated
+    robot stands (404 unknown map or point, 409 while mapping)."""
+    runtime.start_navigation(body.map, point=body.point, pose=body.pose())
+    return Ok()
+
+
+@router.post("/stop", operation_id="stop_navigation", response_model=Ok)
+def stop_navigation(runtime: RuntimeDep) -> Ok:
+    """Cancel any goal and leave navigation mode."""
+    runtime.stop_navigation()
+    return Ok()
+
+
+@router.post("/initial_pose", operation_id="set_initial_pose", response_model=Ok)
+def set_initial_pose(body: PoseIn, runtime: RuntimeDep) -> Ok:
+    """Tell the localizer where the robot is (409 unless navigating)."""
+    runtime.set_initial_pose(body.to_domain())
+    return Ok()
+
+
+@router.post("/goal", operation_id="send_goal", response_model=GoalAccepted, status_code=202)
+def send_goal(body: GoalIn, runtime: RuntimeDep) -> GoalAccepted:
+    """Go to a named point or a pose; answers at once with the attempt id, progress comes in
+    the status and the events (404 unknown point, 409 unless navigating)."""
+    attempt = runtime.go_to(point=body.point, pose=body.pose(), map_name=body.map)
+    return GoalAccepted(id=int(attempt))
+
+
+@router.post("/cancel", operation_id="cancel_goal", response_model=Ok)
+def cancel_goal(runtime: RuntimeDep) -> Ok:
+    """Cancel the running or paused goal (409 if none)."""
+    runtime.cancel()
+    return Ok()
+
+
+@router.post("/pause", operation_id="pause_goal", response_model=Ok)
+def pause_goal(runtime: RuntimeDep) -> Ok:
+    """Stop in place, keeping the goal (409 if none runs)."""
+    runtime.pause()
+    return Ok()
+
+
+@router.post("/resume", operation_id="resume_goal", response_model=Ok)
+def resume_goal(runtime: RuntimeDep) -> Ok:
+    """Go on to the paused goal (409 if none is paused)."""
+    runtime.resume()
+    return Ok()

@@ -1,0 +1,29 @@
+"""GET /api/status: the prebuilt snapshot, never computed in the request."""
+
+from __future__ import annotations
+
+import logging
+
+from fastapi import APIRouter
+from fastapi.responses import JSONResponse
+
+from polynav.api.deps import RuntimeDep
+from polynav.api.schemas import StatusOut
+
+log = logging.getLogger(__name__)
+
+router = APIRouter(prefix="/api", tags=["status"])
+
+
+@router.get(
+    "/status",
+    operation_id="get_status",
+    response_model=StatusOut,
+    summary="The robot's status snapshot",
+)
+def get_status(runtime: RuntimeDep) -> JSONResponse:
+    """Mode, map, pose, velocity, battery, e-stop, localization and navigation state.
+
+    The runtime refreshes the snapshot on its own clock; this reads it as it is (O(1)).
+    """
+    return JSONResponse(runtime.status().to_dict())

@@ -1,0 +1,30 @@
+"""Fixtures: the API over real HTTP around a fake runtime on a real, seeded site store."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+from polynav.api import ApiConfig, create_app
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from tests.api.fakes import FakeRuntime
+from tests.api.server import ServerThread
+
+
+@pytest.fixture
+def fake_runtime(tmp_path: Path) -> Iterator[FakeRuntime]:
+    store = SiteStore.open(tmp_path / "data", seed_world=load_world("demo"))
+    yield FakeRuntime(store)
+    store.close()
+
+
+@pytest.fixture
+def client(fake_runtime: FakeRuntime) -> Iterator[httpx.Client]:
+    server = ServerThread(create_app(fake_runtime, ApiConfig(port=0))).start()
+    with httpx.Client(base_url=server.url, timeout=10.0) as http:
+        yield http
+    server.stop()

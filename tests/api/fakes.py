@@ -1,0 +1,154 @@
+"""A small scripted stand-in for RobotRuntime: the contract's commands over a real SiteStore,
+EventBus, RobotSettings and StatusSnapshot, with motion replaced by ``advance`` jumping to goals.
+
+It lets the API's routes and error mapping be tested without the simulator; the integration and
+black-box tests use the real runtime.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Mapping
+
+from polynav.errors import Conflict, InvalidRequest
+from polynav.geometry import Pose2D
+from polynav.runtime import events
+from polynav.runtime.event_bus import EventBus
+from polynav.runtime.settings import RobotSettings
+from polynav.runtime.status import StatusSnapshot
+from polynav.store.site_store import SiteStore
+
+
+class FakeRuntime:
+    def __init__(self, store: SiteStore) -> None:
+        self.store = store
+        self.bus = EventBus()
+        self._lock = threading.Lock()
+        self._settings = RobotSettings()
+        self.now = 0.0
+        self.mode = "free"
+        self.map: str | None = None
+        self.pose = Pose2D(0.0, 0.0, 0.0)
+        self.velocity = (0.0, 0.0)
+        self.estop_software = False
+        self.nav_state = "idle"
+        self.attempt = 0
+        self.goal: Pose2D | None = None
+        self.goal_point: str | None = None
+        self.local_moves: list[tuple[float | None, float | None]] = []
+
+    # -- helpers
+    def _publish(self, event: events.RuntimeEvent) -> None:
+        self.bus.publish(event)
+
+    def _set_mode(self, new: str) -> None:
+        self._publish(events.ModeChanged(self.now, self.mode, new))
+        self.mode = new
+
+    def advance(self, seconds: float) -> None:
+        """Move the clock; a running goal is reached at once, teleop stops after 0.5 s."""
+        with self._lock:
+            self.now += seconds
+            if self.nav_state == "running" and self.goal is not None:
+                self.pose = self.goal
+                self.nav_state = "succeeded"
+                self._publish(events.NavigationSucceeded(self.now, self.attempt, 1.0))
+            self.velocity = (0.0, 0.0)
+
+    # -- contract
+    def status(self) -> StatusSnapshot:
+        floors = {f.map_name: f.name for f in self.store.floors()}
+        return StatusSnapshot(
+            mode=self.mode, map=self.map, floor=floors.get(self.map or "floor1"),
+            pose=self.pose, linear=self.velocity[0], angular=self.velocity[1],
+            battery_percent=80.0, charging=False, estop_hardware=False,
+            estop_software=self.estop_software, localization_state="tracking",
+            localization_quality=1.0, navigation_state=self.nav_state, stamp=self.now,
+            attempt_id=self.attempt or None, goal=self.goal, goal_point=self.goal_point,
+        )
+
+    def settings(self) -> RobotSettings:
+        return self._settings
+
+    def update_settings(self, changes: Mapping[str, object]) -> RobotSettings:
+        self._settings = self._settings.apply(changes)
+        return self._settings
+
+    def start_navigation(
+        self, map_name: str, *, point: str | None = None, pose: Pose2D | None = None
+    ) -> None:
+        self.store.map_record(map_name)
+        if point is not None:
+            pose = self.store.point(map_name, point).pose
+        with self._lock:
+            self._set_mode("busy")
+            self.map = map_name
+            if pose is not None:
+                self.pose = pose
+            self._set_mode("navigating")
+
+    def stop_navigation(self) -> None:
+        with self._lock:
+            self._set_mode("busy")
+            self.map = None
+            self._set_mode("free")
+
+    def set_initial_pose(self, pose: Pose2D) -> None:
+        if self.mode != "navigating":
+            raise Conflict("not navigating")
+        self.pose = pose
+
+    def go_to(
+        self, *, point: str | None = None, pose: Pose2D | None = None,
+        map_name: str | None = None,
+    ) -> int:
+        if self.mode != "navigating" or self.map is None:
+            raise Conflict("not navigating: start navigation on a map first")
+        if map_name is not None and map_name != self.map:
+            raise InvalidRequest("map", f"goal on {map_name!r} while navigating on {self.map!r}")
+        if point is not None:
+            pose = self.store.point(self.map, point).pose
+        assert pose is not None
+        with self._lock:
+            self.attempt += 1
+            self.goal, self.goal_point, self.nav_state = pose, point, "running"
+            self._publish(events.NavigationStarted(self.now, self.attempt, pose, point))
+            return self.attempt
+
+    def _need(self, state: str, what: str) -> None:
+        if self.nav_state != state:
+            raise Conflict(f"no goal to {what}")
+
+    def cancel(self) -> None:
+        if self.nav_state not in ("running", "paused"):
+            raise Conflict("no goal to cancel")
+        self.nav_state = "canceled"
+        self._publish(events.NavigationCanceled(self.now, self.attempt, 0.5))
+
+    def pause(self) -> None:
+        self._need("running", "pause")
+        self.nav_state = "paused"
+        self._publish(events.NavigationPaused(self.now, self.attempt))
+
+    def resume(self) -> None:
+        self._need("paused", "resume")
+        self.nav_state = "running"
+        self._publish(events.NavigationResumed(self.now, self.attempt))
+
+    def teleop(self, linear: float, angular: float) -> None:
+        if self.nav_state in ("running", "paused"):
+            raise Conflict("a goal is running")
+        s = self._settings
+        self.velocity = (
+            max(-s.max_linear_velocity, min(s.max_linear_velocity, linear)),
+            max(-s.max_angular_velocity, min(s.max_angular_velocity, angular)),
+        )
+
+    def set_software_estop(self, on: bool) -> None:
+        self.estop_software = on
+        self._publish(events.EStopChanged(self.now, False, on, on))
+
+    def local_move(self, *, rotate: float | None = None, distance: float | None = None) -> None:
+        if self.nav_state in ("running", "paused"):
+            raise Conflict("a goal is running")
+        self.local_moves.append((rotate, distance))
