@@ -9,11 +9,18 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import logging
+import math
+import os
 import signal
+import socket
 import sys
-import threading
 from collections.abc import Sequence
 from pathlib import Path
+
+from polynav.errors import PolynavError
+from polynav.site import PointKind
+
+log = logging.getLogger(__name__)
 
 BENCH_AREAS = ("planner", "sim")
 _BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py"}
@@ -36,29 +43,128 @@ def _run_bench(area: str, argv: list[str]) -> int:
     return int(module.main([*argv]) or 0)
 
 
+def default_data_dir() -> Path:
+    """Where ``polynav run`` keeps its site by default: ``$XDG_DATA_HOME/polynav`` (usually
+    ``~/.local/share/polynav``), so a checkout stays clean and the site survives a new clone."""
+    base = os.environ.get("XDG_DATA_HOME") or str(Path.home() / ".local" / "share")
+    return Path(base) / "polynav"
+
+
+def _positive_speed(text: str) -> float:
+    value = float(text)
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
 def _run(args: argparse.Namespace) -> int:
-    from polynav.runtime.demo_tour import run_demo_tour
+    """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
+    import uvicorn
+
+    from polynav.api import ApiConfig, create_app
+    from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+    from polynav.store.site_store import SiteStore
     from polynav.worlds import load_world
 
-    if args.speed <= 0:
-        print("polynav run: --speed must be > 0", file=sys.stderr)
-        return 2
-    stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
+    api_config = ApiConfig(host=args.host, port=args.port)
     world = load_world(args.world)
-    print(f"polynav: simulating world {world.name!r} at {args.speed:g}x real time "
-          "(Ctrl-C to stop)", flush=True)
-    reached = run_demo_tour(
-        world,
-        speed=args.speed,
-        seed=args.seed,
-        people=not args.no_people,
-        stop=stop,
-        report=lambda line: print(line, flush=True),
-    )
-    print(f"polynav: stopped after {reached} goals", flush=True)
+    store = SiteStore.open(args.data, seed_world=world)
+    try:
+        runtime = RobotRuntime.simulated(
+            store,
+            world,
+            config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+        )
+        app = create_app(runtime, api_config)
+        try:
+            sock = socket.create_server((api_config.host, api_config.port))
+        except OSError as exc:
+            print(f"polynav run: cannot listen on {api_config.host}:{api_config.port}: {exc}",
+                  file=sys.stderr)
+            return 1
+        host, port = sock.getsockname()[:2]
+        server = uvicorn.Server(
+            uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
+        )
+        runtime.start()
+        try:
+            base = f"http://{host}:{port}"
+            print(f"polynav: simulating world {world.name!r} at {args.speed:g}x, data in "
+                  f"{Path(args.data).resolve()}", flush=True)
+            print(f"polynav: native API {base}/api  (docs {base}/docs, "
+                  f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
+            print("polynav: Ctrl-C to stop", flush=True)
+            # uvicorn catches SIGINT/SIGTERM while serving, then re-raises them to the handlers
+            # it found; these note them, so the runtime and store below still close cleanly.
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, lambda signum, _frame: log.info("signal %d", signum))
+            server.run(sockets=[sock])
+        finally:
+            runtime.stop()
+            sock.close()
+    finally:
+        store.close()
+    print("polynav: stopped", flush=True)
     return 0
+
+
+def _open_store(args: argparse.Namespace):  # noqa: ANN202 - SiteStore, imported lazily
+    from polynav.store.site_store import SiteStore
+    from polynav.worlds import load_world
+
+    return SiteStore.open(args.data, seed_world=load_world(args.world))
+
+
+def _map_command(args: argparse.Namespace) -> int:
+    from polynav.maps import ros_map
+
+    store = _open_store(args)
+    try:
+        if args.map_command == "list":
+            for record in store.maps():
+                print(f"{record.name}\tfloor={record.floor}\t{record.width}x{record.height} "
+                      f"@ {record.resolution:g} m\torigin=({record.origin.x:g}, "
+                      f"{record.origin.y:g}, {record.origin.theta:g})")
+        elif args.map_command == "import":
+            grid = ros_map.load_map(args.yaml)
+            record = store.save_map(args.name or Path(args.yaml).stem, grid, floor=args.floor)
+            print(f"imported map {record.name!r} ({record.width}x{record.height})")
+        else:
+            ros_map.save_map(store.load_map(args.name), args.yaml)
+            print(f"exported map {args.name!r} to {args.yaml}")
+    finally:
+        store.close()
+    return 0
+
+
+def _points_command(args: argparse.Namespace) -> int:
+    from polynav.geometry import Pose2D
+    from polynav.site import Point, PointKind
+
+    store = _open_store(args)
+    try:
+        if args.points_command == "list":
+            for p in store.points(map_name=args.map):
+                print(f"{p.map_name}\t{p.name}\t{p.kind.value}\t"
+                      f"{p.pose.x:.3f}\t{p.pose.y:.3f}\t{p.pose.theta:.3f}")
+        elif args.points_command == "add":
+            point = store.add_point(Point(args.name, args.map, Pose2D(args.x, args.y, args.theta),
+                                          PointKind(args.kind), args.number))
+            print(f"added point {point.name!r} on map {point.map_name!r}")
+        else:
+            point = store.find_point(args.name, map_name=args.map)
+            store.delete_point(point.map_name, point.name)
+            print(f"removed point {point.name!r} from map {point.map_name!r}")
+    finally:
+        store.close()
+    return 0
+
+
+def _data_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--data", type=Path, default=default_data_dir(),
+                        help="site data directory (default: %(default)s)")
+    parser.add_argument("--world", default="demo",
+                        help="built-in world name or folder path; seeds a fresh data directory")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -67,13 +173,55 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser(
         "run",
-        help="run the simulated robot on the demo site",
-        description="Start the simulator with a world and tour its named points, logging progress.",
+        help="serve the native API around the simulated robot",
+        description="Start the simulated robot on a site (seeded from the world on first use) and "
+        "serve the native REST + WebSocket API until Ctrl-C or SIGTERM.",
     )
-    run.add_argument("--world", default="demo", help="built-in world name or folder path")
-    run.add_argument("--speed", type=float, default=1.0, help="simulated time factor")
+    _data_options(run)
+    run.add_argument("--host", default="127.0.0.1", help="interface to bind (default: %(default)s)")
+    run.add_argument("--port", type=int, default=8000,
+                     help="native API port, 0 for any free one (default: %(default)s)")
+    run.add_argument("--speed", type=_positive_speed, default=1.0,
+                     help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    maps = sub.add_parser("map", help="list, import or export ROS maps of the site",
+                          description="Manage the site's maps (ROS map_server YAML + image).")
+    map_sub = maps.add_subparsers(dest="map_command", required=True)
+    map_list = map_sub.add_parser("list", help="list the maps", description="List the maps.")
+    _data_options(map_list)
+    map_import = map_sub.add_parser("import", help="import a ROS map (YAML + image)",
+                                    description="Add or replace a map from a ROS map YAML.")
+    map_import.add_argument("yaml", help="the map's YAML file")
+    map_import.add_argument("--name", help="map name (default: the YAML file's stem)")
+    map_import.add_argument("--floor", help="the floor the map belongs to")
+    _data_options(map_import)
+    map_export = map_sub.add_parser("export", help="export a map as ROS files",
+                                    description="Write a map as ROS map YAML + PNG.")
+    map_export.add_argument("name", help="the map to export")
+    map_export.add_argument("yaml", help="the YAML file to write (the PNG goes beside it)")
+    _data_options(map_export)
+    points = sub.add_parser("points", help="list, add or remove named points",
+                            description="Manage the site's named points.")
+    points_sub = points.add_subparsers(dest="points_command", required=True)
+    points_list = points_sub.add_parser("list", help="list the points",
+                                        description="List the points (map, name, kind, x, y, "
+                                        "theta).")
+    points_list.add_argument("--map", help="only this map's points")
+    _data_options(points_list)
+    points_add = points_sub.add_parser("add", help="add a point", description="Add a point.")
+    points_add.add_argument("name")
+    points_add.add_argument("--map", required=True, help="the point's map")
+    points_add.add_argument("--x", type=float, required=True, help="[m]")
+    points_add.add_argument("--y", type=float, required=True, help="[m]")
+    points_add.add_argument("--theta", type=float, default=0.0, help="[rad]")
+    points_add.add_argument("--kind", default="general", choices=[k.value for k in PointKind])
+    points_add.add_argument("--number", type=int, default=None)
+    _data_options(points_add)
+    points_rm = points_sub.add_parser("rm", help="remove a point", description="Remove a point.")
+    points_rm.add_argument("name")
+    points_rm.add_argument("--map", help="the point's map, when the name is on several maps")
+    _data_options(points_rm)
     bench = sub.add_parser(
         "bench",
         help="run a benchmark (planner, sim); extra arguments go to the benchmark",
@@ -95,5 +243,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run_bench(args.area, args.args)
     if args.command == "run":
         return _run(args)
+    try:
+        if args.command == "map":
+            return _map_command(args)
+        if args.command == "points":
+            return _points_command(args)
+    except PolynavError as exc:
+        print(f"polynav {args.command}: {exc}", file=sys.stderr)
+        return 1
     parser.error(f"unknown command {args.command}")
     return 2

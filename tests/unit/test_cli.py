@@ -1,15 +1,18 @@
 from __future__ import annotations
 
-import threading
+from pathlib import Path
 
 import pytest
 
 from polynav.cli import main
-from polynav.runtime.demo_tour import run_demo_tour
-from polynav.worlds import load_world
 
 
-@pytest.mark.parametrize("argv", [["--help"], ["run", "--help"], ["bench", "--help"]])
+@pytest.mark.parametrize("argv", [
+    ["--help"], ["run", "--help"], ["bench", "--help"], ["map", "--help"],
+    ["map", "list", "--help"],
+    ["map", "import", "--help"], ["map", "export", "--help"], ["points", "--help"],
+    ["points", "list", "--help"], ["points", "add", "--help"], ["points", "rm", "--help"],
+])
 def test_every_command_has_help(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_:
         main(argv)
@@ -25,22 +28,42 @@ def test_unknown_bench_area_is_a_usage_error(capsys: pytest.CaptureFixture[str])
 
 
 def test_run_rejects_a_non_positive_speed(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["run", "--speed", "0"]) == 2
+    with pytest.raises(SystemExit) as exit_:
+        main(["run", "--speed", "0"])
+    assert exit_.value.code == 2
     assert "--speed" in capsys.readouterr().err
 
 
-def test_demo_tour_reaches_its_first_goal_and_stops_when_told() -> None:
-    stop = threading.Event()
-    lines: list[str] = []
+def test_points_add_list_rm_on_a_data_dir(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    data = ["--data", str(tmp_path)]
+    assert main(["points", "add", "desk", "--map", "floor1", "--x", "1.5", "--y", "2", *data]) == 0
+    capsys.readouterr()
+    assert main(["points", "list", "--map", "floor1", *data]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "floor1\tdesk\tgeneral\t1.500\t2.000\t0.000" in lines
+    assert main(["points", "rm", "desk", *data]) == 0
+    assert main(["points", "rm", "desk", *data]) == 1
+    assert "not found" in capsys.readouterr().err
+    # "initial" is on both demo floors: the map must be named.
+    assert main(["points", "rm", "initial", *data]) == 1
 
-    def report(line: str) -> None:
-        lines.append(line)
-        if "reached goal" in line:
-            stop.set()
 
-    reached = run_demo_tour(load_world("demo"), speed=1e6, seed=0, people=False, stop=stop,
-                            report=report)
-    assert reached == 1
-    assert lines[0].strip().startswith("t=")
-    assert "heading to" in lines[0]
-    assert any("reached goal 1" in line for line in lines)
+def test_map_export_import_list_round_trip(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    data = ["--data", str(tmp_path / "data")]
+    out = tmp_path / "out" / "f1.yaml"
+    out.parent.mkdir()
+    assert main(["map", "export", "floor1", str(out), *data]) == 0
+    assert out.is_file() and out.with_suffix(".png").is_file()
+    assert main(["map", "import", str(out), "--name", "copy", *data]) == 0
+    capsys.readouterr()
+    assert main(["map", "list", *data]) == 0
+    listed = capsys.readouterr().out
+    assert "copy\tfloor=None" in listed
+    floor1 = next(line for line in listed.splitlines() if line.startswith("floor1\t"))
+    copy = next(line for line in listed.splitlines() if line.startswith("copy\t"))
+    assert floor1.split("\t")[2:] == copy.split("\t")[2:]
+    assert main(["map", "export", "nothing", str(out), *data]) == 1
