@@ -1,0 +1,183 @@
+"""Runtime events: what happened to the robot, in polynav's own words, for every adapter.
+
+The runtime publishes one event per change on its :class:`~polynav.runtime.event_bus.EventBus`:
+navigation attempts (mapped from the navigator's :mod:`polynav.nav.events`), mode changes,
+e-stop, charging, localization and battery. Each event is a frozen value with the time
+``stamp`` [s] (simulated or wall clock, the runtime's clock) it happened at, a stable snake_case
+``kind`` (``"navigation_succeeded"``) that adapters and the WebSocket use as the event's name,
+and :meth:`RuntimeEvent.to_dict` for JSON (poses as ``{"x", "y", "theta"}``).
+"""
+
+from __future__ import annotations
+
+import enum
+import logging
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+from polynav.geometry import Pose2D
+
+log = logging.getLogger(__name__)
+
+
+def pose_dict(pose: Pose2D) -> dict[str, float]:
+    """A pose as JSON: ``{"x", "y", "theta"}`` [m, m, rad]."""
+    return {"x": float(pose.x), "y": float(pose.y), "theta": float(pose.theta)}
+
+
+def _json_value(value: object) -> object:
+    if isinstance(value, Pose2D):
+        return pose_dict(value)
+    if isinstance(value, enum.Enum):
+        return value.value
+    if isinstance(value, bool) or value is None or isinstance(value, str | int):
+        return value
+    if isinstance(value, float):
+        return float(value)
+    return str(value)
+
+
+@dataclass(frozen=True, slots=True)
+class RuntimeEvent:
+    """Base of every runtime event; ``stamp`` [s] is on the runtime's clock."""
+
+    kind: ClassVar[str] = "event"
+
+    stamp: float
+
+    def to_dict(self) -> dict[str, object]:
+        """The event as JSON-ready values, with its ``kind``."""
+        out: dict[str, object] = {"kind": self.kind}
+        for f in fields(self):
+            out[f.name] = _json_value(getattr(self, f.name))
+        return out
+
+
+@dataclass(frozen=True, slots=True)
+class ModeChanged(RuntimeEvent):
+    """The robot's mode changed (``"free"``, ``"busy"``, ``"navigating"``, ``"mapping"``)."""
+
+    kind: ClassVar[str] = "mode_changed"
+
+    old: str
+    new: str
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationStarted(RuntimeEvent):
+    """A goal was accepted; ``point`` names it when it was given by name."""
+
+    kind: ClassVar[str] = "navigation_started"
+
+    attempt_id: int
+    goal: Pose2D
+    point: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationSucceeded(RuntimeEvent):
+    """The robot reached the goal; ``distance`` [m] is how far it travelled for it."""
+
+    kind: ClassVar[str] = "navigation_succeeded"
+
+    attempt_id: int
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationFailed(RuntimeEvent):
+    """The attempt gave up; ``reason`` is a :class:`~polynav.nav.attempt.FailureReason` value."""
+
+    kind: ClassVar[str] = "navigation_failed"
+
+    attempt_id: int
+    reason: str
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationCanceled(RuntimeEvent):
+    kind: ClassVar[str] = "navigation_canceled"
+
+    attempt_id: int
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationPaused(RuntimeEvent):
+    kind: ClassVar[str] = "navigation_paused"
+
+    attempt_id: int
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationResumed(RuntimeEvent):
+    kind: ClassVar[str] = "navigation_resumed"
+
+    attempt_id: int
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationRetry(RuntimeEvent):
+    """A retry: ``retries`` so far in this attempt, ``cause`` what failed (``"blocked"``...)."""
+
+    kind: ClassVar[str] = "navigation_retry"
+
+    attempt_id: int
+    retries: int
+    cause: str
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationStuck(RuntimeEvent):
+    """The robot made no progress along its path (a recovery follows as a retry)."""
+
+    kind: ClassVar[str] = "navigation_stuck"
+
+    attempt_id: int
+
+
+@dataclass(frozen=True, slots=True)
+class EStopChanged(RuntimeEvent):
+    """The hardware button or the software e-stop changed; ``active`` is either of them."""
+
+    kind: ClassVar[str] = "estop_changed"
+
+    hardware: bool
+    software: bool
+    active: bool
+
+
+@dataclass(frozen=True, slots=True)
+class ChargeChanged(RuntimeEvent):
+    kind: ClassVar[str] = "charge_changed"
+
+    charging: bool
+
+
+@dataclass(frozen=True, slots=True)
+class LocalizationChanged(RuntimeEvent):
+    """Localization state changed (``"uninitialized"``, ``"tracking"``, ``"lost"``)."""
+
+    kind: ClassVar[str] = "localization_changed"
+
+    state: str
+    quality: float
+
+
+@dataclass(frozen=True, slots=True)
+class LowBattery(RuntimeEvent):
+    """The battery fell below the low-battery threshold (once per crossing)."""
+
+    kind: ClassVar[str] = "low_battery"
+
+    percent: float
+
+
+@dataclass(frozen=True, slots=True)
+class PoseInitialized(RuntimeEvent):
+    """Localization was (re)started near ``pose`` (map frame)."""
+
+    kind: ClassVar[str] = "pose_initialized"
+
+    pose: Pose2D

@@ -1,0 +1,178 @@
+"""Robot settings: the handful of values an operator may change at run time, with their ranges.
+
+These are the settings every vendor dialect exposes in some form (max speeds, goal tolerances,
+robot radius, obstacle distances, battery thresholds). :class:`RobotSettings` is a frozen value;
+:meth:`RobotSettings.apply` validates a partial update from outside and returns a new value, or
+raises :class:`~polynav.errors.InvalidRequest` naming the field (the native API answers 422). The
+runtime persists the values through the site store and turns them into the navigation stack's
+configs with :meth:`RobotSettings.stack_config` (a live update replaces whole configs between
+ticks, STYLE R10).
+
+Ranges (inclusive, SI units):
+
+==========================  ===========  =======
+setting                     range        default
+==========================  ===========  =======
+max_linear_velocity         0.1 .. 1.0   0.6 m/s (1.0 is the simulated base's limit)
+max_angular_velocity        0.2 .. 3.0   1.5 rad/s
+xy_goal_tolerance           0.01 .. 0.25 0.05 m (below the controller's 0.3 m lookahead)
+yaw_goal_tolerance          0.01 .. 1.0  0.05 rad
+robot_radius                0.1 .. 0.6   0.25 m (the planning footprint; inflation follows)
+obstacle_slowdown_distance  0.2 .. 5.0   1.5 m
+obstacle_stop_distance      0.05 .. 2.0  0.35 m (at most obstacle_slowdown_distance)
+low_battery_percent         1 .. 90      20 %
+critical_battery_percent    0 .. 50      10 % (at most low_battery_percent)
+==========================  ===========  =======
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields, replace
+
+from polynav.errors import ConfigError, InvalidRequest
+from polynav.maps.costmap import CostmapConfig
+from polynav.nav.stack import StackConfig
+
+log = logging.getLogger(__name__)
+
+SETTING_RANGES: dict[str, tuple[float, float]] = {
+    "max_linear_velocity": (0.1, 1.0),
+    "max_angular_velocity": (0.2, 3.0),
+    "xy_goal_tolerance": (0.01, 0.25),
+    "yaw_goal_tolerance": (0.01, 1.0),
+    "robot_radius": (0.1, 0.6),
+    "obstacle_slowdown_distance": (0.2, 5.0),
+    "obstacle_stop_distance": (0.05, 2.0),
+    "low_battery_percent": (1.0, 90.0),
+    "critical_battery_percent": (0.0, 50.0),
+}
+
+# Obstacles raise costs this far [m] beyond the robot's radius, so paths keep off walls.
+_INFLATION_MARGIN = 0.3
+
+
+@dataclass(frozen=True, slots=True)
+class RobotSettings:
+    """Operator settings; see the module's table for units and ranges."""
+
+    max_linear_velocity: float = 0.6
+    max_angular_velocity: float = 1.5
+    xy_goal_tolerance: float = 0.05
+    yaw_goal_tolerance: float = 0.05
+    robot_radius: float = 0.25
+    obstacle_slowdown_distance: float = 1.5
+    obstacle_stop_distance: float = 0.35
+    low_battery_percent: float = 20.0
+    critical_battery_percent: float = 10.0
+
+    def __post_init__(self) -> None:
+        try:
+            _validate(self)
+        except InvalidRequest as exc:
+            raise ConfigError(f"runtime.settings.{exc.field}", exc.reason) from exc
+
+    def apply(self, changes: Mapping[str, object]) -> RobotSettings:
+        """These settings with ``changes`` applied, all validated before any takes effect.
+
+        Args:
+            changes: setting name to new value (numbers; booleans and strings are refused).
+
+        Returns:
+            The new settings (``self`` is unchanged).
+
+        Raises:
+            InvalidRequest: an unknown name, a value that is not a finite number, a value out
+                of its range, or a combination that contradicts itself; ``field`` names it.
+        """
+        values: dict[str, float] = {}
+        for key, value in changes.items():
+            if key not in SETTING_RANGES:
+                raise InvalidRequest(str(key), "unknown setting")
+            values[key] = _number(key, value)
+        candidate = asdict(self) | values
+        new = _unchecked(candidate)
+        _validate(new)
+        return new
+
+    def to_dict(self) -> dict[str, float]:
+        return {f.name: float(getattr(self, f.name)) for f in fields(self)}
+
+    @classmethod
+    def from_stored(cls, stored: Mapping[str, object]) -> RobotSettings:
+        """Settings from the site store, skipping (with a warning) what no longer validates.
+
+        A stored value that an older or newer polynav wrote must not stop the robot from
+        starting, so unknown keys and invalid values fall back to the defaults.
+        """
+        settings = cls()
+        for key, value in stored.items():
+            if key not in SETTING_RANGES:
+                log.warning("ignoring unknown stored setting %r", key)
+                continue
+            try:
+                settings = settings.apply({key: value})
+            except InvalidRequest as exc:
+                log.warning("ignoring stored setting %s", exc)
+        return settings
+
+    def stack_config(self, base: StackConfig | None = None) -> StackConfig:
+        """``base`` (default: the defaults) with these settings written into its components."""
+        base = base or StackConfig()
+        ctl = base.controller
+        controller = replace(
+            ctl,
+            max_linear_velocity=self.max_linear_velocity,
+            max_angular_velocity=self.max_angular_velocity,
+            min_regulated_speed=min(ctl.min_regulated_speed, self.max_linear_velocity),
+            min_approach_velocity=min(ctl.min_approach_velocity, self.max_linear_velocity),
+            min_rotation_speed=min(ctl.min_rotation_speed, self.max_angular_velocity),
+            xy_goal_tolerance=self.xy_goal_tolerance,
+            yaw_goal_tolerance=self.yaw_goal_tolerance,
+            slowdown_distance=self.obstacle_slowdown_distance,
+            min_stop_distance=self.obstacle_stop_distance,
+        )
+        cm = base.costmap
+        costmap: CostmapConfig = replace(
+            cm,
+            robot_radius=self.robot_radius,
+            inflation_radius=max(cm.inflation_radius, self.robot_radius + _INFLATION_MARGIN),
+        )
+        return replace(base, controller=controller, costmap=costmap)
+
+
+def _unchecked(values: Mapping[str, float]) -> RobotSettings:
+    """Build without ``__post_init__`` so that :meth:`RobotSettings.apply` raises the request
+    error (a 422) rather than the config error a bad default would be."""
+    new = object.__new__(RobotSettings)
+    for key, value in values.items():
+        object.__setattr__(new, key, value)
+    return new
+
+
+def _number(key: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InvalidRequest(key, f"must be a number, got {type(value).__name__}")
+    number = float(value)
+    if not math.isfinite(number):
+        raise InvalidRequest(key, f"must be finite, got {number}")
+    return number
+
+
+def _validate(settings: RobotSettings) -> None:
+    for key, (lo, hi) in SETTING_RANGES.items():
+        value = getattr(settings, key)
+        if not lo <= value <= hi:
+            raise InvalidRequest(key, f"must be within [{lo:g}, {hi:g}], got {value:g}")
+    if settings.obstacle_stop_distance > settings.obstacle_slowdown_distance:
+        raise InvalidRequest(
+            "obstacle_stop_distance",
+            f"must be <= obstacle_slowdown_distance ({settings.obstacle_slowdown_distance:g})",
+        )
+    if settings.critical_battery_percent > settings.low_battery_percent:
+        raise InvalidRequest(
+            "critical_battery_percent",
+            f"must be <= low_battery_percent ({settings.low_battery_percent:g})",
+        )

@@ -1,0 +1,89 @@
+"""The status snapshot: the robot's whole state at one instant, as ``GET /api/status`` shows it.
+
+The runtime rebuilds one :class:`StatusSnapshot` per control tick and swaps it in with a single
+reference assignment, so a reader on any thread gets a consistent picture in O(1) and never
+waits for the tick loop. Adapters format it in their dialects; :meth:`StatusSnapshot.to_dict`
+is the native API's JSON, with exactly the keys of issue 3's contract.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+from polynav.geometry import Pose2D
+from polynav.runtime.events import pose_dict
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class StatusSnapshot:
+    """The robot's state at ``stamp`` [s] on the runtime's clock.
+
+    Attributes:
+        mode: ``"free"``, ``"mapping"``, ``"navigating"`` or ``"busy"``.
+        map: the map navigation runs on, ``None`` while not navigating.
+        floor: the floor the robot is on.
+        pose: the localization estimate on ``map`` while navigating; otherwise the robot's pose
+            on its floor's map (the simulator's ground truth, or odometry on a real robot).
+        linear, angular: measured velocity [m/s, rad/s].
+        battery_percent: charge [%]; ``charging`` while on a charger.
+        estop_hardware, estop_software: the button and the software e-stop.
+        localization_state: ``"uninitialized"``, ``"tracking"`` or ``"lost"``.
+        localization_quality: scan-to-map fit in [0, 1].
+        navigation_state: ``idle``, ``running``, ``paused``, ``succeeded``, ``failed``,
+            ``canceled`` (of the current or last attempt).
+        attempt_id: the current or last attempt's id, if any.
+        goal, goal_point: that attempt's goal and the point it was named by.
+        reason: why it failed (a :class:`~polynav.nav.attempt.FailureReason` value), if it did.
+        distance_remaining: path length [m] still to go, when known.
+    """
+
+    mode: str
+    map: str | None
+    floor: str | None
+    pose: Pose2D
+    linear: float
+    angular: float
+    battery_percent: float
+    charging: bool
+    estop_hardware: bool
+    estop_software: bool
+    localization_state: str
+    localization_quality: float
+    navigation_state: str
+    stamp: float
+    attempt_id: int | None = None
+    goal: Pose2D | None = None
+    goal_point: str | None = None
+    reason: str | None = None
+    distance_remaining: float | None = None
+
+    def to_dict(self) -> dict[str, object]:
+        """The ``GET /api/status`` body (JSON-ready)."""
+        goal: dict[str, object] | None = None
+        if self.goal is not None:
+            goal = {**pose_dict(self.goal), "point": self.goal_point}
+        return {
+            "mode": self.mode,
+            "map": self.map,
+            "floor": self.floor,
+            "pose": pose_dict(self.pose),
+            "velocity": {"linear": float(self.linear), "angular": float(self.angular)},
+            "battery": {"percent": float(self.battery_percent), "charging": self.charging},
+            "estop": {"hardware": self.estop_hardware, "software": self.estop_software},
+            "localization": {
+                "state": self.localization_state,
+                "quality": float(self.localization_quality),
+            },
+            "navigation": {
+                "state": self.navigation_state,
+                "goal": goal,
+                "reason": self.reason,
+                "distance_remaining": (
+                    None if self.distance_remaining is None else float(self.distance_remaining)
+                ),
+            },
+            "stamp": float(self.stamp),
+        }

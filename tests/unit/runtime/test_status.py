@@ -1,0 +1,52 @@
+from __future__ import annotations
+
+import json
+
+from polynav.geometry import Pose2D
+from polynav.runtime.status import StatusSnapshot
+
+
+def _snapshot(**changes: object) -> StatusSnapshot:
+    values: dict[str, object] = dict(
+        mode="navigating", map="floor1", floor="floor1", pose=Pose2D(1.0, 2.0, 0.5),
+        linear=0.25, angular=-0.5, battery_percent=80.0, charging=False, estop_hardware=False,
+        estop_software=True, localization_state="tracking", localization_quality=0.75,
+        navigation_state="running", stamp=12.5,
+    )
+    values.update(changes)
+    return StatusSnapshot(**values)  # type: ignore[arg-type]
+
+
+def test_to_dict_has_exactly_the_contract_keys() -> None:
+    body = _snapshot().to_dict()
+    assert set(body) == {"mode", "map", "floor", "pose", "velocity", "battery", "estop",
+                         "localization", "navigation", "stamp"}
+    assert set(body["pose"]) == {"x", "y", "theta"}  # type: ignore[arg-type]
+    assert set(body["velocity"]) == {"linear", "angular"}  # type: ignore[arg-type]
+    assert set(body["battery"]) == {"percent", "charging"}  # type: ignore[arg-type]
+    assert set(body["estop"]) == {"hardware", "software"}  # type: ignore[arg-type]
+    assert set(body["localization"]) == {"state", "quality"}  # type: ignore[arg-type]
+    assert set(body["navigation"]) == {  # type: ignore[arg-type]
+        "state", "goal", "reason", "distance_remaining"}
+
+
+def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
+    body = _snapshot(goal=Pose2D(5.5, 12.5, 0.0), goal_point="lobby", attempt_id=3,
+                     distance_remaining=4.5).to_dict()
+    assert json.loads(json.dumps(body)) == {
+        "mode": "navigating", "map": "floor1", "floor": "floor1",
+        "pose": {"x": 1.0, "y": 2.0, "theta": 0.5},
+        "velocity": {"linear": 0.25, "angular": -0.5},
+        "battery": {"percent": 80.0, "charging": False},
+        "estop": {"hardware": False, "software": True},
+        "localization": {"state": "tracking", "quality": 0.75},
+        "navigation": {"state": "running",
+                       "goal": {"x": 5.5, "y": 12.5, "theta": 0.0, "point": "lobby"},
+                       "reason": None, "distance_remaining": 4.5},
+        "stamp": 12.5,
+    }
+
+
+def test_goal_is_null_without_an_attempt() -> None:
+    nav = _snapshot(navigation_state="idle").to_dict()["navigation"]
+    assert nav == {"state": "idle", "goal": None, "reason": None, "distance_remaining": None}
