@@ -1,0 +1,89 @@
+"""The API around the real RobotRuntime in-process: WebSocket stream and the teleop dead-man."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from websockets.sync.client import connect
+
+from polynav.api import ApiConfig, create_app
+from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from tests.api.server import ServerThread
+
+
+@pytest.fixture
+def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
+    world = load_world("demo")
+    store = SiteStore.open(tmp_path / "data", seed_world=world)
+    robot = RobotRuntime.simulated(store, world, config=RuntimeConfig(speed=10.0, people=False))
+    yield robot
+    robot.stop()
+    store.close()
+
+
+@pytest.fixture
+def server(runtime: RobotRuntime) -> Iterator[ServerThread]:
+    thread = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
+    yield thread
+    thread.stop()
+
+
+def test_websocket_streams_status_at_the_rate_on_sim_time_and_navigation_events_in_order(
+    runtime: RobotRuntime, server: ServerThread
+) -> None:
+    runtime.start()
+    statuses: list[dict[str, Any]] = []
+    kinds: list[str] = []
+    with connect(f"ws://127.0.0.1:{server.port}/api/ws?rate=5") as ws, \
+            httpx.Client(base_url=server.url) as http:
+        assert http.post("/api/navigation/start", json={"map": "floor1"}).status_code == 200
+        assert http.post("/api/navigation/goal", json={"point": "lobby"}).status_code == 202
+        while "navigation_succeeded" not in kinds and "navigation_failed" not in kinds:
+            message = json.loads(ws.recv(timeout=30.0))
+            if message["type"] == "status":
+                statuses.append(message["data"])
+            else:
+                assert message["type"] == "event"
+                kinds.append(message["data"]["kind"])
+    nav = [k for k in kinds if k.startswith("navigation_")]
+    assert nav == ["navigation_started", "navigation_succeeded"]
+    assert kinds.index("mode_changed") < kinds.index("navigation_started")
+    stamps = [s["stamp"] for s in statuses]
+    assert len(stamps) >= 20
+    gaps = [b - a for a, b in zip(stamps, stamps[1:], strict=False)]
+    # The snapshot is refreshed every 0.1 s of sim time: a message may come one refresh late.
+    assert all(0.099 <= g <= 0.301 for g in gaps), gaps
+    rate = (len(stamps) - 1) / (stamps[-1] - stamps[0])
+    assert 4.5 <= rate <= 5.5
+    assert statuses[-1]["navigation"]["state"] in ("running", "succeeded")
+
+
+def test_websocket_rejects_an_out_of_range_rate(server: ServerThread) -> None:
+    with connect(f"ws://127.0.0.1:{server.port}/api/ws?rate=0") as ws:
+        assert json.loads(ws.recv(timeout=5.0))["error"]["code"] == "validation_error"
+
+
+def test_teleop_then_silence_stops_the_base_within_the_dead_man_timeout(
+    runtime: RobotRuntime, server: ServerThread
+) -> None:
+    with httpx.Client(base_url=server.url) as http:
+        assert http.post("/api/teleop", json={"linear": 0.5, "angular": 0.0}).status_code == 200
+        runtime.advance(0.4)
+        moving = http.get("/api/status").json()["velocity"]["linear"]
+        assert moving > 0.2
+        # Silence: after 0.5 s without a command the base brakes from at most 0.5 m/s.
+        t0 = http.get("/api/status").json()["stamp"]
+        stopped = runtime.advance_until(lambda: runtime.status().linear == 0.0, timeout=2.0)
+        assert stopped
+        status = http.get("/api/status").json()
+        assert status["velocity"] == {"linear": 0.0, "angular": 0.0}
+        assert status["stamp"] - (t0 - 0.4) <= 0.5 + 0.5
+        assert math.isfinite(status["pose"]["x"])
