@@ -1,0 +1,954 @@
+"""The robot runtime: one robot's clock, backend, site, services, events and status, together.
+
+:class:`RobotRuntime` is the single owner of a robot's live state (DESIGN §1). Adapters (the
+native API, vendor dialects) call its command methods from their own threads; the tick loop is
+the only writer of robot state, so commands are applied *between* ticks: while the loop thread
+runs (:meth:`RobotRuntime.start`) a command is queued and the caller waits for the loop to run
+it at the start of the next physics step; without the thread (tests, :meth:`advance`) it runs at
+once under the runtime's lock. Reads (:meth:`status`, :meth:`settings`) return prebuilt frozen
+values and never wait.
+
+Each physics step (the simulator's rate, 50 Hz) the loop applies queued commands, stops a
+teleop command that has timed out (the dead-man), and, when a control period is due
+(``control_rate``), ticks the navigation stack (localization, costmap, navigator), applies a
+teleop or local-move velocity when no goal runs, publishes events for whatever changed
+(e-stop, charging, localization, low battery; navigation events come from the navigator as they
+happen) and refreshes the status snapshot; then it steps the simulator.
+
+Modes follow the vendors' documented transitions: ``FREE`` after power-on; starting or stopping
+navigation passes through ``BUSY`` (map and localization being loaded or unloaded) to
+``NAVIGATING`` or back to ``FREE``. ``MAPPING`` belongs to the mapping service (a later issue):
+the runtime refuses navigation commands while in it.
+
+Attempt ids are the runtime's, unique for its lifetime: every time the navigation stack is
+rebuilt (a new map, new settings) its navigator counts from 1 again, so the runtime adds an
+offset.
+
+The simulator backend (:meth:`RobotRuntime.simulated`) assumes that the site map of a floor
+shares the world floor's frame (the store seeds it from the world). "Start navigation" on a map
+of another floor lifts the simulated robot there (there is no lift ride yet), and an initial
+point or pose far from where the simulated robot stands (over 1 m or 0.5 rad) places it there,
+as an operator would carry a robot to where they say it is.
+"""
+
+from __future__ import annotations
+
+import enum
+import logging
+import math
+import queue
+import threading
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future
+from dataclasses import dataclass, replace
+from typing import Protocol, TypeVar
+
+from polynav.clock import Clock
+from polynav.errors import ConfigError, Conflict, InvalidRequest
+from polynav.geometry import Pose2D, Twist
+from polynav.localization.interface import LocalizationState
+from polynav.maps.keepout import Keepout
+from polynav.maps.map import Map
+from polynav.nav import events as nav_events
+from polynav.nav.attempt import NavigationAttempt, NavigationState
+from polynav.nav.stack import NavigationStack, StackConfig
+from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.simulation import Simulation
+from polynav.runtime import events
+from polynav.runtime.event_bus import EventBus
+from polynav.runtime.local_move import (
+    LocalMove,
+    free_distance_in_scan,
+    free_distance_on_costmap,
+)
+from polynav.runtime.settings import RobotSettings
+from polynav.runtime.status import StatusSnapshot
+from polynav.runtime.teleop import Teleop
+from polynav.site import Point, PointKind
+from polynav.worlds.world import World
+
+log = logging.getLogger(__name__)
+
+T = TypeVar("T")
+
+_EPS = 1e-9
+# Placing the simulated robot: an initial pose farther than this from the truth is taken as
+# "the operator carried the robot there" (localization relocalizes only within ~1 m / 30°).
+_PLACE_DISTANCE = 1.0
+_PLACE_ANGLE = 0.5
+# Low-battery hysteresis [%]: the event fires again only after the charge rose this far above.
+_BATTERY_HYSTERESIS = 1.0
+_MAX_LOCAL_ROTATION = 4.0 * math.pi
+_MAX_LOCAL_DISTANCE = 10.0
+
+
+class Mode(enum.Enum):
+    FREE = "free"
+    MAPPING = "mapping"
+    NAVIGATING = "navigating"
+    BUSY = "busy"
+
+
+@dataclass(frozen=True, slots=True)
+class RuntimeConfig:
+    """How the runtime runs.
+
+    Attributes:
+        control_rate: navigation stack ticks per simulated second [Hz].
+        status_rate: the default rate [Hz] adapters stream status at; at most ``control_rate``
+            (the snapshot itself is refreshed every control tick and after every command).
+        speed: simulated seconds per wall second when the loop thread paces itself.
+        teleop_timeout: a teleop command holds this long [s] (the dead-man).
+        seed: seeds the simulator's noise.
+        people: whether the simulated world's people walk.
+        max_lag: when the loop falls behind its pace by more than this [s of simulated time]
+            (a slow machine, a debugger), it gives up catching up rather than race.
+    """
+
+    control_rate: float = 20.0
+    status_rate: float = 10.0
+    speed: float = 1.0
+    teleop_timeout: float = 0.5
+    seed: int = 0
+    people: bool = True
+    max_lag: float = 1.0
+
+    def __post_init__(self) -> None:
+        for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(f"runtime.{key}", f"must be finite and > 0, got {value}")
+        if self.status_rate > self.control_rate:
+            raise ConfigError("runtime.status_rate", "must be <= control_rate")
+
+
+class SiteData(Protocol):
+    """What the runtime reads from the site store (:class:`polynav.store.SiteStore`)."""
+
+    def floors(self) -> Sequence[object]: ...
+
+    def map_record(self, name: str) -> object: ...
+
+    def load_map(self, name: str) -> Map: ...
+
+    def points(
+        self, *, map_name: str | None = None, floor: str | None = None
+    ) -> Sequence[Point]: ...
+
+    def point(self, map_name: str, name: str) -> Point: ...
+
+    def keepouts(self, map_name: str) -> Sequence[Keepout]: ...
+
+    def settings(self) -> dict[str, object]: ...
+
+    def update_settings(self, changes: dict[str, object]) -> dict[str, object]: ...
+
+
+class RobotRuntime:
+    """One robot: backend, navigation stack, commands, events and status on one clock.
+
+    Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
+    simulated backend; its clock is the runtime's clock), ``config``.
+    """
+
+    def __init__(
+        self,
+        store: SiteData,
+        sim: Simulation,
+        *,
+        config: RuntimeConfig | None = None,
+        stack_config: StackConfig | None = None,
+    ) -> None:
+        self.config = config or RuntimeConfig()
+        self.store = store
+        self.bus = EventBus()
+        self._sim = sim
+        self._robot = sim.robot
+        self._clock = sim.clock
+        self._base_stack_config = stack_config or StackConfig()
+        self._settings = RobotSettings.from_stored(store.settings())
+        self._settings_dirty = False
+        self._settings_lock = threading.Lock()
+        self._lock = threading.RLock()
+        self._mode = Mode.FREE
+        self._stack: NavigationStack | None = None
+        self._map_name: str | None = None
+        self._grid: Map | None = None
+        self._keepouts: tuple[Keepout, ...] = ()
+        self._teleop = Teleop(self.config.teleop_timeout)
+        self._local_move: LocalMove | None = None
+        self._software_estop = False
+        self._estop_state = (self._robot.estop_pressed(), False)
+        battery = self._robot.read_battery()
+        self._charging = battery.charging
+        self._battery_low = battery.percent < self._settings.low_battery_percent
+        self._localization_state = LocalizationState.UNINITIALIZED.value
+        # Attempt bookkeeping (the runtime's ids, see the module docstring).
+        self._id_offset = 0
+        self._last_id = 0
+        self._attempt: NavigationAttempt | None = None
+        self._attempt_id: int | None = None
+        self._attempt_point: str | None = None
+        self._pending_point: str | None = None
+        # Timing.
+        self._control_period = 1.0 / self.config.control_rate
+        self._next_control = self._clock.now()
+        # The loop thread and its command queue.
+        self._commands: queue.SimpleQueue[tuple[Callable[[], object], Future[object]]] = (
+            queue.SimpleQueue()
+        )
+        self._queue_lock = threading.Lock()
+        self._thread: threading.Thread | None = None
+        self._stopping = threading.Event()
+        self._snapshot = self._build_snapshot(self._clock.now())
+
+    @classmethod
+    def simulated(
+        cls,
+        store: SiteData,
+        world: World,
+        *,
+        config: RuntimeConfig | None = None,
+        sim_config: SimConfig | None = None,
+        stack_config: StackConfig | None = None,
+    ) -> RobotRuntime:
+        """A runtime on the simulator, the robot standing at the world's start pose, FREE.
+
+        Args:
+            store: the site (maps, points, keepouts, settings).
+            world: the simulated ground truth; its floors' maps should be the site's maps.
+            config: runtime settings (seed, speed, rates).
+            sim_config: the simulated robot; defaults to :class:`SimConfig`.
+            stack_config: the navigation stack's base configuration; settings override it.
+        """
+        config = config or RuntimeConfig()
+        sim = Simulation(
+            world, config=sim_config or SimConfig(), seed=config.seed, people=config.people
+        )
+        return cls(store, sim, config=config, stack_config=stack_config)
+
+    # -- reads (any thread, never wait) --------------------------------------------------------
+
+    @property
+    def clock(self) -> Clock:
+        """The runtime's clock (simulated time on the simulator); adapters pace streams on it."""
+        return self._clock
+
+    def now(self) -> float:
+        """The runtime's clock [s] (simulated time on the simulator)."""
+        return self._clock.now()
+
+    @property
+    def simulation(self) -> Simulation:
+        """The simulator backend (ground truth, for tests and the demo)."""
+        return self._sim
+
+    @property
+    def mode(self) -> Mode:
+        return self._mode
+
+    @property
+    def map_name(self) -> str | None:
+        """The map navigation runs on, ``None`` unless NAVIGATING."""
+        return self._map_name
+
+    def status(self) -> StatusSnapshot:
+        """The snapshot of the last refresh (O(1), no lock)."""
+        return self._snapshot
+
+    def settings(self) -> RobotSettings:
+        return self._settings
+
+    # -- commands ------------------------------------------------------------------------------
+
+    def start_navigation(
+        self, map_name: str, *, point: str | None = None, pose: Pose2D | None = None
+    ) -> None:
+        """Load ``map_name`` and its keepouts, localize, and become NAVIGATING (via BUSY).
+
+        The initial pose is the named ``point`` of that map, else ``pose``, else (simulator
+        only) the robot's true pose when it is already on the map's floor, else the map's
+        initial point. Starting again while NAVIGATING cancels any goal and reloads.
+
+        Raises:
+            NotFound: unknown map or point.
+            InvalidRequest: both ``point`` and ``pose``; a map on no simulated floor; no initial
+                pose to be had; a pose inside a wall.
+            Conflict: MAPPING.
+        """
+        if point is not None and pose is not None:
+            raise InvalidRequest("point", "give a point or a pose, not both")
+        record = self.store.map_record(map_name)
+        name = str(getattr(record, "name", map_name))
+        floor = self._floor_of(name, getattr(record, "floor", None))
+        initial = self.store.point(name, point).pose if point is not None else pose
+        grid = self.store.load_map(name)
+        keepouts = tuple(self.store.keepouts(name))
+        fallback = self._initial_point(name)
+        self._call(lambda: self._start_navigation(name, floor, grid, keepouts, initial, fallback))
+
+    def stop_navigation(self) -> None:
+        """Cancel any goal, unload the map and become FREE (via BUSY); nothing when FREE.
+
+        Raises:
+            Conflict: MAPPING.
+        """
+        self._call(self._stop_navigation)
+
+    def set_initial_pose(self, pose: Pose2D) -> None:
+        """Restart localization near ``pose`` on the current map.
+
+        Raises:
+            Conflict: not NAVIGATING, or a goal is active (cancel it first).
+            InvalidRequest: the pose lies in a wall (simulator placement).
+        """
+
+        def run() -> None:
+            stack = self._require_navigating()
+            if self._goal_active():
+                raise Conflict("a goal is active: cancel it before setting the initial pose")
+            assert self._map_name is not None
+            self._place(self._sim.floor, pose)
+            now = self.now()
+            stack.initialize(pose, now)
+            self._publish(events.PoseInitialized(now, pose))
+            self._check_localization(now)
+
+        self._call(run)
+
+    def go_to(
+        self,
+        *,
+        point: str | None = None,
+        pose: Pose2D | None = None,
+        map_name: str | None = None,
+    ) -> int:
+        """Start a goal to a point of the current map, or to a pose on it; a goal already
+        running is canceled first.
+
+        Args:
+            point: the goal point's name.
+            pose: the goal pose (map frame).
+            map_name: the map ``point`` or ``pose`` is on; only the current map is reachable
+                until multi-map routing exists.
+
+        Returns:
+            The attempt id.
+
+        Raises:
+            InvalidRequest: neither or both of ``point`` and ``pose``; another map.
+            Conflict: not NAVIGATING.
+            NotFound: no such point on the map.
+        """
+        if (point is None) == (pose is None):
+            raise InvalidRequest("point", "give exactly one of point and pose")
+        if pose is not None and not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
+            raise InvalidRequest("pose", "coordinates must be finite")
+
+        def run() -> int:
+            stack = self._require_navigating()
+            assert self._map_name is not None
+            target_map = map_name or self._map_name
+            if point is not None:
+                goal = self.store.point(target_map, point).pose
+            else:
+                assert pose is not None
+                goal = pose
+            if target_map != self._map_name:
+                raise InvalidRequest(
+                    "map", f"{target_map!r} is not the current map {self._map_name!r}: "
+                           "goals on other maps need multi-map routing (not yet available)"
+                )
+            self._teleop.stop()
+            self._end_local_move()
+            if self._settings_dirty:
+                self._cancel_goal()
+                stack = self._rebuild_stack()
+            self._pending_point = point
+            try:
+                nav_id = stack.go_to(goal, self.now())
+            finally:
+                self._pending_point = None
+            return self._id_offset + nav_id
+
+        return self._call(run)
+
+    def pause(self) -> None:
+        """Stop and keep the goal. Raises Conflict when no goal runs."""
+
+        def run() -> None:
+            stack = self._require_navigating()
+            if not stack.navigator.pause(self.now()):
+                raise Conflict("no running goal to pause")
+
+        self._call(run)
+
+    def resume(self) -> None:
+        """Continue a paused goal. Raises Conflict when no goal is paused."""
+
+        def run() -> None:
+            stack = self._require_navigating()
+            if not stack.navigator.resume(self.now()):
+                raise Conflict("no paused goal to resume")
+
+        self._call(run)
+
+    def cancel(self) -> None:
+        """Cancel the running or paused goal, or a local move. Raises Conflict if neither."""
+
+        def run() -> None:
+            if self._local_move is not None:
+                self._end_local_move()
+                return
+            if not self._cancel_goal():
+                raise Conflict("no goal or local move to cancel")
+
+        self._call(run)
+
+    def teleop(self, linear: float, angular: float) -> None:
+        """Drive at ``linear`` [m/s], ``angular`` [rad/s] (clamped to the settings) for
+        ``teleop_timeout`` seconds; repeat the command to keep moving (dead-man).
+
+        A local move in progress ends. A goal is not overridden silently: cancel it first.
+
+        Raises:
+            InvalidRequest: a value that is not finite.
+            Conflict: a goal is running or paused; an e-stop is active; BUSY.
+        """
+        for key, value in (("linear", linear), ("angular", angular)):
+            if isinstance(value, bool) or not math.isfinite(value):
+                raise InvalidRequest(key, f"must be a finite number, got {value!r}")
+
+        def run() -> None:
+            self._check_free_to_move("teleop")
+            s = self._settings
+            twist = Twist(
+                max(-s.max_linear_velocity, min(s.max_linear_velocity, float(linear))),
+                max(-s.max_angular_velocity, min(s.max_angular_velocity, float(angular))),
+            )
+            self._end_local_move()
+            self._teleop.command(twist, self.now())
+            self._robot.drive(twist)
+
+        self._call(run)
+
+    def set_software_estop(self, on: bool) -> None:
+        """Switch the software e-stop (distinct from the hardware button): the base brakes,
+        teleop and local moves end, a goal is held until it is switched off."""
+
+        def run() -> None:
+            self._software_estop = bool(on)
+            if self._stack is not None:
+                self._stack.software_estop = self._software_estop
+            if on:
+                self._halt_motion()
+            self._check_estop(self.now())
+
+        self._call(run)
+
+    def local_move(self, *, rotate: float | None = None, distance: float | None = None) -> None:
+        """Turn on the spot by ``rotate`` [rad] or drive straight ``distance`` [m] (negative:
+        backwards), checked against obstacles (the costmap while NAVIGATING, else the scan);
+        ends by itself, or blocked, or on :meth:`cancel`.
+
+        Raises:
+            InvalidRequest: neither or both; not finite; more than 4π rad or 10 m.
+            Conflict: a goal is running or paused; an e-stop is active; BUSY.
+        """
+        if (rotate is None) == (distance is None):
+            raise InvalidRequest("rotate", "give exactly one of rotate and distance")
+        if rotate is not None and not (
+            math.isfinite(rotate) and abs(rotate) <= _MAX_LOCAL_ROTATION
+        ):
+            raise InvalidRequest("rotate", f"must be finite and within ±4π, got {rotate}")
+        if distance is not None and not (
+            math.isfinite(distance) and abs(distance) <= _MAX_LOCAL_DISTANCE
+        ):
+            raise InvalidRequest("distance", f"must be finite and within ±10 m, got {distance}")
+
+        def run() -> None:
+            self._check_free_to_move("local move")
+            self._teleop.stop()
+            self._end_local_move()
+            s = self._settings
+            self._local_move = LocalMove(
+                rotate=rotate,
+                distance=distance,
+                yaw=self._yaw(),
+                odometry_pose=self._robot.read_odometry().pose,
+                max_linear_velocity=s.max_linear_velocity,
+                max_angular_velocity=s.max_angular_velocity,
+                stop_distance=s.obstacle_stop_distance,
+            )
+            log.info("local move: rotate %s rad, distance %s m", rotate, distance)
+
+        self._call(run)
+
+    def update_settings(self, changes: dict[str, object]) -> RobotSettings:
+        """Validate, persist and apply ``changes``; returns the new settings.
+
+        Speed limits for teleop apply at once; the navigation stack takes the new values
+        between goals (a running goal finishes with the old ones).
+
+        Raises:
+            InvalidRequest: unknown name, wrong type or out of range (``field`` names it).
+        """
+        with self._settings_lock:
+            new = self._settings.apply(changes)
+            stored = new.to_dict()
+            self.store.update_settings({key: stored[key] for key in changes})
+
+            def run() -> None:
+                self._settings = new
+                self._settings_dirty = True
+                if self._stack is not None and not self._goal_active():
+                    self._rebuild_stack()
+
+            self._call(run)
+        log.info("settings updated: %s", dict(changes))
+        return new
+
+    # -- running -------------------------------------------------------------------------------
+
+    def advance(self, seconds: float) -> None:
+        """Run the loop for ``seconds`` of simulated time, as fast as the machine goes.
+
+        Raises:
+            Conflict: the loop thread is running (:meth:`start`).
+        """
+        self.advance_until(lambda: False, timeout=seconds)
+
+    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
+        """Run the loop until ``done()`` holds (checked every physics step) or ``timeout``
+        simulated seconds pass.
+
+        Returns:
+            Whether ``done()`` held.
+
+        Raises:
+            Conflict: the loop thread is running.
+        """
+        if self._thread is not None:
+            raise Conflict("the runtime's loop thread is running: advance() is for tests only")
+        end = self.now() + timeout
+        while not done():
+            if self.now() >= end - _EPS:
+                return False
+            with self._lock:
+                self._step()
+        return True
+
+    def start(self) -> None:
+        """Run the loop on a daemon thread, simulated time paced at ``speed`` × wall time."""
+        with self._queue_lock:
+            if self._thread is not None:
+                raise Conflict("the runtime is already running")
+            self._stopping.clear()
+            self._thread = threading.Thread(target=self._run, name="polynav-runtime", daemon=True)
+            self._thread.start()
+        log.info("runtime started at %gx real time", self.config.speed)
+
+    def stop(self) -> None:
+        """Stop the loop thread and wait for it; queued commands still run. Idempotent."""
+        with self._queue_lock:
+            thread = self._thread
+            if thread is None:
+                return
+            self._stopping.set()
+        thread.join()
+        with self._queue_lock:
+            self._thread = None
+        self._run_commands()
+        log.info("runtime stopped at t=%.2f", self.now())
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None
+
+    def _run(self) -> None:
+        speed = self.config.speed
+        period = self._sim.config.physics_period
+        wall0, sim0 = time.monotonic(), self.now()
+        while not self._stopping.is_set():
+            self._run_commands()
+            target = sim0 + (time.monotonic() - wall0) * speed
+            ahead = self.now() - target
+            if ahead < 0.0:
+                if -ahead > self.config.max_lag:
+                    log.warning("runtime fell %.2f s behind its pace; not catching up", -ahead)
+                    wall0, sim0 = time.monotonic(), self.now()
+                with self._lock:
+                    self._step()
+            else:
+                # Sleeping is the runtime's job: it owns the clock and the pace.
+                self._stopping.wait(min((ahead + period) / speed, 0.05))
+
+    def _call(self, fn: Callable[[], T]) -> T:
+        """Run a command between ticks: on the loop thread when it runs, else here."""
+        with self._queue_lock:
+            thread = self._thread
+            queued = thread is not None and threading.current_thread() is not thread
+            if queued:
+                future: Future[object] = Future()
+                self._commands.put((fn, future))
+        if not queued:
+            with self._lock:
+                result = fn()
+                self._refresh()
+                return result
+        return future.result()  # type: ignore[return-value]
+
+    def _run_commands(self) -> None:
+        while True:
+            try:
+                fn, future = self._commands.get_nowait()
+            except queue.Empty:
+                return
+            if not future.set_running_or_notify_cancel():
+                continue
+            with self._lock:
+                try:
+                    result = fn()
+                except BaseException as exc:  # handed to the caller, who re-raises it
+                    future.set_exception(exc)
+                    continue
+                self._refresh()
+                future.set_result(result)
+
+    # -- the loop ------------------------------------------------------------------------------
+
+    def _step(self) -> None:
+        now = self.now()
+        if self._teleop.active and self._teleop.twist(now) is None:
+            self._robot.drive(Twist())  # dead-man: brake now, not at the next control tick
+        if now >= self._next_control - _EPS:
+            self._control(now)
+            self._next_control += self._control_period
+            if self._next_control <= now:
+                self._next_control = now + self._control_period
+        self._sim.step()
+
+    def _control(self, now: float) -> None:
+        estop = self._check_estop(now)
+        stack = self._stack
+        if stack is not None:
+            if self._settings_dirty and not self._goal_active():
+                stack = self._rebuild_stack()
+            stack.software_estop = self._software_estop
+            stack.tick(now)
+            attempt = stack.navigator.attempt
+            if attempt is not None and attempt.attempt_id + self._id_offset == self._attempt_id:
+                self._attempt = attempt
+        override = self._motion_override(now, estop)
+        if override is not None:
+            self._robot.drive(override)
+        elif stack is None:
+            self._robot.drive(Twist())
+        self._check_localization(now)
+        self._check_battery(now)
+        self._refresh()
+
+    def _motion_override(self, now: float, estop: bool) -> Twist | None:
+        if estop:
+            self._halt_motion()
+            return None
+        twist = self._teleop.twist(now)
+        if twist is not None:
+            return twist
+        move = self._local_move
+        if move is None:
+            return None
+        odometry = self._robot.read_odometry().pose
+        remaining = move.remaining(odometry)
+        free = math.inf
+        if move.distance is not None:
+            free = self._free_ahead(math.copysign(1.0, remaining), abs(remaining))
+        twist = move.tick(yaw=self._yaw(), odometry_pose=odometry, free_ahead=free)
+        if twist is None:
+            self._local_move = None
+            return Twist()
+        return twist
+
+    def _free_ahead(self, direction: float, remaining: float) -> float:
+        s = self._settings
+        stack = self._stack
+        if stack is not None:
+            return free_distance_on_costmap(
+                stack.costmap,
+                stack.estimate.pose,
+                direction=direction,
+                robot_radius=s.robot_radius,
+                horizon=remaining + s.obstacle_stop_distance,
+                step=0.5 * stack.costmap.info.resolution,
+            )
+        scan = self._robot.read_scan()
+        if scan is None:
+            return math.inf
+        return free_distance_in_scan(scan, direction=direction, robot_radius=s.robot_radius)
+
+    # -- state checks that publish events ----------------------------------------------------
+
+    def _check_estop(self, now: float) -> bool:
+        state = (self._robot.estop_pressed(), self._software_estop)
+        if state != self._estop_state:
+            self._estop_state = state
+            hardware, software = state
+            log.info("e-stop: hardware %s, software %s", hardware, software)
+            self._publish(events.EStopChanged(now, hardware, software, hardware or software))
+        return state[0] or state[1]
+
+    def _check_localization(self, now: float) -> None:
+        if self._stack is None:
+            state, quality = LocalizationState.UNINITIALIZED.value, 0.0
+        else:
+            estimate = self._stack.estimate
+            state, quality = estimate.state.value, estimate.quality
+        if state != self._localization_state:
+            self._localization_state = state
+            log.info("localization %s (quality %.2f)", state, quality)
+            self._publish(events.LocalizationChanged(now, state, float(quality)))
+
+    def _check_battery(self, now: float) -> None:
+        battery = self._robot.read_battery()
+        if battery.charging != self._charging:
+            self._charging = battery.charging
+            log.info("charging %s at %.1f %%", "started" if battery.charging else "stopped",
+                     battery.percent)
+            self._publish(events.ChargeChanged(now, battery.charging))
+        low = self._settings.low_battery_percent
+        if not self._battery_low and battery.percent < low:
+            self._battery_low = True
+            log.warning("battery low: %.1f %%", battery.percent)
+            self._publish(events.LowBattery(now, float(battery.percent)))
+        elif self._battery_low and battery.percent >= low + _BATTERY_HYSTERESIS:
+            self._battery_low = False
+
+    # -- navigation internals ----------------------------------------------------------------
+
+    def _start_navigation(
+        self,
+        name: str,
+        floor: str,
+        grid: Map,
+        keepouts: tuple[Keepout, ...],
+        initial: Pose2D | None,
+        fallback: Pose2D | None,
+    ) -> None:
+        if self._mode is Mode.MAPPING:
+            raise Conflict("mapping is running: stop it before navigating")
+        if self._mode is Mode.BUSY:
+            raise Conflict("the robot is busy")
+        if initial is None:
+            if self._sim.floor == floor:
+                initial = self._sim.true_pose
+            elif fallback is not None:
+                initial = fallback
+            else:
+                raise InvalidRequest(
+                    "point", f"map {name!r} has no initial point: give the initial point or pose"
+                )
+        self._place(floor, initial)  # may raise before anything changed
+        self._cancel_goal()
+        self._halt_motion()
+        self._set_mode(Mode.BUSY)
+        now = self.now()
+        self._map_name = name
+        self._grid = grid
+        self._keepouts = keepouts
+        stack = self._new_stack()
+        stack.initialize(initial, now)
+        self._stack = stack
+        self._settings_dirty = False
+        log.info("navigation started on map %r at %s", name, initial)
+        self._publish(events.PoseInitialized(now, initial))
+        self._set_mode(Mode.NAVIGATING)
+
+    def _stop_navigation(self) -> None:
+        if self._mode is Mode.MAPPING:
+            raise Conflict("mapping is running: stop mapping instead")
+        if self._mode is Mode.FREE:
+            return
+        self._set_mode(Mode.BUSY)
+        self._cancel_goal()
+        self._halt_motion()
+        self._stack = None
+        self._map_name = None
+        self._grid = None
+        self._keepouts = ()
+        self._robot.drive(Twist())
+        log.info("navigation stopped")
+        self._set_mode(Mode.FREE)
+        self._check_localization(self.now())
+
+    def _new_stack(self) -> NavigationStack:
+        assert self._grid is not None
+        config = self._settings.stack_config(self._base_stack_config)
+        if config.control_rate != self.config.control_rate:
+            config = replace(config, control_rate=self.config.control_rate)
+        stack = NavigationStack(self._robot, self._grid, config=config, on_event=self._on_nav_event)
+        if self._keepouts:
+            stack.costmap.set_keepouts(self._keepouts)
+        stack.software_estop = self._software_estop
+        self._id_offset = self._last_id
+        return stack
+
+    def _rebuild_stack(self) -> NavigationStack:
+        """A stack with the current settings; localization carries over (it keeps tracking)."""
+        old = self._stack
+        assert old is not None
+        stack = self._new_stack()
+        stack.localizer = old.localizer
+        self._stack = stack
+        self._settings_dirty = False
+        log.info("navigation stack rebuilt with new settings")
+        return stack
+
+    def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
+        attempt = event.attempt
+        attempt_id = self._id_offset + attempt.attempt_id
+        self._last_id = max(self._last_id, attempt_id)
+        self._attempt = attempt
+        self._attempt_id = attempt_id
+        stamp = event.stamp
+        distance = float(attempt.distance_travelled)
+        out: list[events.RuntimeEvent] = []
+        if isinstance(event, nav_events.NavigationStarted):
+            self._attempt_point = self._pending_point
+            out.append(events.NavigationStarted(stamp, attempt_id, attempt.goal,
+                                                self._pending_point))
+        elif isinstance(event, nav_events.NavigationSucceeded):
+            out.append(events.NavigationSucceeded(stamp, attempt_id, distance))
+        elif isinstance(event, nav_events.NavigationFailed):
+            reason = attempt.reason.value if attempt.reason else (attempt.message or "unknown")
+            out.append(events.NavigationFailed(stamp, attempt_id, reason, distance))
+        elif isinstance(event, nav_events.NavigationCanceled):
+            out.append(events.NavigationCanceled(stamp, attempt_id, distance))
+        elif isinstance(event, nav_events.NavigationPaused):
+            out.append(events.NavigationPaused(stamp, attempt_id))
+        elif isinstance(event, nav_events.NavigationResumed):
+            out.append(events.NavigationResumed(stamp, attempt_id))
+        elif isinstance(event, nav_events.NavigationRetry):
+            if event.cause == "stuck":
+                out.append(events.NavigationStuck(stamp, attempt_id))
+            out.append(events.NavigationRetry(stamp, attempt_id, attempt.retries, event.cause))
+        for runtime_event in out:
+            self._publish(runtime_event)
+
+    def _goal_active(self) -> bool:
+        return self._stack is not None and self._stack.navigator.state in (
+            NavigationState.RUNNING,
+            NavigationState.PAUSED,
+        )
+
+    def _cancel_goal(self) -> bool:
+        if self._stack is None:
+            return False
+        return self._stack.navigator.cancel(self.now())
+
+    def _require_navigating(self) -> NavigationStack:
+        if self._mode is not Mode.NAVIGATING or self._stack is None:
+            raise Conflict(f"not navigating (mode {self._mode.value}): start navigation first")
+        return self._stack
+
+    def _check_free_to_move(self, what: str) -> None:
+        if self._mode is Mode.BUSY:
+            raise Conflict(f"the robot is busy: no {what}")
+        if self._goal_active():
+            raise Conflict(f"a goal is active: cancel it before {what}")
+        if self._estop_state[0] or self._software_estop:
+            raise Conflict(f"the e-stop is active: no {what}")
+
+    def _halt_motion(self) -> None:
+        if self._teleop.active:
+            self._teleop.stop()
+            self._robot.drive(Twist())
+        self._end_local_move()
+
+    def _end_local_move(self) -> None:
+        if self._local_move is not None:
+            self._local_move.cancel()
+            self._local_move = None
+            self._robot.drive(Twist())
+
+    def _set_mode(self, mode: Mode) -> None:
+        old = self._mode
+        if old is mode:
+            return
+        self._mode = mode
+        log.info("mode %s -> %s", old.value, mode.value)
+        self._publish(events.ModeChanged(self.now(), old.value, mode.value))
+
+    def _refresh(self) -> None:
+        """Rebuild the snapshot now, so a status read right after a command shows its effect."""
+        self._snapshot = self._build_snapshot(self.now())
+
+    def _publish(self, event: events.RuntimeEvent) -> None:
+        self.bus.publish(event)
+
+    # -- site and simulator helpers ------------------------------------------------------------
+
+    def _floor_of(self, map_name: str, floor: object) -> str:
+        names = {f.name for f in self._sim.world.floors}
+        if isinstance(floor, str) and floor in names:
+            return floor
+        for record in self.store.floors():
+            name = getattr(record, "name", None)
+            if getattr(record, "map_name", None) == map_name and name in names:
+                return str(name)
+        raise InvalidRequest("map", f"map {map_name!r} is on no floor of the simulated world")
+
+    def _initial_point(self, map_name: str) -> Pose2D | None:
+        for p in self.store.points(map_name=map_name):
+            if p.kind is PointKind.INITIAL:
+                return p.pose
+        return None
+
+    def _place(self, floor: str, pose: Pose2D) -> None:
+        """Put the simulated robot where the operator says it is, if it is not near there."""
+        true = self._sim.true_pose
+        if (
+            self._sim.floor != floor
+            or true.distance_to(pose) > _PLACE_DISTANCE
+            or abs(true.heading_error_to(pose)) > _PLACE_ANGLE
+        ):
+            self._sim.teleport(floor, pose)
+
+    def _yaw(self) -> float:
+        imu = self._robot.read_imu()
+        return imu.yaw if imu is not None else self._robot.read_odometry().pose.theta
+
+    # -- status --------------------------------------------------------------------------------
+
+    def _build_snapshot(self, now: float) -> StatusSnapshot:
+        stack = self._stack
+        odometry = self._robot.read_odometry()
+        battery = self._robot.read_battery()
+        if stack is not None:
+            estimate = stack.estimate
+            pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
+        else:
+            pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+        attempt = self._attempt
+        nav_state = attempt.state.value if attempt is not None else "idle"
+        return StatusSnapshot(
+            mode=self._mode.value,
+            map=self._map_name,
+            floor=self._sim.floor,
+            pose=pose,
+            linear=float(odometry.twist.linear),
+            angular=float(odometry.twist.angular),
+            battery_percent=float(battery.percent),
+            charging=bool(battery.charging),
+            estop_hardware=bool(self._robot.estop_pressed()),
+            estop_software=self._software_estop,
+            localization_state=loc_state,
+            localization_quality=float(quality),
+            navigation_state=nav_state,
+            stamp=now,
+            attempt_id=self._attempt_id,
+            goal=attempt.goal if attempt is not None else None,
+            goal_point=self._attempt_point if attempt is not None else None,
+            reason=attempt.reason.value if attempt is not None and attempt.reason else None,
+            distance_remaining=attempt.distance_remaining if attempt is not None else None,
+        )
