@@ -87,3 +87,55 @@ def test_teleop_then_silence_stops_the_base_within_the_dead_man_timeout(
         assert status["velocity"] == {"linear": 0.0, "angular": 0.0}
         assert status["stamp"] - (t0 - 0.4) <= 0.5 + 0.5
         assert math.isfinite(status["pose"]["x"])
+
+
+BAD_REQUESTS: list[tuple[str, str, object, int]] = [
+    ("POST", "/api/navigation/goal", {"point": "lobby"}, 409),  # not navigating
+    ("POST", "/api/navigation/initial_pose", {"x": 1.0, "y": 1.0}, 409),
+    ("POST", "/api/navigation/cancel", None, 409),
+    ("POST", "/api/navigation/pause", None, 409),
+    ("POST", "/api/navigation/resume", None, 409),
+    ("POST", "/api/navigation/start", {"map": "nowhere"}, 404),
+    ("POST", "/api/navigation/start", {"map": "floor1", "point": "nowhere"}, 404),
+    ("POST", "/api/navigation/start", {"map": 7}, 422),
+    ("POST", "/api/navigation/goal", b"{", 400),
+    ("POST", "/api/teleop", {"linear": [1]}, 422),
+    ("POST", "/api/estop", {}, 422),
+    ("POST", "/api/local_move", {"rotate": 100.0}, 422),
+    ("POST", "/api/local_move", {"distance": "far"}, 422),
+    ("PUT", "/api/settings", {"max_linear_velocity": 0.0}, 422),
+    ("PUT", "/api/settings", {"unknown": 1.0}, 422),
+    ("PUT", "/api/settings", b"[", 400),
+    ("GET", "/api/maps/nowhere", None, 404),
+    ("POST", "/api/points", {"name": "p", "map": "nowhere", "x": 0.0, "y": 0.0}, 404),
+    ("DELETE", "/api/points/nowhere", None, 404),
+]
+
+
+@pytest.mark.parametrize(("method", "path", "body", "status"), BAD_REQUESTS)
+def test_bad_input_to_the_real_runtime_is_a_4xx_error_body(
+    server: ServerThread, method: str, path: str, body: object, status: int
+) -> None:
+    with httpx.Client(base_url=server.url) as http:
+        if isinstance(body, bytes):
+            response = http.request(method, path, content=body,
+                                    headers={"content-type": "application/json"})
+        else:
+            response = http.request(method, path, json=body)
+    assert response.status_code == status, response.text
+    assert set(response.json()["error"]) == {"code", "message"}
+
+
+def test_local_move_and_estop_on_the_real_runtime(
+    runtime: RobotRuntime, server: ServerThread
+) -> None:
+    with httpx.Client(base_url=server.url) as http:
+        before = http.get("/api/status").json()["pose"]
+        assert http.post("/api/local_move", json={"rotate": 1.0}).status_code == 200
+        runtime.advance(5.0)
+        after = http.get("/api/status").json()["pose"]
+        assert abs(math.remainder(after["theta"] - before["theta"] - 1.0, math.tau)) < 0.1
+        assert http.post("/api/estop", json={"on": True}).status_code == 200
+        runtime.advance(0.1)
+        assert http.get("/api/status").json()["estop"]["software"] is True
+        assert http.post("/api/teleop", json={"linear": 0.3}).status_code == 409
