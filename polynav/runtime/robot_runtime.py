@@ -201,6 +201,8 @@ class RobotRuntime:
         self._queue_lock = threading.Lock()
         self._thread: threading.Thread | None = None
         self._stopping = threading.Event()
+        self._wake = threading.Event()
+        self._loop_done = False
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -545,6 +547,8 @@ class RobotRuntime:
             if self._thread is not None:
                 raise Conflict("the runtime is already running")
             self._stopping.clear()
+            self._wake.clear()
+            self._loop_done = False
             self._thread = threading.Thread(target=self._run, name="polynav-runtime", daemon=True)
             self._thread.start()
         log.info("runtime started at %gx real time", self.config.speed)
@@ -556,6 +560,7 @@ class RobotRuntime:
             if thread is None:
                 return
             self._stopping.set()
+            self._wake.set()
         thread.join()
         with self._queue_lock:
             self._thread = None
@@ -570,28 +575,45 @@ class RobotRuntime:
         speed = self.config.speed
         period = self._sim.config.physics_period
         wall0, sim0 = time.monotonic(), self.now()
-        while not self._stopping.is_set():
-            self._run_commands()
-            target = sim0 + (time.monotonic() - wall0) * speed
-            ahead = self.now() - target
-            if ahead < 0.0:
-                if -ahead > self.config.max_lag:
-                    log.warning("runtime fell %.2f s behind its pace; not catching up", -ahead)
-                    wall0, sim0 = time.monotonic(), self.now()
-                with self._lock:
-                    self._step()
-            else:
-                # Sleeping is the runtime's job: it owns the clock and the pace.
-                self._stopping.wait(min((ahead + period) / speed, 0.05))
+        try:
+            while not self._stopping.is_set():
+                self._run_commands()
+                target = sim0 + (time.monotonic() - wall0) * speed
+                ahead = self.now() - target
+                if ahead < 0.0:
+                    if -ahead > self.config.max_lag:
+                        log.warning("runtime fell %.2f s behind its pace; not catching up",
+                                    -ahead)
+                        wall0, sim0 = time.monotonic(), self.now()
+                    with self._lock:
+                        self._step()
+                else:
+                    # Sleeping is the runtime's job: it owns the clock and the pace. A command
+                    # wakes the loop early so that it does not wait for the next step.
+                    self._wake.wait(min((ahead + period) / speed, 0.05))
+                    self._wake.clear()
+        except Exception:
+            log.exception("the runtime loop failed; the robot is stopped")
+            self._robot.drive(Twist())
+            raise
+        finally:
+            with self._queue_lock:
+                self._loop_done = True
+            self._run_commands()  # whatever was queued runs now; later commands run directly
 
     def _call(self, fn: Callable[[], T]) -> T:
         """Run a command between ticks: on the loop thread when it runs, else here."""
         with self._queue_lock:
             thread = self._thread
-            queued = thread is not None and threading.current_thread() is not thread
+            queued = (
+                thread is not None
+                and not self._loop_done
+                and threading.current_thread() is not thread
+            )
             if queued:
                 future: Future[object] = Future()
                 self._commands.put((fn, future))
+                self._wake.set()
         if not queued:
             with self._lock:
                 result = fn()
