@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-from typing import Any
 
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
@@ -11,6 +10,8 @@ from fastapi.routing import APIRoute
 from polynav.api.config import ApiConfig
 from polynav.api.errors import install_error_handlers
 from polynav.api.routes import control, maps, navigation, points, settings, status, ws
+from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
@@ -22,7 +23,9 @@ def _operation_id(route: APIRoute) -> str:
     return route.name
 
 
-def create_app(runtime: Any, config: ApiConfig, *, store: Any | None = None) -> FastAPI:
+def create_app(
+    runtime: RobotRuntime, config: ApiConfig, *, store: SiteStore | None = None
+) -> FastAPI:
     """Build the native API around one running robot.
 
     Args:

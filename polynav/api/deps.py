@@ -7,22 +7,25 @@ no global to import and two apps in one process (tests) never share a robot.
 from __future__ import annotations
 
 import logging
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import Depends, Request
+
+from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
 
-def get_runtime(request: Request) -> Any:
+def get_runtime(request: Request) -> RobotRuntime:
     """The RobotRuntime this app serves."""
     return request.app.state.runtime
 
 
-def get_store(request: Request) -> Any:
+def get_store(request: Request) -> SiteStore:
     """The SiteStore of that runtime (maps, points, settings on disk)."""
     return request.app.state.store
 
 
-RuntimeDep = Annotated[Any, Depends(get_runtime)]
-StoreDep = Annotated[Any, Depends(get_store)]
+RuntimeDep = Annotated[RobotRuntime, Depends(get_runtime)]
+StoreDep = Annotated[SiteStore, Depends(get_store)]

@@ -12,6 +12,7 @@ from fastapi import APIRouter, Query, Response
 
 from polynav.api.deps import StoreDep
 from polynav.api.schemas import PointIn, PointOut, PointUpdate
+from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
@@ -20,8 +21,8 @@ router = APIRouter(prefix="/api/points", tags=["points"])
 MapQuery = Query(default=None, description="the point's map, when the name is on several maps")
 
 
-def _floors_by_map(store: object) -> dict[str, str]:
-    return {floor.map_name: floor.name for floor in store.floors()}  # type: ignore[attr-defined]
+def _floors_by_map(store: SiteStore) -> dict[str, str]:
+    return {floor.map_name: floor.name for floor in store.floors()}
 
 
 @router.get("", operation_id="list_points", response_model=list[PointOut])
