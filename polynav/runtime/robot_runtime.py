@@ -39,7 +39,7 @@ import math
 import queue
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Future
 from dataclasses import dataclass, replace
 from typing import Protocol, TypeVar
@@ -142,7 +142,7 @@ class SiteData(Protocol):
 
     def settings(self) -> dict[str, object]: ...
 
-    def update_settings(self, changes: dict[str, object]) -> dict[str, object]: ...
+    def update_settings(self, changes: Mapping[str, object]) -> dict[str, object]: ...
 
 
 class RobotRuntime:
@@ -487,7 +487,7 @@ class RobotRuntime:
 
         self._call(run)
 
-    def update_settings(self, changes: dict[str, object]) -> RobotSettings:
+    def update_settings(self, changes: Mapping[str, object]) -> RobotSettings:
         """Validate, persist and apply ``changes``; returns the new settings.
 
         Speed limits for teleop apply at once; the navigation stack takes the new values
@@ -774,6 +774,10 @@ class RobotRuntime:
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)
+        # A new navigation session: the last attempt belonged to the old one.
+        self._attempt = None
+        self._attempt_id = None
+        self._attempt_point = None
         now = self.now()
         self._map_name = name
         self._grid = grid

@@ -418,3 +418,13 @@ def test_loop_thread_reaches_a_goal_at_speed_50(world: World) -> None:
     assert [k for k in seen if k.startswith("navigation")] == [
         "navigation_started", "navigation_succeeded"]
     assert not runtime.running
+
+
+def test_a_new_navigation_session_starts_idle(runtime: RobotRuntime) -> None:
+    _navigating(runtime)
+    runtime.go_to(point="lobby")
+    runtime.advance(1.0)
+    runtime.start_navigation("floor1")
+    status = runtime.status()
+    assert (status.navigation_state, status.goal, status.attempt_id) == ("idle", None, None)
+    assert runtime.go_to(point="lobby") == 2
