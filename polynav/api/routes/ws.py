@@ -41,11 +41,14 @@ class StatusPacer:
         self.period = 1.0 / rate
         self._next: float | None = None
 
+    # Stamps are sums of tick periods: compare with a tolerance so 0.2 + 0.2 + 0.2 counts as 0.6.
+    _EPS = 1e-6
+
     def due(self, stamp: float) -> bool:
         """Whether a status with this stamp should be sent (and count it if so)."""
-        if self._next is None or stamp >= self._next:
+        if self._next is None or stamp >= self._next - self._EPS:
             nxt = (self._next if self._next is not None else stamp) + self.period
-            self._next = nxt if nxt > stamp else stamp + self.period
+            self._next = nxt if nxt > stamp + self._EPS else stamp + self.period
             return True
         return False
 
