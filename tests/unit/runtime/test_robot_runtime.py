@@ -4,17 +4,20 @@ from __future__ import annotations
 
 import math
 import threading
+from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, angle_diff
+from polynav.maps.keepout import VirtualWall
 from polynav.runtime import events
 from polynav.runtime.event_bus import Subscription
 from polynav.runtime.robot_runtime import Mode, RobotRuntime, RuntimeConfig
+from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 from polynav.worlds.world import World
-from tests.unit.runtime.fake_store import FakeStore
 
 POSITION_TOLERANCE = 0.1
 HEADING_TOLERANCE = 0.1
@@ -26,8 +29,14 @@ def world() -> World:
 
 
 @pytest.fixture
-def runtime(world: World) -> RobotRuntime:
-    return RobotRuntime.simulated(FakeStore(world), world, config=RuntimeConfig(people=False))
+def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
+    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
+        yield opened
+
+
+@pytest.fixture
+def runtime(world: World, store: SiteStore) -> RobotRuntime:
+    return RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
 
 
 def _kinds(sub: Subscription) -> list[str]:
@@ -305,12 +314,26 @@ def test_lowered_max_speed_holds_on_the_next_goal(runtime: RobotRuntime) -> None
     assert 0.25 < fastest <= 0.3 + 1e-9
 
 
-def test_settings_persist_into_a_new_runtime(world: World) -> None:
-    store = FakeStore(world)
-    first = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
-    first.update_settings({"robot_radius": 0.3})
-    second = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
-    assert second.settings().robot_radius == 0.3
+def test_settings_persist_across_a_restart(world: World, tmp_path: Path) -> None:
+    with SiteStore.open(tmp_path / "site", seed_world=world) as store:
+        first = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+        first.update_settings({"robot_radius": 0.3})
+    with SiteStore.open(tmp_path / "site") as store:
+        second = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+        assert second.settings().robot_radius == 0.3
+
+
+def test_local_move_stops_short_of_a_virtual_wall_from_the_store(
+    runtime: RobotRuntime, store: SiteStore
+) -> None:
+    # Without the wall the robot drives on to x = 9.5 (a real wall stops it there).
+    store.set_keepouts("floor1", [VirtualWall(((9.0, 7.5), (9.0, 9.5)))])
+    _navigating(runtime)
+    sim = runtime.simulation
+    runtime.local_move(distance=3.0)
+    runtime.advance(10.0)
+    assert sim.true_twist.linear == 0.0
+    assert 8.2 < sim.true_pose.x < 9.0 - 0.25
 
 
 def test_low_battery_event_once_per_crossing(runtime: RobotRuntime) -> None:
@@ -387,9 +410,9 @@ def test_status_snapshot_has_the_contract_keys(runtime: RobotRuntime) -> None:
     assert body["stamp"] == pytest.approx(0.2, abs=0.06)
 
 
-def test_loop_thread_reaches_a_goal_at_speed_50(world: World) -> None:
+def test_loop_thread_reaches_a_goal_at_speed_50(world: World, store: SiteStore) -> None:
     runtime = RobotRuntime.simulated(
-        FakeStore(world), world, config=RuntimeConfig(speed=50.0, people=False))
+        store, world, config=RuntimeConfig(speed=50.0, people=False))
     sub = runtime.bus.subscribe()
     done = threading.Event()
     seen: list[str] = []
