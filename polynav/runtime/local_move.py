@@ -143,18 +143,21 @@ class LocalMove:
         if self.distance is None:
             error = (self.rotate or 0.0) - self._turned
             if abs(error) <= cfg.angle_tolerance:
-                return self._end(LocalMoveOutcome.DONE)
+                self._end(LocalMoveOutcome.DONE)
+                return None
             w = _profile(abs(error), cfg.gain, cfg.angular_deceleration, self._max_w,
                          cfg.min_angular_velocity)
             return Twist(0.0, math.copysign(w, error))
         remaining = self.remaining(odometry_pose)
         if abs(remaining) <= cfg.distance_tolerance:
-            return self._end(LocalMoveOutcome.DONE)
+            self._end(LocalMoveOutcome.DONE)
+            return None
         if math.copysign(1.0, remaining) == self.direction and (
             free_ahead < abs(remaining) and free_ahead <= self._stop_distance
         ):
             log.info("local move blocked: %.2f m clear, %.2f m to go", free_ahead, remaining)
-            return self._end(LocalMoveOutcome.BLOCKED)
+            self._end(LocalMoveOutcome.BLOCKED)
+            return None
         v = _profile(abs(remaining), cfg.gain, cfg.linear_deceleration, self._max_v,
                      cfg.min_linear_velocity)
         heading_error = angle_diff(self._heading, yaw)
@@ -164,7 +167,6 @@ class LocalMove:
     def _end(self, outcome: LocalMoveOutcome) -> None:
         self.outcome = outcome
         log.info("local move %s", outcome.value)
-        return None
 
 
 def _profile(error: float, gain: float, decel: float, top: float, bottom: float) -> float:

@@ -47,12 +47,16 @@ from typing import Protocol, TypeVar
 from polynav.clock import Clock
 from polynav.errors import ConfigError, Conflict, InvalidRequest
 from polynav.geometry import Pose2D, Twist
+from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
+from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
 from polynav.nav.attempt import NavigationAttempt, NavigationState
 from polynav.nav.stack import NavigationStack, StackConfig
+from polynav.planning import registry as planning_registry
+from polynav.robot import sim as sim_kernels
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
@@ -225,6 +229,7 @@ class RobotRuntime:
             stack_config: the navigation stack's base configuration; settings override it.
         """
         config = config or RuntimeConfig()
+        warm_up()
         sim = Simulation(
             world, config=sim_config or SimConfig(), seed=config.seed, people=config.people
         )
@@ -978,3 +983,12 @@ class RobotRuntime:
             reason=attempt.reason.value if attempt is not None and attempt.reason else None,
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
         )
+
+
+def warm_up() -> None:
+    """Compile (or load from numba's cache) every kernel the runtime ticks, before the first
+    tick, so that the first goal is not late by seconds of compilation."""
+    costmap.warm_up()
+    planning_registry.warm_up()
+    pose_tracker.warm_up()
+    sim_kernels.warm_up()
