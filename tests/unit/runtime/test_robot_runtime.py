@@ -451,3 +451,13 @@ def test_a_new_navigation_session_starts_idle(runtime: RobotRuntime) -> None:
     status = runtime.status()
     assert (status.navigation_state, status.goal, status.attempt_id) == ("idle", None, None)
     assert runtime.go_to(point="lobby") == 2
+
+
+def test_a_subscriber_that_never_reads_does_not_hold_the_robot(runtime: RobotRuntime) -> None:
+    stuck = runtime.bus.subscribe(maxlen=1)
+    _navigating(runtime)
+    runtime.go_to(point="lobby")
+    assert runtime.advance_until(lambda: _finished(runtime), timeout=120.0)
+    assert runtime.status().navigation_state == "succeeded"
+    assert stuck.dropped >= 4
+    assert [e.kind for e in stuck.get_nowait()] == ["navigation_succeeded"]
