@@ -7,6 +7,6 @@
 - :mod:`~polynav.runtime.settings`: operator settings with their ranges;
 - :mod:`~polynav.runtime.teleop` (dead-man) and :mod:`~polynav.runtime.local_move` (rotate,
   drive a distance): the motions the runtime commands itself;
-- :mod:`~polynav.runtime.sim_driver` and :mod:`~polynav.runtime.demo_tour`: the stack on the
-  simulator without a runtime (scenario tests, the bench).
+- :mod:`~polynav.runtime.sim_driver`: the stack on the simulator without a runtime (scenario
+  tests, the bench).
 """
