@@ -521,3 +521,28 @@ def test_two_stores_on_one_dir_see_each_others_writes(tmp_path: Path) -> None:
         assert a.point("lab", "p").pose == Pose2D(1.0, 2.0, 3.0)
         b.save_map("lab", small_map(["#"]))
         assert np.array_equal(a.load_map("lab").data, np.array([[100]], dtype=np.int8))
+
+
+def test_failed_seeding_leaves_nothing_and_seeds_on_the_next_open(
+    tmp_path: Path, demo_world: World, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from polynav.maps import ros_map
+
+    real_save = ros_map.save_map
+    calls: list[Path] = []
+
+    def fail_second(grid: object, path: Path, **kwargs: object) -> None:
+        calls.append(Path(path))
+        if len(calls) == 2:
+            raise StorageError("disk full")
+        real_save(grid, path, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(ros_map, "save_map", fail_second)
+    data = tmp_path / "data"
+    with pytest.raises(StorageError, match="disk full"):
+        SiteStore.open(data, seed_world=demo_world)
+    assert sorted(p.name for p in (data / "maps").iterdir()) == []
+    monkeypatch.setattr(ros_map, "save_map", real_save)
+    with SiteStore.open(data, seed_world=demo_world) as store:
+        assert len(store.points()) == 37
+        assert [m.name for m in store.maps()] == ["floor1", "floor2"]
