@@ -17,7 +17,7 @@ run: $(STAMP)
 	$(BIN)/polynav run
 
 test: $(STAMP)
-	$(BIN)/ruff check polynav tests benchmarks
+	$(BIN)/ruff check polynav tests benchmarks tools
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)
