@@ -1,0 +1,1 @@
+"""Vendor protocol adapters, one package per dialect (STYLE R4)."""

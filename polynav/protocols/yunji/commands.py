@@ -1,0 +1,479 @@
+"""The Yunji command table: path -> handler (STYLE R4; the only module that imports runtime).
+
+A handler takes the :class:`Context` and the decoded parameters, converts units and terms, calls
+one runtime command (or reads the status snapshot / site store) and returns a
+:class:`~polynav.protocols.yunji.messages.Reply`. Handlers are synchronous: runtime commands wait
+for the runtime's loop, so the server runs them on a worker thread. polynav exceptions propagate
+and the server maps them with :mod:`polynav.protocols.yunji.errors`.
+
+Decisions where the spec is silent (see ``docs/yunji.md``):
+
+* Navigation mode: a Yunji robot is always ready to move on its current floor's map, while a
+  polynav runtime starts FREE. :func:`prepare` (called once by ``serve``) starts navigation on
+  the map of the floor the robot stands on when the runtime is FREE. Moves in any other mode are
+  ``REQUEST_DENIED``.
+* A move while ``move_status`` is ``running`` is ``REQUEST_DENIED`` (§A-M3: "refused"); the
+  running move goes on. ``location`` wins over ``marker`` when both are given (§A-M1).
+* Markers are the points of the current floor's map; floors are floor records' ``level``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
+
+from polynav.errors import Conflict, InvalidRequest, NotFound
+from polynav.geometry import Pose2D, wrap_angle, yaw_to_quaternion
+from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply
+from polynav.runtime.robot_runtime import Mode, RobotRuntime
+from polynav.runtime.status import StatusSnapshot
+from polynav.site import Point, PointKind
+from polynav.store.site_store import SiteStore
+
+log = logging.getLogger(__name__)
+
+Params = Mapping[str, str]
+Handler = Callable[["Context", Params], Reply]
+
+# Joystick limits (§3.6): values beyond them are clamped, not refused.
+JOY_MAX_LINEAR = 0.5
+JOY_MAX_ANGULAR = 1.0
+ANGLE_OFFSET_LIMIT = 3.14
+DEFAULT_DISTANCE_THRESHOLD = 2.0
+
+_KIND_BY_TYPE: dict[int, PointKind] = {
+    MarkerType.GENERAL: PointKind.GENERAL,
+    MarkerType.LIFT_OUTSIDE: PointKind.LIFT_OUTSIDE,
+    MarkerType.LIFT_INSIDE: PointKind.LIFT_INSIDE,
+    MarkerType.GATE: PointKind.GATE,
+    MarkerType.CHARGING_PILE: PointKind.CHARGER,
+}
+_TYPE_BY_KIND: dict[PointKind, int] = {
+    PointKind.GENERAL: MarkerType.GENERAL,
+    PointKind.INITIAL: MarkerType.GENERAL,
+    PointKind.CHARGER: MarkerType.CHARGING_PILE,
+    PointKind.LIFT_OUTSIDE: MarkerType.LIFT_OUTSIDE,
+    PointKind.LIFT_INSIDE: MarkerType.LIFT_INSIDE,
+    PointKind.GATE: MarkerType.GATE,
+    PointKind.CUSTOM: MarkerType.CUSTOM,
+}
+_MOVE_STATUS = {
+    "idle": MoveStatus.IDLE,
+    "running": MoveStatus.RUNNING,
+    "paused": MoveStatus.RUNNING,
+    "succeeded": MoveStatus.SUCCEEDED,
+    "failed": MoveStatus.FAILED,
+    "canceled": MoveStatus.CANCELED,
+}
+
+
+@dataclass
+class Context:
+    """What handlers share: the runtime and the server's own bookkeeping.
+
+    Attributes:
+        runtime: the robot.
+        product_id: ``robot_info.product_id``.
+        version: ``software/get_version`` result.
+        targets: marker name by runtime attempt id, for moves sent as a pose (``angle_offset``)
+            whose snapshot carries no point name.
+    """
+
+    runtime: RobotRuntime
+    product_id: str
+    version: str
+    targets: dict[int, str] = field(default_factory=dict)
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    @property
+    def store(self) -> SiteStore:
+        store = self.runtime.store
+        assert isinstance(store, SiteStore)
+        return store
+
+
+# -- parameters -------------------------------------------------------------------------------
+
+
+def _required(params: Params, name: str) -> str:
+    value = params.get(name)
+    if value is None or value == "":
+        raise InvalidRequest(name, "is required")
+    return value
+
+
+def _float(params: Params, name: str, default: float | None = None) -> float | None:
+    text = params.get(name)
+    if text is None:
+        return default
+    return _parse_float(name, text)
+
+
+def _parse_float(name: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise InvalidRequest(name, f"must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise InvalidRequest(name, f"must be finite, got {text!r}")
+    return value
+
+
+def _int(params: Params, name: str, default: int | None = None) -> int | None:
+    text = params.get(name)
+    if text is None:
+        return default
+    try:
+        return int(text)
+    except ValueError:
+        raise InvalidRequest(name, f"must be an integer, got {text!r}") from None
+
+
+def _bool(params: Params, name: str) -> bool:
+    text = _required(params, name)
+    if text not in ("true", "false"):
+        raise InvalidRequest(name, f"must be true or false, got {text!r}")
+    return text == "true"
+
+
+# -- site terms -------------------------------------------------------------------------------
+
+
+def _floor_level(ctx: Context, floor_name: str | None) -> int:
+    if floor_name is None:
+        return 0
+    try:
+        return int(ctx.store.floor(floor_name).level)
+    except NotFound:
+        return 0
+
+
+def _current_map(ctx: Context) -> str:
+    """The map of the current floor: the navigation map, else the floor's map."""
+    name = ctx.runtime.map_name
+    if name is not None:
+        return name
+    floor = ctx.runtime.status().floor
+    if floor is None:
+        raise Conflict("the robot is on no known floor")
+    return ctx.store.floor(floor).map_name
+
+
+def _map_of_level(ctx: Context, level: int) -> str:
+    for record in ctx.store.floors():
+        if record.level == level:
+            return record.map_name
+    raise InvalidRequest("floor", f"no floor {level}")
+
+
+def _marker_type(point: Point) -> int:
+    return int(_TYPE_BY_KIND.get(point.kind, MarkerType.GENERAL))
+
+
+def _marker_json(ctx: Context, point: Point, level: int) -> dict[str, object]:
+    x, y, z, w = yaw_to_quaternion(point.pose.theta)
+    return {
+        "floor": level,
+        "pose": {
+            "orientation": {"w": w, "x": x, "y": y, "z": z},
+            "position": {"x": point.pose.x, "y": point.pose.y, "z": 0.0},
+        },
+        "marker_name": point.name,
+        "key": _marker_type(point),
+    }
+
+
+def _pose_json(pose: Pose2D) -> dict[str, float]:
+    return {"x": float(pose.x), "y": float(pose.y), "theta": float(pose.theta)}
+
+
+def _move_status(snapshot: StatusSnapshot) -> MoveStatus:
+    return _MOVE_STATUS.get(snapshot.navigation_state, MoveStatus.IDLE)
+
+
+def _task_id(attempt_id: int) -> str:
+    """A 32-hex-digit task id (§3.1.1), unique for the runtime's lifetime and deterministic."""
+    return f"{attempt_id:032X}"
+
+
+# -- handlers ---------------------------------------------------------------------------------
+
+
+def robot_status(ctx: Context, params: Params) -> Reply:
+    """§3.3: the snapshot in Yunji terms."""
+    s = ctx.runtime.status()
+    move_status = _move_status(s)
+    target = s.goal_point
+    if target is None and s.attempt_id is not None:
+        with ctx.lock:
+            target = ctx.targets.get(s.attempt_id)
+    chargepile = "0"
+    if s.charging:
+        chargepile = _charge_pile_id(ctx, s)
+    return Reply(
+        results={
+            "move_target": target or "",
+            "move_status": move_status.value,
+            "running_status": "running" if move_status is MoveStatus.RUNNING else "idle",
+            "move_retry_times": 0,
+            "charge_state": s.charging,
+            "soft_estop_state": s.estop_software,
+            "hard_estop_state": s.estop_hardware,
+            "estop_state": s.estop_software or s.estop_hardware,
+            "power_percent": int(round(s.battery_percent)),
+            "current_pose": _pose_json(s.pose),
+            "current_floor": _floor_level(ctx, s.floor),
+            "chargepile_id": chargepile,
+            "error_code": "00000000",
+        }
+    )
+
+
+def _charge_pile_id(ctx: Context, s: StatusSnapshot) -> str:
+    """The ``num`` of the nearest charging-pile marker within 1 m, else ``"0"``."""
+    try:
+        points = ctx.store.points(map_name=_current_map(ctx))
+    except (NotFound, Conflict):
+        return "0"
+    best: tuple[float, Point] | None = None
+    for p in points:
+        if p.kind is PointKind.CHARGER:
+            d = math.hypot(p.pose.x - s.pose.x, p.pose.y - s.pose.y)
+            if d <= 1.0 and (best is None or d < best[0]):
+                best = (d, p)
+    if best is None or best[1].number is None:
+        return "0"
+    return str(best[1].number)
+
+
+def robot_info(ctx: Context, params: Params) -> Reply:
+    """§3.4."""
+    return Reply(results={"product_id": ctx.product_id})
+
+
+def move(ctx: Context, params: Params) -> Reply:
+    """§3.1.1: to a marker or a location; a cruise (``markers=``) is not implemented yet."""
+    if "markers" in params:
+        raise InvalidRequest("markers", "cruise is not supported yet")
+    location = params.get("location")
+    marker = params.get("marker")
+    if not location and not marker:
+        raise InvalidRequest("marker", "marker or location is required")
+    angle_offset = _float(params, "angle_offset", 0.0)
+    assert angle_offset is not None
+    if abs(angle_offset) > ANGLE_OFFSET_LIMIT:
+        raise InvalidRequest("angle_offset", f"must be within [-3.14, 3.14], got {angle_offset}")
+    _check_unapplied(params)
+    s = ctx.runtime.status()
+    if _move_status(s) is MoveStatus.RUNNING:
+        raise Conflict("a move task is running: cancel it first")
+    if ctx.runtime.mode is not Mode.NAVIGATING:
+        raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
+    if location:
+        pose = _location(location)
+        pose = replace(pose, theta=wrap_angle(pose.theta + angle_offset))
+        attempt = ctx.runtime.go_to(pose=pose)
+        target = None
+    elif angle_offset != 0.0:
+        assert marker is not None
+        point = ctx.store.point(_current_map(ctx), marker)
+        pose = replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))
+        attempt = ctx.runtime.go_to(pose=pose)
+        target = marker
+    else:
+        attempt = ctx.runtime.go_to(point=marker)
+        target = marker
+    if target is not None:
+        with ctx.lock:
+            ctx.targets[attempt] = target
+    return Reply(task_id=_task_id(attempt))
+
+
+def _location(text: str) -> Pose2D:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise InvalidRequest("location", f"must be x,y,theta, got {text!r}")
+    x, y, theta = (_parse_float("location", part) for part in parts)
+    return Pose2D(x, y, theta)
+
+
+def _check_unapplied(params: Params) -> None:
+    """Validate the move options polynav accepts but does not apply yet (see docs/yunji.md)."""
+    for name in ("distance_tolerance", "theta_tolerance"):
+        value = _float(params, name)
+        if value is not None and value < 0.0:
+            raise InvalidRequest(name, f"must be >= 0, got {value}")
+    occupied = _float(params, "occupied_tolerance")
+    if occupied is not None and occupied < 0.1:
+        raise InvalidRequest("occupied_tolerance", f"must be >= 0.1, got {occupied}")
+    retries = _int(params, "max_continuous_retries")
+    if retries is not None and retries < 0:
+        raise InvalidRequest("max_continuous_retries", f"must be >= 0, got {retries}")
+    _int(params, "yaw_goal_reverse_allowed")
+
+
+def move_cancel(ctx: Context, params: Params) -> Reply:
+    """§3.2. Nothing to cancel is ``REQUEST_DENIED`` (§A-M4)."""
+    ctx.runtime.cancel()
+    return Reply()
+
+
+def markers_query_list(ctx: Context, params: Params) -> Reply:
+    """§3.5.2: keyed by name; without ``floor``, every floor (the current floor wins a name
+    clash, §A-K6); ``null`` when there is none (§A-K5)."""
+    level = _int(params, "floor")
+    floors = ctx.store.floors()
+    if level is not None:
+        floors = [f for f in floors if f.level == level]
+        if not floors:
+            raise InvalidRequest("floor", f"no floor {level}")
+    current = _current_map(ctx)
+    floors.sort(key=lambda f: f.map_name == current)
+    results: dict[str, object] = {}
+    for record in floors:
+        for point in ctx.store.points(map_name=record.map_name):
+            results[point.name] = _marker_json(ctx, point, record.level)
+    return Reply(results=results or None)
+
+
+def markers_insert(ctx: Context, params: Params) -> Reply:
+    """§3.5.1: at the current pose, on the current map; an existing name is moved (§A-K1)."""
+    name = _required(params, "name")
+    kind = _kind(params)
+    num = _int(params, "num", 1)
+    map_name = _current_map(ctx)
+    point = Point(name, map_name, ctx.runtime.status().pose, kind, num)
+    try:
+        ctx.store.point(map_name, name)
+    except NotFound:
+        ctx.store.add_point(point)
+    else:
+        ctx.store.update_point(map_name, name, point)
+    return Reply()
+
+
+def _kind(params: Params) -> PointKind:
+    marker_type = _int(params, "type", 0)
+    assert marker_type is not None
+    if marker_type < 0:
+        raise InvalidRequest("type", f"must be >= 0, got {marker_type}")
+    return _KIND_BY_TYPE.get(marker_type, PointKind.CUSTOM)
+
+
+def markers_delete(ctx: Context, params: Params) -> Reply:
+    """§3.5.3: unknown name -> ``INVALID_REQUEST`` ``Marker Not Found``."""
+    name = _required(params, "name")
+    ctx.store.delete_point(_current_map(ctx), name)
+    return Reply()
+
+
+def markers_count(ctx: Context, params: Params) -> Reply:
+    """§3.5.4: markers of the current map."""
+    return Reply(results={"count": len(ctx.store.points(map_name=_current_map(ctx)))})
+
+
+def estop(ctx: Context, params: Params) -> Reply:
+    """§3.7: the software e-stop only; the hardware button is separate."""
+    ctx.runtime.set_software_estop(_bool(params, "flag"))
+    return Reply()
+
+
+def joy_control(ctx: Context, params: Params) -> Reply:
+    """§3.6: clamped to ±0.5 m/s and ±1.0 rad/s; one command holds 0.5 s (the runtime's
+    dead-man). A running move is not overridden: ``REQUEST_DENIED`` (§A-M12)."""
+    linear = _parse_float("linear_velocity", _required(params, "linear_velocity"))
+    angular = _parse_float("angular_velocity", _required(params, "angular_velocity"))
+    linear = max(-JOY_MAX_LINEAR, min(JOY_MAX_LINEAR, linear))
+    angular = max(-JOY_MAX_ANGULAR, min(JOY_MAX_ANGULAR, angular))
+    ctx.runtime.teleop(linear, angular)
+    return Reply()
+
+
+def get_current_location(ctx: Context, params: Params) -> Reply:
+    """§3.23: every marker of the current map within ``distance_threshold``, nearest first."""
+    threshold = _float(params, "distance_threshold", DEFAULT_DISTANCE_THRESHOLD)
+    assert threshold is not None
+    if threshold < 0.01:
+        raise InvalidRequest("distance_threshold", f"must be >= 0.01, got {threshold}")
+    s = ctx.runtime.status()
+    near: list[tuple[float, Point]] = []
+    for p in ctx.store.points(map_name=_current_map(ctx)):
+        d = math.hypot(p.pose.x - s.pose.x, p.pose.y - s.pose.y)
+        if d <= threshold:
+            near.append((d, p))
+    near.sort(key=lambda item: item[0])
+    running = _move_status(s) is MoveStatus.RUNNING
+    return Reply(
+        results={
+            "current_floor": _floor_level(ctx, s.floor),
+            "current_pose": _pose_json(s.pose),
+            "near_markers": [
+                {"distance": d, "key": _marker_type(p), "marker_name": p.name} for d, p in near
+            ],
+            "running_status": "running" if running else "idle",
+        }
+    )
+
+
+def map_get_current_map(ctx: Context, params: Params) -> Reply:
+    """§3.14.3: ``floor`` is a string as in the spec's example (§A-J4)."""
+    s = ctx.runtime.status()
+    record = ctx.store.map_record(_current_map(ctx))
+    return Reply(
+        results={
+            "hotel_id": record.name,
+            "map_name": record.name,
+            "floor": str(_floor_level(ctx, s.floor)),
+            "info": {
+                "resolution": record.resolution,
+                "width": record.width,
+                "height": record.height,
+                "origin_x": record.origin.x,
+                "origin_y": record.origin.y,
+            },
+        }
+    )
+
+
+def software_get_version(ctx: Context, params: Params) -> Reply:
+    """§3.16.1: polynav's version."""
+    return Reply(results=ctx.version)
+
+
+HANDLERS: dict[str, Handler] = {
+    "/api/robot_status": robot_status,
+    "/api/robot_info": robot_info,
+    "/api/move": move,
+    "/api/move/cancel": move_cancel,
+    "/api/markers/query_list": markers_query_list,
+    "/api/markers/insert": markers_insert,
+    "/api/markers/delete": markers_delete,
+    "/api/markers/count": markers_count,
+    "/api/estop": estop,
+    "/api/joy_control": joy_control,
+    "/api/get_current_location": get_current_location,
+    "/api/map/get_current_map": map_get_current_map,
+    "/api/software/get_version": software_get_version,
+}
+
+
+def prepare(runtime: RobotRuntime) -> None:
+    """Put a FREE runtime into navigation on the map of the floor it stands on (see module doc).
+
+    A failure is logged, not raised: the server still answers, and moves are refused until
+    navigation runs.
+    """
+    if runtime.mode is not Mode.FREE:
+        return
+    floor = runtime.status().floor
+    store = runtime.store
+    if floor is None or not isinstance(store, SiteStore):
+        log.warning("yunji: cannot start navigation: no floor or no site store")
+        return
+    try:
+        runtime.start_navigation(store.floor(floor).map_name)
+    except (InvalidRequest, NotFound, Conflict) as exc:
+        log.warning("yunji: cannot start navigation on floor %s: %s", floor, exc)

@@ -1,0 +1,235 @@
+"""The Yunji TCP server: accept, read, decode, dispatch, write (STYLE R4: transport only).
+
+Each client has a reader task and a writer task joined by a bounded queue of outgoing packets:
+a client that stops reading fills its queue and is disconnected, so it can never hold up the
+others (or the runtime). Requests of one client are answered in order; each runs its handler on
+a worker thread (runtime commands wait for the runtime's loop). The one broad ``except`` per
+request logs with ``exc_info`` and answers ``UNKNOWN_ERROR``, keeping the connection.
+
+Framing (see :mod:`polynav.protocols.yunji.codec`): a read that leaves an undelimited command in
+the buffer completes it (bare commands, one per ``send()``) until the client has sent a newline
+once; from then on the connection is newline-framed and a partial command waits for the rest.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from dataclasses import dataclass
+
+import polynav
+from polynav.errors import ConfigError
+from polynav.protocols.yunji import codec, commands, errors
+from polynav.protocols.yunji.messages import Reply, Status
+from polynav.runtime.robot_runtime import RobotRuntime
+
+log = logging.getLogger(__name__)
+
+_READ_SIZE = 65536
+
+
+@dataclass(frozen=True, slots=True)
+class YunjiConfig:
+    """Where the Yunji server listens and how much it buffers.
+
+    Attributes:
+        host: interface to bind; loopback unless configured (a robot would use 0.0.0.0).
+        port: TCP port, 31001 as on the Yunji chassis; 0 lets the OS choose (tests).
+        max_command_bytes: the longest command; longer without a delimiter closes the
+            connection.
+        queue_size: outgoing packets queued per client before it is dropped as not reading.
+        product_id: what ``/api/robot_info`` reports.
+        prepare_navigation: start navigation on the current floor's map at start-up when the
+            runtime is FREE (a Yunji robot is always ready to move).
+    """
+
+    host: str = "127.0.0.1"
+    port: int = 31001
+    max_command_bytes: int = codec.DEFAULT_MAX_COMMAND_BYTES
+    queue_size: int = 256
+    product_id: str = "WATER-POLYNAV-SIM00001"
+    prepare_navigation: bool = True
+
+    def __post_init__(self) -> None:
+        if not self.host:
+            raise ConfigError("yunji.host", "must not be empty")
+        if not 0 <= self.port <= 65535:
+            raise ConfigError("yunji.port", f"must be in [0, 65535], got {self.port}")
+        if not 64 <= self.max_command_bytes <= 1_048_576:
+            raise ConfigError(
+                "yunji.max_command_bytes", f"must be in [64, 1048576], got {self.max_command_bytes}"
+            )
+        if not 1 <= self.queue_size <= 100_000:
+            raise ConfigError("yunji.queue_size", f"must be in [1, 100000], got {self.queue_size}")
+
+
+class _Client:
+    """One connection: its outgoing queue and writer task."""
+
+    def __init__(self, writer: asyncio.StreamWriter, queue_size: int) -> None:
+        self.writer = writer
+        self.queue: asyncio.Queue[bytes] = asyncio.Queue(maxsize=queue_size)
+        self.closed = False
+        self.peer = writer.get_extra_info("peername")
+
+    def send(self, packet: bytes) -> None:
+        """Queue ``packet``; a full queue means the client does not read: drop it."""
+        if self.closed:
+            return
+        try:
+            self.queue.put_nowait(packet)
+        except asyncio.QueueFull:
+            log.warning("yunji: client %s does not read, disconnecting", self.peer)
+            self.close()
+
+    def close(self) -> None:
+        if not self.closed:
+            self.closed = True
+            self.writer.close()
+
+    async def write_loop(self) -> None:
+        try:
+            while not self.closed:
+                packet = await self.queue.get()
+                self.writer.write(packet)
+                await self.writer.drain()
+        except (ConnectionError, OSError) as exc:
+            log.info("yunji: client %s write failed: %s", self.peer, exc)
+        finally:
+            self.close()
+
+
+class YunjiServer:
+    """A listening Yunji server; build it with :func:`serve`."""
+
+    def __init__(self, runtime: RobotRuntime, config: YunjiConfig) -> None:
+        self.config = config
+        self._ctx = commands.Context(
+            runtime=runtime, product_id=config.product_id, version=polynav.__version__
+        )
+        self._server: asyncio.AbstractServer | None = None
+        self._clients: set[_Client] = set()
+        self._tasks: set[asyncio.Task[None]] = set()
+
+    @property
+    def port(self) -> int:
+        """The port actually bound (useful with port 0)."""
+        assert self._server is not None
+        return int(self._server.sockets[0].getsockname()[1])
+
+    @property
+    def client_count(self) -> int:
+        return len(self._clients)
+
+    async def start(self) -> None:
+        if self.config.prepare_navigation:
+            await asyncio.to_thread(commands.prepare, self._ctx.runtime)
+        self._server = await asyncio.start_server(
+            self._handle, self.config.host, self.config.port, limit=_READ_SIZE
+        )
+        log.info("yunji: listening on %s:%d", self.config.host, self.port)
+
+    def broadcast(self, packet: bytes) -> None:
+        """Send ``packet`` (a notification) to every connected client."""
+        for client in list(self._clients):
+            client.send(packet)
+
+    async def close(self) -> None:
+        """Stop listening and drop every client."""
+        if self._server is not None:
+            self._server.close()
+        for client in list(self._clients):
+            client.close()
+        for task in list(self._tasks):
+            task.cancel()
+        for task in list(self._tasks):
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await task
+        if self._server is not None:
+            await self._server.wait_closed()
+
+    async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        client = _Client(writer, self.config.queue_size)
+        self._clients.add(client)
+        writer_task = asyncio.ensure_future(client.write_loop())
+        self._tasks.add(writer_task)
+        try:
+            await self._read_loop(client, reader)
+        except (ConnectionError, OSError) as exc:
+            log.info("yunji: client %s read failed: %s", client.peer, exc)
+        finally:
+            self._clients.discard(client)
+            client.close()
+            writer_task.cancel()
+            with contextlib.suppress(asyncio.CancelledError, ConnectionError, OSError):
+                await writer_task
+            self._tasks.discard(writer_task)
+
+    async def _read_loop(self, client: _Client, reader: asyncio.StreamReader) -> None:
+        buf = b""
+        newline_framed = False
+        max_bytes = self.config.max_command_bytes
+        while not client.closed:
+            data = await reader.read(_READ_SIZE)
+            if not data:
+                return
+            if b"\n" in data:
+                newline_framed = True
+            buf += data
+            while buf and not client.closed:
+                try:
+                    used, command = codec.decode(
+                        buf, end_of_read=not newline_framed, max_bytes=max_bytes
+                    )
+                except codec.FrameTooLong as exc:
+                    log.warning("yunji: client %s: %s; closing", client.peer, exc)
+                    # Written past the queue: the connection ends here anyway.
+                    client.writer.write(
+                        codec.encode_reply("", "", Status.INVALID_REQUEST.value, str(exc))
+                    )
+                    client.close()
+                    return
+                except codec.MalformedCommand as exc:
+                    buf = buf[exc.used :]
+                    client.send(
+                        codec.encode_reply(
+                            exc.path, exc.uuid, Status.INVALID_REQUEST.value, str(exc)
+                        )
+                    )
+                    continue
+                buf = buf[used:]
+                if command is None:
+                    break
+                client.send(await self._answer(command))
+
+    async def _answer(self, command: codec.Command) -> bytes:
+        handler = commands.HANDLERS.get(command.path)
+        if handler is None:
+            reply = Reply(Status.INVALID_REQUEST, f"unknown command {command.path}")
+        else:
+            try:
+                reply = await asyncio.to_thread(handler, self._ctx, command.params)
+            except Exception as exc:  # the one broad except per request (STYLE R4)
+                status, message = errors.status_for(exc)
+                if status is Status.UNKNOWN_ERROR:
+                    log.error("yunji: %s failed", command.raw, exc_info=True)
+                reply = Reply(status, message)
+        return codec.encode_reply(
+            command.path,
+            command.uuid,
+            reply.status.value,
+            reply.error_message,
+            reply.results,
+            task_id=reply.task_id,
+        )
+
+
+async def serve(runtime: RobotRuntime, config: YunjiConfig | None = None) -> YunjiServer:
+    """Start a Yunji server for ``runtime`` on the running event loop; returns it listening.
+
+    Close it with ``await server.close()``.
+    """
+    server = YunjiServer(runtime, config or YunjiConfig())
+    await server.start()
+    return server
