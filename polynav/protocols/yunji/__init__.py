@@ -5,6 +5,6 @@ See ``docs/yunji.md`` for the framing and the decisions the vendor's spec leaves
 
 from __future__ import annotations
 
-from polynav.protocols.yunji.server import YunjiConfig, YunjiServer, serve
+from polynav.protocols.yunji.server import YunjiConfig, serve
 
-__all__ = ["YunjiConfig", "YunjiServer", "serve"]
+__all__ = ["YunjiConfig", "serve"]
