@@ -1,0 +1,122 @@
+"""A real Yunji server on 127.0.0.1 port 0 over a real runtime on the seeded demo site.
+
+Determinism: the runtime's loop thread is NOT started. The server runs on its own event-loop
+thread; runtime commands from its handlers then run at once under the runtime's lock, and the
+test advances simulated time itself (``runtime.advance``) between socket exchanges, so every
+run sees the same simulated history whatever the machine's speed.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import socket
+import threading
+from collections.abc import Coroutine, Iterator
+from pathlib import Path
+from typing import Any, TypeVar
+
+import pytest
+
+from polynav.protocols.yunji import YunjiConfig, serve
+from polynav.protocols.yunji.server import YunjiServer
+from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from polynav.worlds.world import World
+
+T = TypeVar("T")
+SOCKET_TIMEOUT = 20.0
+
+
+class LoopThread:
+    """An asyncio loop on a daemon thread, for a server the blocking test code talks to."""
+
+    def __init__(self) -> None:
+        self.loop = asyncio.new_event_loop()
+        self.thread = threading.Thread(target=self.loop.run_forever, daemon=True)
+        self.thread.start()
+
+    def run(self, coro: Coroutine[Any, Any, T]) -> T:
+        return asyncio.run_coroutine_threadsafe(coro, self.loop).result(timeout=60)
+
+    def close(self) -> None:
+        self.run(self.loop.shutdown_default_executor())
+        self.loop.call_soon_threadsafe(self.loop.stop)
+        self.thread.join(timeout=10)
+        self.loop.close()
+
+
+class Client:
+    """A blocking Yunji client: sends commands, reads one JSON packet per line."""
+
+    def __init__(self, port: int) -> None:
+        self.sock = socket.create_connection(("127.0.0.1", port), timeout=SOCKET_TIMEOUT)
+        self.file = self.sock.makefile("rb")
+
+    def send(self, data: bytes | str) -> None:
+        self.sock.sendall(data.encode() if isinstance(data, str) else data)
+
+    def read(self) -> dict[str, Any]:
+        line = self.file.readline()
+        assert line.endswith(b"\n"), f"connection ended: {line!r}"
+        packet = json.loads(line)
+        assert isinstance(packet, dict)
+        return packet
+
+    def request(self, command: str) -> dict[str, Any]:
+        """Send ``command`` bare (no terminator), as third-party clients do, and read a reply."""
+        self.send(command)
+        return self.read()
+
+    def close(self) -> None:
+        self.file.close()
+        self.sock.close()
+
+
+class Harness:
+    def __init__(self, runtime: RobotRuntime, server: YunjiServer) -> None:
+        self.runtime = runtime
+        self.server = server
+        self.clients: list[Client] = []
+
+    def client(self) -> Client:
+        c = Client(self.server.port)
+        self.clients.append(c)
+        return c
+
+
+@pytest.fixture(scope="session")
+def world() -> World:
+    return load_world("demo")
+
+
+@pytest.fixture
+def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
+    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
+        yield opened
+
+
+@pytest.fixture
+def runtime(world: World, store: SiteStore) -> RobotRuntime:
+    return RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+
+
+@pytest.fixture
+def harness(runtime: RobotRuntime) -> Iterator[Harness]:
+    loop = LoopThread()
+    server = loop.run(serve(runtime, YunjiConfig(port=0)))
+    runtime.advance(0.5)  # out of BUSY: navigating and localized on floor1
+    h = Harness(runtime, server)
+    try:
+        yield h
+    finally:
+        for c in h.clients:
+            c.close()
+        loop.run(server.close())
+        loop.close()
+
+
+@pytest.fixture
+def client(harness: Harness) -> Client:
+    return harness.client()
