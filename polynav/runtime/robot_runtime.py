@@ -36,11 +36,8 @@ from __future__ import annotations
 import enum
 import logging
 import math
-import queue
 import threading
-import time
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import Future
 from dataclasses import dataclass, replace
 from typing import Protocol, TypeVar
 
@@ -53,7 +50,7 @@ from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
-from polynav.nav.attempt import NavigationAttempt, NavigationState
+from polynav.nav.attempt import NavigationState
 from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
@@ -66,10 +63,14 @@ from polynav.runtime.local_move import (
     free_distance_in_scan,
     free_distance_on_costmap,
 )
+from polynav.runtime.loop import CommandLoop
+from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.settings import RobotSettings
+from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.teleop import Teleop
-from polynav.site import Point, PointKind
+from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
+from polynav.site import Point
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -77,12 +78,6 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 _EPS = 1e-9
-# Placing the simulated robot: an initial pose farther than this from the truth is taken as
-# "the operator carried the robot there" (localization relocalizes only within ~1 m / 30°).
-_PLACE_DISTANCE = 1.0
-_PLACE_ANGLE = 0.5
-# Low-battery hysteresis [%]: the event fires again only after the charge rose this far above.
-_BATTERY_HYSTERESIS = 1.0
 _MAX_LOCAL_ROTATION = 4.0 * math.pi
 _MAX_LOCAL_DISTANCE = 10.0
 
@@ -175,7 +170,6 @@ class RobotRuntime:
         self._settings = RobotSettings.from_stored(store.settings())
         self._settings_dirty = False
         self._settings_lock = threading.Lock()
-        self._lock = threading.RLock()
         self._mode = Mode.FREE
         self._stack: NavigationStack | None = None
         self._map_name: str | None = None
@@ -184,30 +178,26 @@ class RobotRuntime:
         self._teleop = Teleop(self.config.teleop_timeout)
         self._local_move: LocalMove | None = None
         self._software_estop = False
-        self._estop_state = (self._robot.estop_pressed(), False)
-        battery = self._robot.read_battery()
-        self._charging = battery.charging
-        self._battery_low = battery.percent < self._settings.low_battery_percent
-        self._localization_state = LocalizationState.UNINITIALIZED.value
+        self._estop = EStopWatcher(self._robot.estop_pressed())
+        self._battery = BatteryWatcher(
+            self._robot.read_battery(), self._settings.low_battery_percent
+        )
+        self._localization = LocalizationWatcher()
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
-        self._id_offset = 0
-        self._last_id = 0
-        self._attempt: NavigationAttempt | None = None
-        self._attempt_id: int | None = None
-        self._attempt_point: str | None = None
-        self._pending_point: str | None = None
+        self._attempts = AttemptBook()
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()
         # The loop thread and its command queue.
-        self._commands: queue.SimpleQueue[tuple[Callable[[], object], Future[object]]] = (
-            queue.SimpleQueue()
+        self._loop = CommandLoop(
+            step=self._step,
+            now=self.now,
+            physics_period=sim.config.physics_period,
+            speed=self.config.speed,
+            max_lag=self.config.max_lag,
+            after_command=self._refresh,
+            on_failure=lambda: self._robot.drive(Twist()),
         )
-        self._queue_lock = threading.Lock()
-        self._thread: threading.Thread | None = None
-        self._stopping = threading.Event()
-        self._wake = threading.Event()
-        self._loop_done = False
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -289,11 +279,11 @@ class RobotRuntime:
             raise InvalidRequest("point", "give a point or a pose, not both")
         record = self.store.map_record(map_name)
         name = str(getattr(record, "name", map_name))
-        floor = self._floor_of(name, getattr(record, "floor", None))
+        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
         initial = self.store.point(name, point).pose if point is not None else pose
         grid = self.store.load_map(name)
         keepouts = tuple(self.store.keepouts(name))
-        fallback = self._initial_point(name)
+        fallback = initial_point(self.store, name)
         self._call(lambda: self._start_navigation(name, floor, grid, keepouts, initial, fallback))
 
     def stop_navigation(self) -> None:
@@ -317,7 +307,7 @@ class RobotRuntime:
             if self._goal_active():
                 raise Conflict("a goal is active: cancel it before setting the initial pose")
             assert self._map_name is not None
-            self._place(self._sim.floor, pose)
+            place(self._sim, self._sim.floor, pose)
             now = self.now()
             stack.initialize(pose, now)
             self._publish(events.PoseInitialized(now, pose))
@@ -373,12 +363,12 @@ class RobotRuntime:
             if self._settings_dirty:
                 self._cancel_goal()
                 stack = self._rebuild_stack()
-            self._pending_point = point
+            self._attempts.pending_point = point
             try:
                 nav_id = stack.go_to(goal, self.now())
             finally:
-                self._pending_point = None
-            return self._id_offset + nav_id
+                self._attempts.pending_point = None
+            return self._attempts.runtime_id(nav_id)
 
         return self._call(run)
 
@@ -537,115 +527,25 @@ class RobotRuntime:
         Raises:
             Conflict: the loop thread is running.
         """
-        if self._thread is not None:
-            raise Conflict("the runtime's loop thread is running: advance() is for tests only")
-        end = self.now() + timeout
-        while not done():
-            if self.now() >= end - _EPS:
-                return False
-            with self._lock:
-                self._step()
-        return True
+        return self._loop.advance_until(done, timeout)
 
     def start(self) -> None:
         """Run the loop on a daemon thread, simulated time paced at ``speed`` × wall time."""
-        with self._queue_lock:
-            if self._thread is not None:
-                raise Conflict("the runtime is already running")
-            self._stopping.clear()
-            self._wake.clear()
-            self._loop_done = False
-            self._thread = threading.Thread(target=self._run, name="polynav-runtime", daemon=True)
-            self._thread.start()
+        self._loop.start()
         log.info("runtime started at %gx real time", self.config.speed)
 
     def stop(self) -> None:
         """Stop the loop thread and wait for it; queued commands still run. Idempotent."""
-        with self._queue_lock:
-            thread = self._thread
-            if thread is None:
-                return
-            self._stopping.set()
-            self._wake.set()
-        thread.join()
-        with self._queue_lock:
-            self._thread = None
-        self._run_commands()
-        log.info("runtime stopped at t=%.2f", self.now())
+        if self._loop.stop():
+            log.info("runtime stopped at t=%.2f", self.now())
 
     @property
     def running(self) -> bool:
-        return self._thread is not None
-
-    def _run(self) -> None:
-        speed = self.config.speed
-        period = self._sim.config.physics_period
-        wall0, sim0 = time.monotonic(), self.now()
-        lagged = 0
-        try:
-            while not self._stopping.is_set():
-                self._run_commands()
-                target = sim0 + (time.monotonic() - wall0) * speed
-                ahead = self.now() - target
-                if ahead < 0.0:
-                    if -ahead / speed > self.config.max_lag:
-                        lagged += 1
-                        log.log(logging.WARNING if lagged == 1 else logging.DEBUG,
-                                "runtime fell %.2f s (simulated) behind its pace at %gx; not "
-                                "catching up (%d times so far)", -ahead, speed, lagged)
-                        wall0, sim0 = time.monotonic(), self.now()
-                    with self._lock:
-                        self._step()
-                else:
-                    # Sleeping is the runtime's job: it owns the clock and the pace. A command
-                    # wakes the loop early so that it does not wait for the next step.
-                    self._wake.wait(min((ahead + period) / speed, 0.05))
-                    self._wake.clear()
-        except Exception:
-            log.exception("the runtime loop failed; the robot is stopped")
-            self._robot.drive(Twist())
-            raise
-        finally:
-            with self._queue_lock:
-                self._loop_done = True
-            self._run_commands()  # whatever was queued runs now; later commands run directly
+        return self._loop.running
 
     def _call(self, fn: Callable[[], T]) -> T:
         """Run a command between ticks: on the loop thread when it runs, else here."""
-        with self._queue_lock:
-            thread = self._thread
-            queued = (
-                thread is not None
-                and not self._loop_done
-                and threading.current_thread() is not thread
-            )
-            if queued:
-                future: Future[object] = Future()
-                self._commands.put((fn, future))
-                self._wake.set()
-        if not queued:
-            with self._lock:
-                result = fn()
-                self._refresh()
-                return result
-        return future.result()  # type: ignore[return-value]
-
-    def _run_commands(self) -> None:
-        while True:
-            try:
-                fn, future = self._commands.get_nowait()
-            except queue.Empty:
-                return
-            if not future.set_running_or_notify_cancel():
-                continue
-            with self._lock:
-                try:
-                    result = fn()
-                except BaseException as exc:  # handed to the caller, who re-raises it
-                    future.set_exception(exc)
-                    continue
-                self._refresh()
-                future.set_result(result)
+        return self._loop.call(fn)
 
     # -- the loop ------------------------------------------------------------------------------
 
@@ -668,9 +568,7 @@ class RobotRuntime:
                 stack = self._rebuild_stack()
             stack.software_estop = self._software_estop
             stack.tick(now)
-            attempt = stack.navigator.attempt
-            if attempt is not None and attempt.attempt_id + self._id_offset == self._attempt_id:
-                self._attempt = attempt
+            self._attempts.follow(stack.navigator.attempt)
         override = self._motion_override(now, estop)
         if override is not None:
             self._robot.drive(override)
@@ -721,13 +619,10 @@ class RobotRuntime:
     # -- state checks that publish events ----------------------------------------------------
 
     def _check_estop(self, now: float) -> bool:
-        state = (self._robot.estop_pressed(), self._software_estop)
-        if state != self._estop_state:
-            self._estop_state = state
-            hardware, software = state
-            log.info("e-stop: hardware %s, software %s", hardware, software)
-            self._publish(events.EStopChanged(now, hardware, software, hardware or software))
-        return state[0] or state[1]
+        event = self._estop.update(now, self._robot.estop_pressed(), self._software_estop)
+        if event is not None:
+            self._publish(event)
+        return self._estop.active
 
     def _check_localization(self, now: float) -> None:
         if self._stack is None:
@@ -735,25 +630,14 @@ class RobotRuntime:
         else:
             estimate = self._stack.estimate
             state, quality = estimate.state.value, estimate.quality
-        if state != self._localization_state:
-            self._localization_state = state
-            log.info("localization %s (quality %.2f)", state, quality)
-            self._publish(events.LocalizationChanged(now, state, float(quality)))
+        event = self._localization.update(now, state, quality)
+        if event is not None:
+            self._publish(event)
 
     def _check_battery(self, now: float) -> None:
         battery = self._robot.read_battery()
-        if battery.charging != self._charging:
-            self._charging = battery.charging
-            log.info("charging %s at %.1f %%", "started" if battery.charging else "stopped",
-                     battery.percent)
-            self._publish(events.ChargeChanged(now, battery.charging))
-        low = self._settings.low_battery_percent
-        if not self._battery_low and battery.percent < low:
-            self._battery_low = True
-            log.warning("battery low: %.1f %%", battery.percent)
-            self._publish(events.LowBattery(now, float(battery.percent)))
-        elif self._battery_low and battery.percent >= low + _BATTERY_HYSTERESIS:
-            self._battery_low = False
+        for event in self._battery.update(now, battery, self._settings.low_battery_percent):
+            self._publish(event)
 
     # -- navigation internals ----------------------------------------------------------------
 
@@ -779,14 +663,11 @@ class RobotRuntime:
                 raise InvalidRequest(
                     "point", f"map {name!r} has no initial point: give the initial point or pose"
                 )
-        self._place(floor, initial)  # may raise before anything changed
+        place(self._sim, floor, initial)  # may raise before anything changed
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)
-        # A new navigation session: the last attempt belonged to the old one.
-        self._attempt = None
-        self._attempt_id = None
-        self._attempt_point = None
+        self._attempts.new_session()
         now = self.now()
         self._map_name = name
         self._grid = grid
@@ -825,7 +706,7 @@ class RobotRuntime:
         if self._keepouts:
             stack.costmap.set_keepouts(self._keepouts)
         stack.software_estop = self._software_estop
-        self._id_offset = self._last_id
+        self._attempts.new_stack()
         return stack
 
     def _rebuild_stack(self) -> NavigationStack:
@@ -840,34 +721,7 @@ class RobotRuntime:
         return stack
 
     def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
-        attempt = event.attempt
-        attempt_id = self._id_offset + attempt.attempt_id
-        self._last_id = max(self._last_id, attempt_id)
-        self._attempt = attempt
-        self._attempt_id = attempt_id
-        stamp = event.stamp
-        distance = float(attempt.distance_travelled)
-        out: list[events.RuntimeEvent] = []
-        if isinstance(event, nav_events.NavigationStarted):
-            self._attempt_point = self._pending_point
-            out.append(events.NavigationStarted(stamp, attempt_id, attempt.goal,
-                                                self._pending_point))
-        elif isinstance(event, nav_events.NavigationSucceeded):
-            out.append(events.NavigationSucceeded(stamp, attempt_id, distance))
-        elif isinstance(event, nav_events.NavigationFailed):
-            reason = attempt.reason.value if attempt.reason else (attempt.message or "unknown")
-            out.append(events.NavigationFailed(stamp, attempt_id, reason, distance))
-        elif isinstance(event, nav_events.NavigationCanceled):
-            out.append(events.NavigationCanceled(stamp, attempt_id, distance))
-        elif isinstance(event, nav_events.NavigationPaused):
-            out.append(events.NavigationPaused(stamp, attempt_id))
-        elif isinstance(event, nav_events.NavigationResumed):
-            out.append(events.NavigationResumed(stamp, attempt_id))
-        elif isinstance(event, nav_events.NavigationRetry):
-            if event.cause == "stuck":
-                out.append(events.NavigationStuck(stamp, attempt_id))
-            out.append(events.NavigationRetry(stamp, attempt_id, attempt.retries, event.cause))
-        for runtime_event in out:
+        for runtime_event in self._attempts.record(event):
             self._publish(runtime_event)
 
     def _goal_active(self) -> bool:
@@ -891,7 +745,7 @@ class RobotRuntime:
             raise Conflict(f"the robot is busy: no {what}")
         if self._goal_active():
             raise Conflict(f"a goal is active: cancel it before {what}")
-        if self._estop_state[0] or self._software_estop:
+        if self._estop.hardware or self._software_estop:
             raise Conflict(f"the e-stop is active: no {what}")
 
     def _halt_motion(self) -> None:
@@ -921,33 +775,7 @@ class RobotRuntime:
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
 
-    # -- site and simulator helpers ------------------------------------------------------------
-
-    def _floor_of(self, map_name: str, floor: object) -> str:
-        names = {f.name for f in self._sim.world.floors}
-        if isinstance(floor, str) and floor in names:
-            return floor
-        for record in self.store.floors():
-            name = getattr(record, "name", None)
-            if getattr(record, "map_name", None) == map_name and name in names:
-                return str(name)
-        raise InvalidRequest("map", f"map {map_name!r} is on no floor of the simulated world")
-
-    def _initial_point(self, map_name: str) -> Pose2D | None:
-        for p in self.store.points(map_name=map_name):
-            if p.kind is PointKind.INITIAL:
-                return p.pose
-        return None
-
-    def _place(self, floor: str, pose: Pose2D) -> None:
-        """Put the simulated robot where the operator says it is, if it is not near there."""
-        true = self._sim.true_pose
-        if (
-            self._sim.floor != floor
-            or true.distance_to(pose) > _PLACE_DISTANCE
-            or abs(true.heading_error_to(pose)) > _PLACE_ANGLE
-        ):
-            self._sim.teleport(floor, pose)
+    # -- simulator helpers ------------------------------------------------------------
 
     def _yaw(self) -> float:
         imu = self._robot.read_imu()
@@ -964,7 +792,8 @@ class RobotRuntime:
             pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
         else:
             pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
-        attempt = self._attempt
+        attempts = self._attempts
+        attempt = attempts.attempt
         nav_state = attempt.state.value if attempt is not None else "idle"
         return StatusSnapshot(
             mode=self._mode.value,
@@ -981,9 +810,9 @@ class RobotRuntime:
             localization_quality=float(quality),
             navigation_state=nav_state,
             stamp=now,
-            attempt_id=self._attempt_id,
+            attempt_id=attempts.attempt_id,
             goal=attempt.goal if attempt is not None else None,
-            goal_point=self._attempt_point if attempt is not None else None,
+            goal_point=attempts.attempt_point if attempt is not None else None,
             reason=attempt.reason.value if attempt is not None and attempt.reason else None,
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
         )
