@@ -81,12 +81,17 @@ class _Client:
             self.queue.put_nowait(packet)
         except asyncio.QueueFull:
             log.warning("yunji: client %s does not read, disconnecting", self.peer)
-            self.close()
+            self.close(abort=True)
 
-    def close(self) -> None:
+    def close(self, *, abort: bool = False) -> None:
+        """Close the connection; ``abort`` drops unsent data (a client that does not read
+        would otherwise hold the connection open until its buffered data drained)."""
         if not self.closed:
             self.closed = True
-            self.writer.close()
+            if abort:
+                self.writer.transport.abort()
+            else:
+                self.writer.close()
 
     async def write_loop(self) -> None:
         try:
@@ -140,7 +145,7 @@ class YunjiServer:
         if self._server is not None:
             self._server.close()
         for client in list(self._clients):
-            client.close()
+            client.close(abort=True)
         for task in list(self._tasks):
             task.cancel()
         for task in list(self._tasks):

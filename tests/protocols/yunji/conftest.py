@@ -75,9 +75,10 @@ class Client:
 
 
 class Harness:
-    def __init__(self, runtime: RobotRuntime, server: YunjiServer) -> None:
+    def __init__(self, runtime: RobotRuntime, server: YunjiServer, loop: LoopThread) -> None:
         self.runtime = runtime
         self.server = server
+        self.loop = loop
         self.clients: list[Client] = []
 
     def client(self) -> Client:
@@ -107,7 +108,7 @@ def harness(runtime: RobotRuntime) -> Iterator[Harness]:
     loop = LoopThread()
     server = loop.run(serve(runtime, YunjiConfig(port=0)))
     runtime.advance(0.5)  # out of BUSY: navigating and localized on floor1
-    h = Harness(runtime, server)
+    h = Harness(runtime, server, loop)
     try:
         yield h
     finally:
