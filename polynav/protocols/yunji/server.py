@@ -113,7 +113,7 @@ class YunjiServer:
         self._ctx = commands.Context(
             runtime=runtime, product_id=config.product_id, version=polynav.__version__
         )
-        self._server: asyncio.AbstractServer | None = None
+        self._server: asyncio.Server | None = None
         self._clients: set[_Client] = set()
         self._tasks: set[asyncio.Task[None]] = set()
 
