@@ -13,8 +13,9 @@
   non-blocking fan-out to adapters;
 - :mod:`~polynav.runtime.status`: the status snapshot adapters read;
 - :mod:`~polynav.runtime.settings`: operator settings with their ranges;
-- :mod:`~polynav.runtime.teleop` (dead-man) and :mod:`~polynav.runtime.local_move` (rotate,
-  drive a distance): the motions the runtime commands itself;
+- :mod:`~polynav.runtime.direct_motion`: the motions the runtime commands itself, teleop
+  (:mod:`~polynav.runtime.teleop`, the dead-man) and local moves
+  (:mod:`~polynav.runtime.local_move`, rotate or drive a distance);
 - :mod:`~polynav.runtime.sim_driver`: the stack on the simulator without a runtime (scenario
   tests, the bench).
 """

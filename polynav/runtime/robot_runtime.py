@@ -29,6 +29,12 @@ shares the world floor's frame (the store seeds it from the world). "Start navig
 of another floor lifts the simulated robot there (there is no lift ride yet), and an initial
 point or pose far from where the simulated robot stands (over 1 m or 0.5 rad) places it there,
 as an operator would carry a robot to where they say it is.
+
+The runtime coordinates; the parts do one job each: :mod:`~polynav.runtime.loop` (the loop
+thread, its pacing and the command queue), :mod:`~polynav.runtime.navigation_events` (attempt
+ids and navigator events as runtime events), :mod:`~polynav.runtime.watchers` (e-stop, charge,
+low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (teleop and local
+moves) and :mod:`~polynav.runtime.sim_placement` (floors and placing the simulated robot).
 """
 
 from __future__ import annotations
@@ -57,18 +63,14 @@ from polynav.robot import sim as sim_kernels
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
+from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
-from polynav.runtime.local_move import (
-    LocalMove,
-    free_distance_in_scan,
-    free_distance_on_costmap,
-)
+from polynav.runtime.local_move import free_distance_in_scan, free_distance_on_costmap
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.status import StatusSnapshot
-from polynav.runtime.teleop import Teleop
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.site import Point
 from polynav.worlds.world import World
@@ -175,8 +177,7 @@ class RobotRuntime:
         self._map_name: str | None = None
         self._grid: Map | None = None
         self._keepouts: tuple[Keepout, ...] = ()
-        self._teleop = Teleop(self.config.teleop_timeout)
-        self._local_move: LocalMove | None = None
+        self._motion = DirectMotion(self._robot, self.config.teleop_timeout)
         self._software_estop = False
         self._estop = EStopWatcher(self._robot.estop_pressed())
         self._battery = BatteryWatcher(
@@ -358,8 +359,7 @@ class RobotRuntime:
                     "map", f"{target_map!r} is not the current map {self._map_name!r}: "
                            "goals on other maps need multi-map routing (not yet available)"
                 )
-            self._teleop.stop()
-            self._end_local_move()
+            self._motion.yield_control()
             if self._settings_dirty:
                 self._cancel_goal()
                 stack = self._rebuild_stack()
@@ -396,8 +396,8 @@ class RobotRuntime:
         """Cancel the running or paused goal, or a local move. Raises Conflict if neither."""
 
         def run() -> None:
-            if self._local_move is not None:
-                self._end_local_move()
+            if self._motion.local_move_active:
+                self._motion.end_local_move()
                 return
             if not self._cancel_goal():
                 raise Conflict("no goal or local move to cancel")
@@ -425,9 +425,7 @@ class RobotRuntime:
                 max(-s.max_linear_velocity, min(s.max_linear_velocity, float(linear))),
                 max(-s.max_angular_velocity, min(s.max_angular_velocity, float(angular))),
             )
-            self._end_local_move()
-            self._teleop.command(twist, self.now())
-            self._robot.drive(twist)
+            self._motion.teleop(twist, self.now())
 
         self._call(run)
 
@@ -467,17 +465,8 @@ class RobotRuntime:
 
         def run() -> None:
             self._check_free_to_move("local move")
-            self._teleop.stop()
-            self._end_local_move()
-            s = self._settings
-            self._local_move = LocalMove(
-                rotate=rotate,
-                distance=distance,
-                yaw=self._yaw(),
-                odometry_pose=self._robot.read_odometry().pose,
-                max_linear_velocity=s.max_linear_velocity,
-                max_angular_velocity=s.max_angular_velocity,
-                stop_distance=s.obstacle_stop_distance,
+            self._motion.start_local_move(
+                rotate=rotate, distance=distance, settings=self._settings
             )
             log.info("local move: rotate %s rad, distance %s m", rotate, distance)
 
@@ -551,8 +540,7 @@ class RobotRuntime:
 
     def _step(self) -> None:
         now = self.now()
-        if self._teleop.active and self._teleop.twist(now) is None:
-            self._robot.drive(Twist())  # dead-man: brake now, not at the next control tick
+        self._motion.brake_if_expired(now)  # the dead-man
         if now >= self._next_control - _EPS:
             self._control(now)
             self._next_control += self._control_period
@@ -569,7 +557,7 @@ class RobotRuntime:
             stack.software_estop = self._software_estop
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
-        override = self._motion_override(now, estop)
+        override = self._motion.override(now, estop, self._free_ahead)
         if override is not None:
             self._robot.drive(override)
         elif stack is None:
@@ -577,27 +565,6 @@ class RobotRuntime:
         self._check_localization(now)
         self._check_battery(now)
         self._refresh()
-
-    def _motion_override(self, now: float, estop: bool) -> Twist | None:
-        if estop:
-            self._halt_motion()
-            return None
-        twist = self._teleop.twist(now)
-        if twist is not None:
-            return twist
-        move = self._local_move
-        if move is None:
-            return None
-        odometry = self._robot.read_odometry().pose
-        remaining = move.remaining(odometry)
-        free = math.inf
-        if move.distance is not None:
-            free = self._free_ahead(math.copysign(1.0, remaining), abs(remaining))
-        twist = move.tick(yaw=self._yaw(), odometry_pose=odometry, free_ahead=free)
-        if twist is None:
-            self._local_move = None
-            return Twist()
-        return twist
 
     def _free_ahead(self, direction: float, remaining: float) -> float:
         s = self._settings
@@ -749,16 +716,7 @@ class RobotRuntime:
             raise Conflict(f"the e-stop is active: no {what}")
 
     def _halt_motion(self) -> None:
-        if self._teleop.active:
-            self._teleop.stop()
-            self._robot.drive(Twist())
-        self._end_local_move()
-
-    def _end_local_move(self) -> None:
-        if self._local_move is not None:
-            self._local_move.cancel()
-            self._local_move = None
-            self._robot.drive(Twist())
+        self._motion.halt()
 
     def _set_mode(self, mode: Mode) -> None:
         old = self._mode
@@ -774,12 +732,6 @@ class RobotRuntime:
 
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
-
-    # -- simulator helpers ------------------------------------------------------------
-
-    def _yaw(self) -> float:
-        imu = self._robot.read_imu()
-        return imu.yaw if imu is not None else self._robot.read_odometry().pose.theta
 
     # -- status --------------------------------------------------------------------------------
 
