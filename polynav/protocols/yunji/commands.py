@@ -375,6 +375,76 @@ def markers_count(ctx: Context, params: Params) -> Reply:
     return Reply(results={"count": len(ctx.store.points(map_name=_current_map(ctx)))})
 
 
+def markers_query_brief(ctx: Context, params: Params) -> Reply:
+    """§3.5.5: ``name -> "<type>-<floor>"`` over every floor (as ``query_list``)."""
+    current = _current_map(ctx)
+    floors = sorted(ctx.store.floors(), key=lambda f: f.map_name == current)
+    results: dict[str, object] = {}
+    for record in floors:
+        for point in ctx.store.points(map_name=record.map_name):
+            results[point.name] = f"{_marker_type(point)}-{record.level}"
+    return Reply(results=results)
+
+
+def markers_insert_by_pose(ctx: Context, params: Params) -> Reply:
+    """§3.5.6: at ``x, y, theta`` on ``floor`` (default: the current one); theta outside
+    [-π, π] is refused rather than wrapped (§A-K4); an existing name on that map is moved."""
+    name = _required(params, "name")
+    x = _parse_float("x", _required(params, "x"))
+    y = _parse_float("y", _required(params, "y"))
+    theta = _parse_float("theta", _required(params, "theta"))
+    if abs(theta) > math.pi + 1e-9:
+        raise InvalidRequest("theta", f"must be within [-pi, pi], got {theta}")
+    kind = _kind(params)
+    num = _int(params, "num", 1)
+    level = _int(params, "floor")
+    map_name = _current_map(ctx) if level is None else _map_of_level(ctx, level)
+    point = Point(name, map_name, Pose2D(x, y, theta), kind, num)
+    try:
+        ctx.store.point(map_name, name)
+    except NotFound:
+        ctx.store.add_point(point)
+    else:
+        ctx.store.update_point(map_name, name, point)
+    return Reply()
+
+
+def position_adjust(ctx: Context, params: Params) -> Reply:
+    """§3.8.1: "the robot is at this marker" (of the current map)."""
+    name = _required(params, "marker")
+    point = ctx.store.point(_current_map(ctx), name)
+    ctx.runtime.set_initial_pose(point.pose)
+    return Reply()
+
+
+def position_adjust_by_pose(ctx: Context, params: Params) -> Reply:
+    """§3.8.2: "the robot is at this pose"; on another ``floor`` navigation restarts on that
+    floor's map from the pose (the simulator carries the robot there)."""
+    pose = Pose2D(
+        _parse_float("x", _required(params, "x")),
+        _parse_float("y", _required(params, "y")),
+        _parse_float("theta", _required(params, "theta")),
+    )
+    level = _int(params, "floor")
+    current = _current_map(ctx)
+    target = current if level is None else _map_of_level(ctx, level)
+    if target == current and ctx.runtime.mode is Mode.NAVIGATING:
+        ctx.runtime.set_initial_pose(pose)
+    else:
+        ctx.runtime.start_navigation(target, pose=pose)
+    return Reply()
+
+
+def map_list(ctx: Context, params: Params) -> Reply:
+    """§3.14.1: ``map name -> [floors]``; in polynav a map belongs to one floor at most."""
+    levels = {f.name: f.level for f in ctx.store.floors()}
+    return Reply(
+        results={
+            m.name: ([levels[m.floor]] if m.floor in levels else []) for m in ctx.store.maps()
+        }
+    )
+
+
 def estop(ctx: Context, params: Params) -> Reply:
     """§3.7: the software e-stop only; the hardware button is separate."""
     ctx.runtime.set_software_estop(_bool(params, "flag"))
@@ -452,6 +522,11 @@ HANDLERS: dict[str, Handler] = {
     "/api/markers/insert": markers_insert,
     "/api/markers/delete": markers_delete,
     "/api/markers/count": markers_count,
+    "/api/markers/query_brief": markers_query_brief,
+    "/api/markers/insert_by_pose": markers_insert_by_pose,
+    "/api/position_adjust": position_adjust,
+    "/api/position_adjust_by_pose": position_adjust_by_pose,
+    "/api/map/list": map_list,
     "/api/estop": estop,
     "/api/joy_control": joy_control,
     "/api/get_current_location": get_current_location,

@@ -50,6 +50,13 @@ COVERED: dict[str, str] = {
     "cmd 6 /api/joy_control":
         "test_joy_control_is_clamped_and_stops_half_a_second_after_the_last_command",
     "cmd 7 /api/estop": "test_estop_sets_and_clears_the_soft_estop",
+    "cmd 5.5 /api/markers/query_brief": "test_markers_query_brief_gives_type_dash_floor",
+    "cmd 5.6 /api/markers/insert_by_pose":
+        "test_markers_insert_by_pose_on_another_floor_and_bad_theta",
+    "cmd 8.1 /api/position_adjust": "test_position_adjust_puts_the_robot_at_the_marker",
+    "cmd 8.2 /api/position_adjust_by_pose":
+        "test_position_adjust_by_pose_on_this_floor_and_on_another",
+    "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
     "cmd 14.3 /api/map/get_current_map": "test_map_get_current_map_reports_name_floor_and_grid",
     "cmd 16.1 /api/software/get_version": "test_software_get_version_is_polynav_version",
     "cmd 23 /api/get_current_location":
@@ -59,11 +66,6 @@ COVERED: dict[str, str] = {
 # Not implemented yet: entry -> a request the spec says is answered OK on the demo site.
 PENDING_COMMANDS: dict[str, str] = {
     "cmd 1.2 /api/move": "/api/move?markers=lobby,front_desk&count=1",
-    "cmd 5.5 /api/markers/query_brief": "/api/markers/query_brief",
-    "cmd 5.6 /api/markers/insert_by_pose":
-        "/api/markers/insert_by_pose?name=p1&x=5.5&y=12.5&theta=0&floor=1",
-    "cmd 8.1 /api/position_adjust": "/api/position_adjust?marker=initial",
-    "cmd 8.2 /api/position_adjust_by_pose": "/api/position_adjust_by_pose?x=8.0&y=8.5&theta=0",
     "cmd 9.1 /api/request_data?topic=robot_status":
         "/api/request_data?topic=robot_status&frequency=1",
     "cmd 9.2 /api/request_data?topic=human_detection":
@@ -77,7 +79,6 @@ PENDING_COMMANDS: dict[str, str] = {
     "cmd 13.3 /api/wifi/get_active_connection": "/api/wifi/get_active_connection",
     "cmd 13.4 /api/wifi/info": "/api/wifi/info",
     "cmd 13.5 /api/wifi/detail_list": "/api/wifi/detail_list",
-    "cmd 14.1 /api/map/list": "/api/map/list",
     "cmd 14.2 /api/map/set_current_map": "/api/map/set_current_map?map_name=floor2&floor=2",
     "cmd 14.4 /api/map/list_info": "/api/map/list_info",
     "cmd 14.5 /api/map/accessible_point_query": "/api/map/accessible_point_query?x=8.0&y=8.5",

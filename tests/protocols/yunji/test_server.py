@@ -303,3 +303,77 @@ def test_map_get_current_map_reports_name_floor_and_grid(client: Client) -> None
         "info": {"resolution": 0.05, "width": 820, "height": 500,
                  "origin_x": -0.5, "origin_y": -0.5},
     })
+
+
+# -- more markers, relocalization, maps ----------------------------------------------------------
+
+
+def test_markers_query_brief_gives_type_dash_floor(client: Client) -> None:
+    reply = client.request("/api/markers/query_brief")
+    assert reply["status"] == "OK"
+    r = reply["results"]
+    assert (r["lobby"], r["charger"], r["lift_1_inside"], r["room_205"]) == (
+        "0-1", "11-1", "4-1", "0-2")
+    assert r["corridor_west"] == "0-1"  # the current floor wins a name clash
+    # initial, corridor_west/east and lift_1_outside/inside are on both floors
+    assert len(r) == 16 + 21 - 5
+
+
+def test_markers_insert_by_pose_on_another_floor_and_bad_theta(client: Client) -> None:
+    reply = client.request(
+        "/api/markers/insert_by_pose?name=205_door&x=-0.1&y=1.0&theta=0.5&floor=2&type=7")
+    assert reply["status"] == "OK"
+    marker = client.request("/api/markers/query_list?floor=2")["results"]["205_door"]
+    assert (marker["floor"], marker["key"], marker["pose"]["position"]) == (
+        2, 7, {"x": -0.1, "y": 1.0, "z": 0.0})
+    o = marker["pose"]["orientation"]
+    assert abs(quaternion_to_yaw(0.0, 0.0, o["z"], o["w"]) - 0.5) < 1e-9
+    for query, message in [
+        ("name=a&x=1&y=1&theta=4", "theta: must be within [-pi, pi], got 4.0"),
+        ("name=a&x=1&y=1&theta=0&floor=7", "floor: no floor 7"),
+        ("name=a&x=1&theta=0", "y: is required"),
+        ("x=1&y=1&theta=0", "name: is required"),
+    ]:
+        bad = client.request(f"/api/markers/insert_by_pose?{query}")
+        assert (bad["status"], bad["error_message"]) == ("INVALID_REQUEST", message), query
+
+
+def test_position_adjust_puts_the_robot_at_the_marker(harness: Harness, client: Client) -> None:
+    assert client.request("/api/position_adjust?marker=front_desk")["status"] == "OK"
+    harness.runtime.advance(1.0)
+    pose = _status(client)["current_pose"]
+    assert math.hypot(pose["x"] - 5.0, pose["y"] - 6.0) < 0.1
+    assert abs(angle_diff(pose["theta"], math.pi / 2)) < 0.1
+    missing = client.request("/api/position_adjust?marker=nowhere")
+    assert (missing["status"], missing["error_message"]) == ("INVALID_REQUEST", "Marker Not Found")
+
+
+def test_position_adjust_is_denied_during_a_move(harness: Harness, client: Client) -> None:
+    assert client.request("/api/move?marker=lobby")["status"] == "OK"
+    harness.runtime.advance(0.5)
+    assert client.request("/api/position_adjust?marker=front_desk")["status"] == "REQUEST_DENIED"
+
+
+def test_position_adjust_by_pose_on_this_floor_and_on_another(
+    harness: Harness, client: Client
+) -> None:
+    assert client.request("/api/position_adjust_by_pose?x=5.5&y=12.5&theta=0")["status"] == "OK"
+    harness.runtime.advance(1.0)
+    pose = _status(client)["current_pose"]
+    assert math.hypot(pose["x"] - 5.5, pose["y"] - 12.5) < 0.1
+    reply = client.request("/api/position_adjust_by_pose?x=4.0&y=11.0&theta=1.5707963&floor=2")
+    assert reply["status"] == "OK"
+    harness.runtime.advance(1.0)
+    status = _status(client)
+    assert status["current_floor"] == 2
+    assert math.hypot(status["current_pose"]["x"] - 4.0, status["current_pose"]["y"] - 11.0) < 0.1
+    current = client.request("/api/map/get_current_map")["results"]
+    assert (current["map_name"], current["floor"]) == ("floor2", "2")
+    bad = client.request("/api/position_adjust_by_pose?x=a&y=1&theta=0")
+    assert (bad["status"], bad["error_message"]) == (
+        "INVALID_REQUEST", "x: must be a number, got 'a'")
+
+
+def test_map_list_gives_each_map_its_floor(client: Client) -> None:
+    reply = client.request("/api/map/list")
+    assert (reply["status"], reply["results"]) == ("OK", {"floor1": [1], "floor2": [2]})
