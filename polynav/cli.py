@@ -87,12 +87,25 @@ def _run(args: argparse.Namespace) -> int:
             uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
         )
         runtime.start()
+        yunji = None
         try:
+            if not args.no_yunji:
+                from polynav.protocols.yunji import YunjiConfig
+                from polynav.protocols.yunji.server import YunjiThread
+
+                try:
+                    yunji = YunjiThread(runtime, YunjiConfig(host=args.host, port=args.yunji_port))
+                except OSError as exc:
+                    print(f"polynav run: cannot listen on {args.host}:{args.yunji_port} (Yunji): "
+                          f"{exc}", file=sys.stderr)
+                    return 1
             base = f"http://{host}:{port}"
             print(f"polynav: simulating world {world.name!r} at {args.speed:g}x, data in "
                   f"{Path(args.data).resolve()}", flush=True)
             print(f"polynav: native API {base}/api  (docs {base}/docs, "
                   f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
+            if yunji is not None:
+                print(f"polynav: Yunji API tcp://{host}:{yunji.port}", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             # uvicorn catches SIGINT/SIGTERM while serving, then re-raises them to the handlers
             # it found; these note them, so the runtime and store below still close cleanly.
@@ -100,6 +113,8 @@ def _run(args: argparse.Namespace) -> int:
                 signal.signal(sig, lambda signum, _frame: log.info("signal %d", signum))
             server.run(sockets=[sock])
         finally:
+            if yunji is not None:
+                yunji.stop()
             runtime.stop()
             sock.close()
     finally:
@@ -185,6 +200,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--yunji-port", type=int, default=31001,
+                     help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
+    run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")
     maps = sub.add_parser("map", help="list, import or export ROS maps of the site",
                           description="Manage the site's maps (ROS map_server YAML + image).")
     map_sub = maps.add_subparsers(dest="map_command", required=True)

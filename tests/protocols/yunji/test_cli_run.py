@@ -1,0 +1,73 @@
+"""``polynav run`` serves the Yunji API beside the native one (``--yunji-port``, ``--no-yunji``)."""
+
+from __future__ import annotations
+
+import re
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+from tests.protocols.yunji.conftest import Client
+
+STARTUP_LINES = 20
+
+
+def _start(tmp_path: Path, *extra: str) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "polynav", "run", "--data", str(tmp_path / "data"),
+         "--port", "0", "--no-people", *extra],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+
+
+def _startup(proc: subprocess.Popen[str]) -> list[str]:
+    assert proc.stdout is not None
+    lines: list[str] = []
+    while len(lines) < STARTUP_LINES:
+        line = proc.stdout.readline()
+        if not line:
+            break
+        lines.append(line.rstrip("\n"))
+        if "Ctrl-C" in line:
+            break
+    return lines
+
+
+def _stop(proc: subprocess.Popen[str]) -> str:
+    proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 0
+    return out
+
+
+def test_run_serves_yunji_on_the_given_port(tmp_path: Path) -> None:
+    proc = _start(tmp_path, "--yunji-port", "0")
+    try:
+        lines = _startup(proc)
+        found = [m for line in lines if (m := re.search(r"Yunji API tcp://[\d.]+:(\d+)", line))]
+        assert len(found) == 1, lines
+        client = Client(int(found[0].group(1)))
+        try:
+            assert client.request("/api/robot_info")["status"] == "OK"
+            assert client.request("/api/robot_status")["results"]["current_floor"] == 1
+        finally:
+            client.close()
+        assert "polynav: stopped" in _stop(proc)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+def test_run_with_no_yunji_does_not_serve_it(tmp_path: Path) -> None:
+    proc = _start(tmp_path, "--no-yunji")
+    try:
+        lines = _startup(proc)
+        assert any("Ctrl-C" in line for line in lines), lines
+        assert not any("Yunji" in line for line in lines)
+        _stop(proc)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
