@@ -6,6 +6,8 @@ import re
 import signal
 import subprocess
 import sys
+import urllib.error
+import urllib.request
 from pathlib import Path
 
 from tests.protocols.yunji.conftest import Client
@@ -34,7 +36,20 @@ def _startup(proc: subprocess.Popen[str]) -> list[str]:
     return lines
 
 
-def _stop(proc: subprocess.Popen[str]) -> str:
+def _wait_serving(lines: list[str]) -> None:
+    """An HTTP answer from the native API: uvicorn runs and handles SIGINT from now on (a SIGINT
+    sent earlier, between ``run``'s own handler and uvicorn's, would be logged and ignored)."""
+    found = [m for line in lines if (m := re.search(r"native API (http://[\d.]+:\d+)", line))]
+    assert len(found) == 1, lines
+    try:
+        with urllib.request.urlopen(found[0].group(1) + "/openapi.json", timeout=30) as reply:
+            assert reply.status == 200
+    except urllib.error.HTTPError as exc:  # any HTTP answer will do
+        assert exc.code > 0
+
+
+def _stop(proc: subprocess.Popen[str], lines: list[str]) -> str:
+    _wait_serving(lines)
     proc.send_signal(signal.SIGINT)
     out, _ = proc.communicate(timeout=60)
     assert proc.returncode == 0
@@ -53,7 +68,7 @@ def test_run_serves_yunji_on_the_given_port(tmp_path: Path) -> None:
             assert client.request("/api/robot_status")["results"]["current_floor"] == 1
         finally:
             client.close()
-        assert "polynav: stopped" in _stop(proc)
+        assert "polynav: stopped" in _stop(proc, lines)
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -66,7 +81,7 @@ def test_run_with_no_yunji_does_not_serve_it(tmp_path: Path) -> None:
         lines = _startup(proc)
         assert any("Ctrl-C" in line for line in lines), lines
         assert not any("Yunji" in line for line in lines)
-        _stop(proc)
+        _stop(proc, lines)
     finally:
         if proc.poll() is None:
             proc.kill()
