@@ -42,6 +42,16 @@ Handler = Callable[["Context", Params], Reply]
 JOY_MAX_LINEAR = 0.5
 JOY_MAX_ANGULAR = 1.0
 ANGLE_OFFSET_LIMIT = 3.14
+# set_params (§3.11): the vendor's ranges (clamped), then polynav's setting of that name.
+SPEED_PARAMS: dict[str, tuple[float, float, str]] = {
+    "max_speed_linear": (0.1, 1.0, "max_linear_velocity"),
+    "max_speed_angular": (0.5, 3.5, "max_angular_velocity"),
+}
+# polynav's own limits for those settings (the lower of the two applies, §3.11 L751).
+SETTING_LIMITS: dict[str, tuple[float, float]] = {
+    "max_linear_velocity": (0.1, 1.0),
+    "max_angular_velocity": (0.2, 3.0),
+}
 DEFAULT_DISTANCE_THRESHOLD = 2.0
 
 _KIND_BY_TYPE: dict[int, PointKind] = {
@@ -445,6 +455,42 @@ def map_list(ctx: Context, params: Params) -> Reply:
     )
 
 
+def set_params(ctx: Context, params: Params) -> Reply:
+    """§3.11: clamp to the vendor's range, then to polynav's; ``OK`` whatever the outcome
+    (§A-P1): a bad value or an unknown name is logged and skipped."""
+    changes: dict[str, object] = {}
+    for name, text in params.items():
+        if name == "uuid":
+            continue
+        spec = SPEED_PARAMS.get(name)
+        if spec is None:
+            log.info("yunji set_params: ignoring %s=%r (not supported)", name, text)
+            continue
+        low, high, setting = spec
+        try:
+            value = _parse_float(name, text)
+        except InvalidRequest as exc:
+            log.info("yunji set_params: ignoring %s", exc)
+            continue
+        value = min(high, max(low, value))
+        floor, ceiling = SETTING_LIMITS[setting]
+        changes[setting] = min(ceiling, max(floor, value))
+    if changes:
+        ctx.runtime.update_settings(changes)
+    return Reply()
+
+
+def get_params(ctx: Context, params: Params) -> Reply:
+    """§3.12: the current values (set or default, §A-P2)."""
+    settings = ctx.runtime.settings()
+    return Reply(
+        results={
+            "max_speed_linear": settings.max_linear_velocity,
+            "max_speed_angular": settings.max_angular_velocity,
+        }
+    )
+
+
 def estop(ctx: Context, params: Params) -> Reply:
     """§3.7: the software e-stop only; the hardware button is separate."""
     ctx.runtime.set_software_estop(_bool(params, "flag"))
@@ -527,6 +573,8 @@ HANDLERS: dict[str, Handler] = {
     "/api/position_adjust": position_adjust,
     "/api/position_adjust_by_pose": position_adjust_by_pose,
     "/api/map/list": map_list,
+    "/api/set_params": set_params,
+    "/api/get_params": get_params,
     "/api/estop": estop,
     "/api/joy_control": joy_control,
     "/api/get_current_location": get_current_location,

@@ -56,6 +56,8 @@ COVERED: dict[str, str] = {
     "cmd 8.1 /api/position_adjust": "test_position_adjust_puts_the_robot_at_the_marker",
     "cmd 8.2 /api/position_adjust_by_pose":
         "test_position_adjust_by_pose_on_this_floor_and_on_another",
+    "cmd 11 /api/set_params": "test_set_params_clamps_and_always_answers_ok",
+    "cmd 12 /api/get_params": "test_get_params_reports_the_current_speed_limits",
     "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
     "cmd 14.3 /api/map/get_current_map": "test_map_get_current_map_reports_name_floor_and_grid",
     "cmd 16.1 /api/software/get_version": "test_software_get_version_is_polynav_version",
@@ -72,8 +74,6 @@ PENDING_COMMANDS: dict[str, str] = {
         "/api/request_data?topic=human_detection&frequency=0.5",
     "cmd 9.3 /api/request_data?topic=robot_velocity":
         "/api/request_data?topic=robot_velocity&frequency=0.5",
-    "cmd 11 /api/set_params": "/api/set_params?max_speed_linear=0.5",
-    "cmd 12 /api/get_params": "/api/get_params",
     "cmd 13.1 /api/wifi/list": "/api/wifi/list",
     "cmd 13.2 /api/wifi/connect": "/api/wifi/connect?SSID=polynav&password=secret",
     "cmd 13.3 /api/wifi/get_active_connection": "/api/wifi/get_active_connection",
