@@ -491,6 +491,43 @@ def get_params(ctx: Context, params: Params) -> Reply:
     )
 
 
+def map_list_info(ctx: Context, params: Params) -> Reply:
+    """§3.14.4: ``map name -> [{floor, resolution, height, width, origin_x, origin_y}]``."""
+    levels = {f.name: f.level for f in ctx.store.floors()}
+    results: dict[str, object] = {}
+    for m in ctx.store.maps():
+        results[m.name] = [
+            {
+                "floor": levels[m.floor],
+                "resolution": m.resolution,
+                "height": m.height,
+                "width": m.width,
+                "origin_x": m.origin.x,
+                "origin_y": m.origin.y,
+            }
+        ] if m.floor in levels else []
+    return Reply(results=results)
+
+
+def map_set_current_map(ctx: Context, params: Params) -> Reply:
+    """§3.14.2: navigate on ``map_name`` (or the deprecated ``hotel_id``, §A-P3) at ``floor``,
+    which must be that map's floor. Refused while a move runs, as a move is."""
+    name = params.get("map_name") or params.get("hotel_id")
+    if not name:
+        raise InvalidRequest("map_name", "is required")
+    level = _int(params, "floor")
+    if level is None:
+        raise InvalidRequest("floor", "is required")
+    record = ctx.store.map_record(name)
+    levels = {f.name: f.level for f in ctx.store.floors()}
+    if record.floor not in levels or levels[record.floor] != level:
+        raise InvalidRequest("floor", f"map {name!r} is not on floor {level}")
+    if _move_status(ctx.runtime.status()) is MoveStatus.RUNNING:
+        raise Conflict("a move task is running: cancel it first")
+    ctx.runtime.start_navigation(name)
+    return Reply()
+
+
 def estop(ctx: Context, params: Params) -> Reply:
     """§3.7: the software e-stop only; the hardware button is separate."""
     ctx.runtime.set_software_estop(_bool(params, "flag"))
@@ -573,6 +610,8 @@ HANDLERS: dict[str, Handler] = {
     "/api/position_adjust": position_adjust,
     "/api/position_adjust_by_pose": position_adjust_by_pose,
     "/api/map/list": map_list,
+    "/api/map/list_info": map_list_info,
+    "/api/map/set_current_map": map_set_current_map,
     "/api/set_params": set_params,
     "/api/get_params": get_params,
     "/api/estop": estop,

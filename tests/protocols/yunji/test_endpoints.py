@@ -59,6 +59,9 @@ COVERED: dict[str, str] = {
     "cmd 11 /api/set_params": "test_set_params_clamps_and_always_answers_ok",
     "cmd 12 /api/get_params": "test_get_params_reports_the_current_speed_limits",
     "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
+    "cmd 14.2 /api/map/set_current_map":
+        "test_map_set_current_map_moves_the_robot_to_that_floor",
+    "cmd 14.4 /api/map/list_info": "test_map_list_info_gives_each_map_its_grid",
     "cmd 14.3 /api/map/get_current_map": "test_map_get_current_map_reports_name_floor_and_grid",
     "cmd 16.1 /api/software/get_version": "test_software_get_version_is_polynav_version",
     "cmd 23 /api/get_current_location":
@@ -79,8 +82,6 @@ PENDING_COMMANDS: dict[str, str] = {
     "cmd 13.3 /api/wifi/get_active_connection": "/api/wifi/get_active_connection",
     "cmd 13.4 /api/wifi/info": "/api/wifi/info",
     "cmd 13.5 /api/wifi/detail_list": "/api/wifi/detail_list",
-    "cmd 14.2 /api/map/set_current_map": "/api/map/set_current_map?map_name=floor2&floor=2",
-    "cmd 14.4 /api/map/list_info": "/api/map/list_info",
     "cmd 14.5 /api/map/accessible_point_query": "/api/map/accessible_point_query?x=8.0&y=8.5",
     "cmd 14.6 /api/map/distance_probe": "/api/map/distance_probe?x=8.0&y=8.5",
     "cmd 15 /api/shutdown": "/api/shutdown?reboot=true",

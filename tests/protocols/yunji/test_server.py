@@ -402,3 +402,35 @@ def test_set_params_clamps_and_always_answers_ok(harness: Harness, client: Clien
         assert client.request(f"/api/set_params?{query}")["status"] == "OK"
     assert client.request("/api/get_params")["results"] == {
         "max_speed_linear": 0.1, "max_speed_angular": 3.0}
+
+
+def test_map_list_info_gives_each_map_its_grid(client: Client) -> None:
+    reply = client.request("/api/map/list_info")
+    grid = {"resolution": 0.05, "height": 500, "width": 820, "origin_x": -0.5, "origin_y": -0.5}
+    assert (reply["status"], reply["results"]) == ("OK", {
+        "floor1": [{"floor": 1, **grid}], "floor2": [{"floor": 2, **grid}]})
+
+
+def test_map_set_current_map_moves_the_robot_to_that_floor(
+    harness: Harness, client: Client
+) -> None:
+    bad_floor = client.request("/api/map/set_current_map?map_name=floor2&floor=1")
+    assert (bad_floor["status"], bad_floor["error_message"]) == (
+        "INVALID_REQUEST", "floor: map 'floor2' is not on floor 1")
+    unknown = client.request("/api/map/set_current_map?map_name=attic&floor=3")
+    assert (unknown["status"], unknown["error_message"]) == (
+        "INVALID_REQUEST", "map 'attic' not found")
+    reply = client.request("/api/map/set_current_map?hotel_id=floor2&floor=2")  # legacy name
+    assert (reply["command"], reply["status"]) == ("/api/map/set_current_map", "OK")
+    harness.runtime.advance(1.0)
+    assert _status(client)["current_floor"] == 2
+    current = client.request("/api/map/get_current_map")["results"]
+    assert (current["map_name"], current["floor"]) == ("floor2", "2")
+    assert client.request("/api/markers/count")["results"] == {"count": 21}
+
+
+def test_map_set_current_map_is_denied_during_a_move(harness: Harness, client: Client) -> None:
+    assert client.request("/api/move?marker=lobby")["status"] == "OK"
+    harness.runtime.advance(0.5)
+    reply = client.request("/api/map/set_current_map?map_name=floor2&floor=2")
+    assert reply["status"] == "REQUEST_DENIED"
