@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, wrap_angle, yaw_to_quaternion
-from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply
+from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply, StreamRequest
 from polynav.runtime.robot_runtime import Mode, RobotRuntime
 from polynav.runtime.status import StatusSnapshot
 from polynav.site import Point, PointKind
@@ -42,6 +42,9 @@ Handler = Callable[["Context", Params], Reply]
 JOY_MAX_LINEAR = 0.5
 JOY_MAX_ANGULAR = 1.0
 ANGLE_OFFSET_LIMIT = 3.14
+# request_data (§3.9, §A-R2): default rates per topic, and the highest rate served.
+STREAM_DEFAULT_RATE: dict[str, float] = {"robot_status": 2.0, "robot_velocity": 1.0}
+STREAM_MAX_RATE = 20.0
 # set_params (§3.11): the vendor's ranges (clamped), then polynav's setting of that name.
 SPEED_PARAMS: dict[str, tuple[float, float, str]] = {
     "max_speed_linear": (0.1, 1.0, "max_linear_velocity"),
@@ -528,6 +531,34 @@ def map_set_current_map(ctx: Context, params: Params) -> Reply:
     return Reply()
 
 
+def request_data(ctx: Context, params: Params) -> Reply:
+    """§3.9: start (or with the deprecated ``switch=off``, stop) a callback stream of
+    ``topic`` on this connection; a repeated request replaces the rate (§A-R1)."""
+    topic = _required(params, "topic")
+    if topic == "human_detection":
+        raise InvalidRequest("topic", "human_detection is not supported yet")
+    if topic not in STREAM_DEFAULT_RATE:
+        raise InvalidRequest("topic", f"unknown topic {topic!r}")
+    switch = params.get("switch", "on")
+    if switch not in ("on", "off"):
+        raise InvalidRequest("switch", f"must be on or off, got {switch!r}")
+    frequency = _float(params, "frequency", STREAM_DEFAULT_RATE[topic])
+    assert frequency is not None
+    if not 0.0 < frequency <= STREAM_MAX_RATE:
+        raise InvalidRequest(
+            "frequency", f"must be in (0, {STREAM_MAX_RATE:g}] Hz, got {frequency:g}"
+        )
+    return Reply(stream=StreamRequest(topic, frequency, switch == "on"))
+
+
+def stream_results(ctx: Context, topic: str) -> object:
+    """The ``results`` of one callback of ``topic`` (§3.9.1, §3.9.3)."""
+    if topic == "robot_status":
+        return robot_status(ctx, {}).results
+    s = ctx.runtime.status()
+    return {"angular": float(s.angular), "linear": float(s.linear)}
+
+
 def estop(ctx: Context, params: Params) -> Reply:
     """§3.7: the software e-stop only; the hardware button is separate."""
     ctx.runtime.set_software_estop(_bool(params, "flag"))
@@ -613,6 +644,7 @@ HANDLERS: dict[str, Handler] = {
     "/api/map/list_info": map_list_info,
     "/api/map/set_current_map": map_set_current_map,
     "/api/set_params": set_params,
+    "/api/request_data": request_data,
     "/api/get_params": get_params,
     "/api/estop": estop,
     "/api/joy_control": joy_control,

@@ -41,6 +41,21 @@ class MarkerType(enum.IntEnum):
 
 
 @dataclass(frozen=True, slots=True)
+class StreamRequest:
+    """A ``/api/request_data`` subscription change for the requesting connection (§3.9).
+
+    Attributes:
+        topic: ``robot_status`` or ``robot_velocity``.
+        frequency: callbacks per simulated second [Hz].
+        on: ``False`` for the deprecated ``switch=off`` (stop that topic).
+    """
+
+    topic: str
+    frequency: float
+    on: bool = True
+
+
+@dataclass(frozen=True, slots=True)
 class Reply:
     """What a handler answers; the server adds ``type``, ``command`` and ``uuid``.
 
@@ -50,9 +65,11 @@ class Reply:
         results: the interface's data, or :data:`~polynav.protocols.yunji.codec.MISSING` for
             none (``None`` is sent as ``null``).
         task_id: the task id of a started ``/api/move``.
+        stream: a subscription the server is to start or stop on this connection.
     """
 
     status: Status = Status.OK
     error_message: str = ""
     results: object = MISSING
     task_id: str | None = None
+    stream: StreamRequest | None = None

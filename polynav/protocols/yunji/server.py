@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import polynav
 from polynav.errors import ConfigError
 from polynav.protocols.yunji import codec, commands, errors
-from polynav.protocols.yunji.messages import Reply, Status
+from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -41,6 +41,8 @@ class YunjiConfig:
             connection.
         queue_size: outgoing packets queued per client before it is dropped as not reading.
         product_id: what ``/api/robot_info`` reports.
+        stream_poll_interval: how often [s wall] a ``request_data`` stream looks whether a
+            callback is due on the runtime's (simulated) clock.
         prepare_navigation: start navigation on the current floor's map at start-up when the
             runtime is FREE (a Yunji robot is always ready to move).
     """
@@ -51,6 +53,7 @@ class YunjiConfig:
     queue_size: int = 256
     product_id: str = "WATER-POLYNAV-SIM00001"
     prepare_navigation: bool = True
+    stream_poll_interval: float = 0.01
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -60,6 +63,11 @@ class YunjiConfig:
         if not 64 <= self.max_command_bytes <= 1_048_576:
             raise ConfigError(
                 "yunji.max_command_bytes", f"must be in [64, 1048576], got {self.max_command_bytes}"
+            )
+        if not 0.0 < self.stream_poll_interval <= 1.0:
+            raise ConfigError(
+                "yunji.stream_poll_interval",
+                f"must be in (0, 1] s, got {self.stream_poll_interval}",
             )
         if not 1 <= self.queue_size <= 100_000:
             raise ConfigError("yunji.queue_size", f"must be in [1, 100000], got {self.queue_size}")
@@ -73,6 +81,7 @@ class _Client:
         self.queue: asyncio.Queue[bytes] = asyncio.Queue(maxsize=queue_size)
         self.closed = False
         self.peer = writer.get_extra_info("peername")
+        self.streams: dict[str, asyncio.Task[None]] = {}
 
     def send(self, packet: bytes) -> None:
         """Queue ``packet``; a full queue means the client does not read: drop it."""
@@ -167,6 +176,8 @@ class YunjiServer:
         finally:
             self._clients.discard(client)
             client.close()
+            for task in client.streams.values():
+                task.cancel()
             writer_task.cancel()
             with contextlib.suppress(asyncio.CancelledError, ConnectionError, OSError):
                 await writer_task
@@ -207,9 +218,39 @@ class YunjiServer:
                 buf = buf[used:]
                 if command is None:
                     break
-                client.send(await self._answer(command))
+                packet, reply = await self._answer(command)
+                client.send(packet)
+                if reply.stream is not None:
+                    self._subscribe(client, reply.stream)
 
-    async def _answer(self, command: codec.Command) -> bytes:
+    def _subscribe(self, client: _Client, request: StreamRequest) -> None:
+        old = client.streams.pop(request.topic, None)
+        if old is not None:
+            old.cancel()
+        if request.on and not client.closed:
+            client.streams[request.topic] = asyncio.ensure_future(
+                self._stream(client, request.topic, request.frequency)
+            )
+
+    async def _stream(self, client: _Client, topic: str, frequency: float) -> None:
+        """Send ``topic`` every ``1/frequency`` s of the runtime's clock (at most one catch-up
+        packet when the clock jumped)."""
+        runtime = self._ctx.runtime
+        period = 1.0 / frequency
+        due = runtime.now()
+        while not client.closed:
+            now = runtime.now()
+            if now + 1e-9 >= due:
+                try:
+                    results = await asyncio.to_thread(commands.stream_results, self._ctx, topic)
+                except Exception:  # the stream's broad except: log, keep streaming
+                    log.error("yunji: %s stream failed", topic, exc_info=True)
+                else:
+                    client.send(codec.encode_callback(topic, results))
+                due = max(due + period, now)
+            await asyncio.sleep(self.config.stream_poll_interval)
+
+    async def _answer(self, command: codec.Command) -> tuple[bytes, Reply]:
         handler = commands.HANDLERS.get(command.path)
         if handler is None:
             reply = Reply(Status.INVALID_REQUEST, f"unknown command {command.path}")
@@ -221,7 +262,7 @@ class YunjiServer:
                 if status is Status.UNKNOWN_ERROR:
                     log.error("yunji: %s failed", command.raw, exc_info=True)
                 reply = Reply(status, message)
-        return codec.encode_reply(
+        packet = codec.encode_reply(
             command.path,
             command.uuid,
             reply.status.value,
@@ -229,6 +270,7 @@ class YunjiServer:
             reply.results,
             task_id=reply.task_id,
         )
+        return packet, reply
 
 
 async def serve(runtime: RobotRuntime, config: YunjiConfig | None = None) -> YunjiServer:

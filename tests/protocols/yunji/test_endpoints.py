@@ -56,6 +56,10 @@ COVERED: dict[str, str] = {
     "cmd 8.1 /api/position_adjust": "test_position_adjust_puts_the_robot_at_the_marker",
     "cmd 8.2 /api/position_adjust_by_pose":
         "test_position_adjust_by_pose_on_this_floor_and_on_another",
+    "cmd 9.1 /api/request_data?topic=robot_status":
+        "test_request_data_streams_robot_status_callbacks",
+    "cmd 9.3 /api/request_data?topic=robot_velocity":
+        "test_request_data_streams_robot_velocity_and_rejects_bad_requests",
     "cmd 11 /api/set_params": "test_set_params_clamps_and_always_answers_ok",
     "cmd 12 /api/get_params": "test_get_params_reports_the_current_speed_limits",
     "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
@@ -71,12 +75,8 @@ COVERED: dict[str, str] = {
 # Not implemented yet: entry -> a request the spec says is answered OK on the demo site.
 PENDING_COMMANDS: dict[str, str] = {
     "cmd 1.2 /api/move": "/api/move?markers=lobby,front_desk&count=1",
-    "cmd 9.1 /api/request_data?topic=robot_status":
-        "/api/request_data?topic=robot_status&frequency=1",
     "cmd 9.2 /api/request_data?topic=human_detection":
         "/api/request_data?topic=human_detection&frequency=0.5",
-    "cmd 9.3 /api/request_data?topic=robot_velocity":
-        "/api/request_data?topic=robot_velocity&frequency=0.5",
     "cmd 13.1 /api/wifi/list": "/api/wifi/list",
     "cmd 13.2 /api/wifi/connect": "/api/wifi/connect?SSID=polynav&password=secret",
     "cmd 13.3 /api/wifi/get_active_connection": "/api/wifi/get_active_connection",

@@ -434,3 +434,58 @@ def test_map_set_current_map_is_denied_during_a_move(harness: Harness, client: C
     harness.runtime.advance(0.5)
     reply = client.request("/api/map/set_current_map?map_name=floor2&floor=2")
     assert reply["status"] == "REQUEST_DENIED"
+
+
+# -- request_data ----------------------------------------------------------------------------------
+
+
+def _reply(client: Client, callbacks: list[dict[str, Any]]) -> dict[str, Any]:
+    """The next response; callbacks read on the way are kept in ``callbacks``."""
+    while True:
+        packet = client.read()
+        if packet["type"] == "response":
+            return packet
+        callbacks.append(packet)
+
+
+def _callback(client: Client, topic: str) -> dict[str, Any]:
+    while True:
+        packet = client.read()
+        if packet["type"] == "callback" and packet["topic"] == topic:
+            return packet
+
+
+def test_request_data_streams_robot_status_callbacks(harness: Harness, client: Client) -> None:
+    client.send("/api/request_data?topic=robot_status&frequency=2&uuid=s")
+    callbacks: list[dict[str, Any]] = []
+    reply = _reply(client, callbacks)
+    assert (reply["command"], reply["uuid"], reply["status"]) == ("/api/request_data", "s", "OK")
+    first = callbacks[0] if callbacks else _callback(client, "robot_status")
+    assert set(first) == {"type", "topic", "results"}
+    assert set(first["results"]) == set(_status(harness.client()))
+    client.send("/api/move?marker=lobby")
+    assert _reply(client, callbacks)["status"] == "OK"
+    harness.runtime.advance(1.0)
+    later = _callback(client, "robot_status")
+    assert later["results"]["move_target"] == "lobby"
+
+
+def test_request_data_streams_robot_velocity_and_rejects_bad_requests(
+    harness: Harness, client: Client
+) -> None:
+    callbacks: list[dict[str, Any]] = []
+    client.send("/api/request_data?topic=robot_velocity")
+    assert _reply(client, callbacks)["status"] == "OK"
+    packet = callbacks[0] if callbacks else _callback(client, "robot_velocity")
+    assert packet["results"] == {"angular": 0.0, "linear": 0.0}
+    client.send("/api/request_data?topic=robot_velocity&switch=off")
+    assert _reply(client, callbacks)["status"] == "OK"
+    for query, message in [
+        ("topic=weather", "topic: unknown topic 'weather'"),
+        ("topic=robot_status&frequency=0", "frequency: must be in (0, 20] Hz, got 0"),
+        ("topic=robot_status&switch=maybe", "switch: must be on or off, got 'maybe'"),
+        ("frequency=1", "topic: is required"),
+    ]:
+        client.send(f"/api/request_data?{query}")
+        reply = _reply(client, callbacks)
+        assert (reply["status"], reply["error_message"]) == ("INVALID_REQUEST", message), query
