@@ -91,15 +91,27 @@ class Context:
         runtime: the robot.
         product_id: ``robot_info.product_id``.
         version: ``software/get_version`` result.
-        targets: marker name by runtime attempt id, for moves sent as a pose (``angle_offset``)
-            whose snapshot carries no point name.
+        targets: marker name (``""`` for a location) by runtime attempt id, for moves sent as a
+            pose (``angle_offset``) whose snapshot and events carry no point name.
+        pending_target: the target of the move being started (its attempt id is not known
+            until ``go_to`` returns, but its start event is published during the call).
     """
 
     runtime: RobotRuntime
     product_id: str
     version: str
     targets: dict[int, str] = field(default_factory=dict)
+    pending_target: str | None = None
     lock: threading.Lock = field(default_factory=threading.Lock)
+    move_lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def target_of(self, attempt_id: int) -> str | None:
+        """The marker an attempt was sent to by this adapter (``""``: a location), else the
+        target of the move being started, else ``None``."""
+        with self.lock:
+            if attempt_id in self.targets:
+                return self.targets[attempt_id]
+            return self.pending_target
 
     @property
     def store(self) -> SiteStore:
@@ -287,21 +299,29 @@ def move(ctx: Context, params: Params) -> Reply:
         raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
     if location:
         pose = _location(location)
-        pose = replace(pose, theta=wrap_angle(pose.theta + angle_offset))
-        attempt = ctx.runtime.go_to(pose=pose)
-        target = None
+        goal: dict[str, object] = {
+            "pose": replace(pose, theta=wrap_angle(pose.theta + angle_offset))
+        }
+        target = ""
     elif angle_offset != 0.0:
         assert marker is not None
         point = ctx.store.point(_current_map(ctx), marker)
-        pose = replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))
-        attempt = ctx.runtime.go_to(pose=pose)
+        goal = {"pose": replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))}
         target = marker
     else:
-        attempt = ctx.runtime.go_to(point=marker)
+        assert marker is not None
+        goal = {"point": marker}
         target = marker
-    if target is not None:
+    with ctx.move_lock:  # one move starts at a time, so pending_target is this move's
         with ctx.lock:
-            ctx.targets[attempt] = target
+            ctx.pending_target = target
+        try:
+            attempt = ctx.runtime.go_to(**goal)  # type: ignore[arg-type]
+            with ctx.lock:
+                ctx.targets[attempt] = target
+        finally:
+            with ctx.lock:
+                ctx.pending_target = None
     return Reply(task_id=_task_id(attempt))
 
 

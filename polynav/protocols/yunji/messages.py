@@ -73,3 +73,13 @@ class Reply:
     results: object = MISSING
     task_id: str | None = None
     stream: StreamRequest | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Notification:
+    """A ``type: notification`` packet for every client (§2.4, §3.10)."""
+
+    code: str
+    level: str
+    description: str
+    data: dict[str, object]

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import polynav
 from polynav.errors import ConfigError
 from polynav.protocols.yunji import codec, commands, errors
+from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
 from polynav.runtime.robot_runtime import RobotRuntime
 
@@ -126,6 +127,7 @@ class YunjiServer:
         self._server: asyncio.Server | None = None
         self._clients: set[_Client] = set()
         self._tasks: set[asyncio.Task[None]] = set()
+        self._pump: asyncio.Task[None] | None = None
 
     @property
     def port(self) -> int:
@@ -143,7 +145,36 @@ class YunjiServer:
         self._server = await asyncio.start_server(
             self._handle, self.config.host, self.config.port, limit=_READ_SIZE
         )
+        self._pump = asyncio.ensure_future(self._notify())
         log.info("yunji: listening on %s:%d", self.config.host, self.port)
+
+    async def _notify(self) -> None:
+        """Broadcast the notifications of the runtime's events until closed."""
+        runtime = self._ctx.runtime
+        snapshot = runtime.status()
+        mapper = NotificationMapper(
+            self._ctx.target_of, snapshot.estop_hardware or snapshot.estop_software
+        )
+        subscription = runtime.bus.subscribe()
+        try:
+            while True:
+                batch = await subscription.get()
+                if not batch and subscription.closed:
+                    return
+                for event in batch:
+                    try:
+                        notes = mapper.map(event)
+                    except Exception:  # one bad event must not end the notifications
+                        log.error("yunji: cannot map %r", event, exc_info=True)
+                        continue
+                    for note in notes:
+                        self.broadcast(
+                            codec.encode_notification(
+                                note.code, note.level, note.description, note.data
+                            )
+                        )
+        finally:
+            runtime.bus.unsubscribe(subscription)
 
     def broadcast(self, packet: bytes) -> None:
         """Send ``packet`` (a notification) to every connected client."""
@@ -154,6 +185,10 @@ class YunjiServer:
         """Stop listening and drop every client."""
         if self._server is not None:
             self._server.close()
+        if self._pump is not None:
+            self._pump.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._pump
         for client in list(self._clients):
             client.close(abort=True)
         for task in list(self._tasks):

@@ -53,6 +53,7 @@ class Client:
     def __init__(self, port: int) -> None:
         self.sock = socket.create_connection(("127.0.0.1", port), timeout=SOCKET_TIMEOUT)
         self.file = self.sock.makefile("rb")
+        self.pushed: list[dict[str, Any]] = []  # notifications and callbacks read on the way
 
     def send(self, data: bytes | str) -> None:
         self.sock.sendall(data.encode() if isinstance(data, str) else data)
@@ -64,10 +65,25 @@ class Client:
         assert isinstance(packet, dict)
         return packet
 
+    def response(self) -> dict[str, Any]:
+        """The next response; notifications and callbacks on the way go to ``pushed``."""
+        while True:
+            packet = self.read()
+            if packet["type"] == "response":
+                return packet
+            self.pushed.append(packet)
+
+    def push(self, kind: str, topic: str | None = None) -> dict[str, Any]:
+        """The next pushed packet of ``kind`` (and ``topic``), kept or read; others are skipped."""
+        while True:
+            packet = self.pushed.pop(0) if self.pushed else self.read()
+            if packet["type"] == kind and (topic is None or packet.get("topic") == topic):
+                return packet
+
     def request(self, command: str) -> dict[str, Any]:
-        """Send ``command`` bare (no terminator), as third-party clients do, and read a reply."""
+        """Send ``command`` bare (no terminator), as third-party clients do, and read its reply."""
         self.send(command)
-        return self.read()
+        return self.response()
 
     def close(self) -> None:
         self.file.close()

@@ -379,7 +379,7 @@ def test_map_list_gives_each_map_its_floor(client: Client) -> None:
     assert (reply["status"], reply["results"]) == ("OK", {"floor1": [1], "floor2": [2]})
 
 
-# -- parameters -----------------------------------------------------------------------------------
+# -- parameters ----------------------------------------------------------------------------------
 
 
 def test_get_params_reports_the_current_speed_limits(client: Client) -> None:
@@ -436,56 +436,94 @@ def test_map_set_current_map_is_denied_during_a_move(harness: Harness, client: C
     assert reply["status"] == "REQUEST_DENIED"
 
 
-# -- request_data ----------------------------------------------------------------------------------
-
-
-def _reply(client: Client, callbacks: list[dict[str, Any]]) -> dict[str, Any]:
-    """The next response; callbacks read on the way are kept in ``callbacks``."""
-    while True:
-        packet = client.read()
-        if packet["type"] == "response":
-            return packet
-        callbacks.append(packet)
-
-
-def _callback(client: Client, topic: str) -> dict[str, Any]:
-    while True:
-        packet = client.read()
-        if packet["type"] == "callback" and packet["topic"] == topic:
-            return packet
+# -- request_data --------------------------------------------------------------------------------
 
 
 def test_request_data_streams_robot_status_callbacks(harness: Harness, client: Client) -> None:
-    client.send("/api/request_data?topic=robot_status&frequency=2&uuid=s")
-    callbacks: list[dict[str, Any]] = []
-    reply = _reply(client, callbacks)
+    reply = client.request("/api/request_data?topic=robot_status&frequency=2&uuid=s")
     assert (reply["command"], reply["uuid"], reply["status"]) == ("/api/request_data", "s", "OK")
-    first = callbacks[0] if callbacks else _callback(client, "robot_status")
+    first = client.push("callback", "robot_status")
     assert set(first) == {"type", "topic", "results"}
     assert set(first["results"]) == set(_status(harness.client()))
-    client.send("/api/move?marker=lobby")
-    assert _reply(client, callbacks)["status"] == "OK"
+    assert client.request("/api/move?marker=lobby")["status"] == "OK"
+    client.pushed.clear()
     harness.runtime.advance(1.0)
-    later = _callback(client, "robot_status")
+    later = client.push("callback", "robot_status")
     assert later["results"]["move_target"] == "lobby"
 
 
 def test_request_data_streams_robot_velocity_and_rejects_bad_requests(
     harness: Harness, client: Client
 ) -> None:
-    callbacks: list[dict[str, Any]] = []
-    client.send("/api/request_data?topic=robot_velocity")
-    assert _reply(client, callbacks)["status"] == "OK"
-    packet = callbacks[0] if callbacks else _callback(client, "robot_velocity")
+    assert client.request("/api/request_data?topic=robot_velocity")["status"] == "OK"
+    packet = client.push("callback", "robot_velocity")
     assert packet["results"] == {"angular": 0.0, "linear": 0.0}
-    client.send("/api/request_data?topic=robot_velocity&switch=off")
-    assert _reply(client, callbacks)["status"] == "OK"
+    assert client.request("/api/request_data?topic=robot_velocity&switch=off")["status"] == "OK"
     for query, message in [
         ("topic=weather", "topic: unknown topic 'weather'"),
         ("topic=robot_status&frequency=0", "frequency: must be in (0, 20] Hz, got 0"),
         ("topic=robot_status&switch=maybe", "switch: must be on or off, got 'maybe'"),
         ("frequency=1", "topic: is required"),
     ]:
-        client.send(f"/api/request_data?{query}")
-        reply = _reply(client, callbacks)
+        reply = client.request(f"/api/request_data?{query}")
         assert (reply["status"], reply["error_message"]) == ("INVALID_REQUEST", message), query
+
+
+# -- notifications -------------------------------------------------------------------------------
+
+
+def _notifications(client: Client, count: int) -> list[dict[str, Any]]:
+    return [client.push("notification") for _ in range(count)]
+
+
+def test_move_notifications_go_to_every_client(harness: Harness, client: Client) -> None:
+    listener = harness.client()
+    assert listener.request("/api/robot_info")["status"] == "OK"  # connected before the move
+    assert client.request("/api/move?marker=lobby")["status"] == "OK"
+    _wait_move_quietly(harness)
+    started, finished = _notifications(listener, 2)
+    assert started == {
+        "type": "notification", "code": "01001", "level": "info",
+        "description": "The move task is started.", "data": {"target": "lobby"},
+    }
+    assert (finished["code"], finished["level"], finished["description"]) == (
+        "01002", "info", "The move task is finished.")
+    assert finished["data"]["target"] == "lobby"
+    assert 3.0 < finished["data"]["distance"] < 10.0
+    assert [n["code"] for n in _notifications(client, 2)] == ["01001", "01002"]
+
+
+def _wait_move_quietly(h: Harness) -> None:
+    assert h.runtime.advance_until(
+        lambda: h.runtime.status().navigation_state in ("succeeded", "failed", "canceled"),
+        timeout=MOVE_TIMEOUT,
+    )
+
+
+def test_cancel_notification_names_the_marker_of_an_offset_move(
+    harness: Harness, client: Client
+) -> None:
+    assert client.request("/api/move?marker=kitchen&angle_offset=0.5")["status"] == "OK"
+    harness.runtime.advance(1.0)
+    client.send("/api/move/cancel")
+    harness.runtime.advance(0.5)
+    codes = _notifications(client, 2)
+    assert [(n["code"], n["data"]["target"]) for n in codes] == [
+        ("01001", "kitchen"), ("01004", "kitchen")]
+
+
+def test_failed_move_notification_is_a_warning(harness: Harness, client: Client) -> None:
+    assert client.request("/api/move?location=10.0,8.5,0")["status"] == "OK"  # in a wall
+    _wait_move_quietly(harness)
+    started, failed = _notifications(client, 2)
+    assert (started["code"], started["data"]) == ("01001", {"target": ""})
+    assert (failed["code"], failed["level"], failed["data"]["target"]) == ("01003", "warning", "")
+
+
+def test_estop_notifications_on_and_off(harness: Harness, client: Client) -> None:
+    client.send("/api/estop?flag=true")
+    harness.runtime.advance(0.1)
+    client.send("/api/estop?flag=false")
+    harness.runtime.advance(0.1)
+    assert [(n["code"], n["description"], n["data"]) for n in _notifications(client, 2)] == [
+        ("02003", "Estop on.", {}), ("02004", "Estop off.", {})]
