@@ -297,26 +297,27 @@ def move(ctx: Context, params: Params) -> Reply:
         raise Conflict("a move task is running: cancel it first")
     if ctx.runtime.mode is not Mode.NAVIGATING:
         raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
+    pose: Pose2D | None = None
     if location:
-        pose = _location(location)
-        goal: dict[str, object] = {
-            "pose": replace(pose, theta=wrap_angle(pose.theta + angle_offset))
-        }
+        raw = _location(location)
+        pose = replace(raw, theta=wrap_angle(raw.theta + angle_offset))
         target = ""
     elif angle_offset != 0.0:
         assert marker is not None
         point = ctx.store.point(_current_map(ctx), marker)
-        goal = {"pose": replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))}
+        pose = replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))
         target = marker
     else:
         assert marker is not None
-        goal = {"point": marker}
         target = marker
     with ctx.move_lock:  # one move starts at a time, so pending_target is this move's
         with ctx.lock:
             ctx.pending_target = target
         try:
-            attempt = ctx.runtime.go_to(**goal)  # type: ignore[arg-type]
+            if pose is not None:
+                attempt = ctx.runtime.go_to(pose=pose)
+            else:
+                attempt = ctx.runtime.go_to(point=target)
             with ctx.lock:
                 ctx.targets[attempt] = target
         finally:
