@@ -292,9 +292,6 @@ def move(ctx: Context, params: Params) -> Reply:
     if abs(angle_offset) > ANGLE_OFFSET_LIMIT:
         raise InvalidRequest("angle_offset", f"must be within [-3.14, 3.14], got {angle_offset}")
     _check_unapplied(params)
-    s = ctx.runtime.status()
-    if _move_status(s) is MoveStatus.RUNNING:
-        raise Conflict("a move task is running: cancel it first")
     if ctx.runtime.mode is not Mode.NAVIGATING:
         raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
     pose: Pose2D | None = None
@@ -310,7 +307,11 @@ def move(ctx: Context, params: Params) -> Reply:
     else:
         assert marker is not None
         target = marker
-    with ctx.move_lock:  # one move starts at a time, so pending_target is this move's
+    # One move starts at a time: two clients cannot both pass the "running" check, and
+    # pending_target is this move's (the snapshot is refreshed after each runtime command).
+    with ctx.move_lock:
+        if _move_status(ctx.runtime.status()) is MoveStatus.RUNNING:
+            raise Conflict("a move task is running: cancel it first")
         with ctx.lock:
             ctx.pending_target = target
         try:
