@@ -66,6 +66,21 @@ def _run(args: argparse.Namespace) -> int:
     from polynav.store.site_store import SiteStore
     from polynav.worlds import load_world
 
+    # uvicorn catches SIGINT/SIGTERM while serving, then re-raises them to the handlers it
+    # found; these note them, so the runtime and store below still close cleanly. A signal that
+    # comes during start-up, before uvicorn serves, skips serving altogether.
+    stop_requested: list[int] = []
+    server: uvicorn.Server | None = None
+
+    def on_signal(signum: int, _frame: object) -> None:
+        log.info("signal %d", signum)
+        stop_requested.append(signum)
+        if server is not None:
+            server.should_exit = True
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, on_signal)
+
     api_config = ApiConfig(host=args.host, port=args.port)
     world = load_world(args.world)
     store = SiteStore.open(args.data, seed_world=world)
@@ -107,11 +122,8 @@ def _run(args: argparse.Namespace) -> int:
             if yunji is not None:
                 print(f"polynav: Yunji API tcp://{host}:{yunji.port}", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
-            # uvicorn catches SIGINT/SIGTERM while serving, then re-raises them to the handlers
-            # it found; these note them, so the runtime and store below still close cleanly.
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                signal.signal(sig, lambda signum, _frame: log.info("signal %d", signum))
-            server.run(sockets=[sock])
+            if not stop_requested:
+                server.run(sockets=[sock])
         finally:
             if yunji is not None:
                 yunji.stop()
