@@ -29,6 +29,7 @@ import numpy as np
 
 from polynav.control.interface import Controller, ControlStatus
 from polynav.control.progress_checker import ProgressChecker
+from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
@@ -41,6 +42,9 @@ from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
+
+_REMAINING_SEARCH_WINDOW = 10.0
+"""How far ahead [m] along the path the robot's place is searched each period."""
 
 EventSink = Callable[[events.NavigationEvent], None]
 
@@ -61,8 +65,10 @@ class NavigatorConfig:
         for key in ("replan_period", "blocked_wait", "localization_grace"):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
-        if self.replan_min_remaining < 0.0 or self.progress_reset_distance <= 0.0:
+        if self.replan_min_remaining < 0.0:
             raise ConfigError("nav.navigator.replan_min_remaining", "must be >= 0")
+        if self.progress_reset_distance <= 0.0:
+            raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         if self.max_retries < 0:
             raise ConfigError("nav.navigator.max_retries", "must be >= 0")
         if self.estop_fail_after is not None and self.estop_fail_after <= 0.0:
@@ -105,8 +111,8 @@ class Navigator:
         self._next_id = 1
         self._attempt: NavigationAttempt | None = None
         self._path: Path | None = None
-        self._cumulative: np.ndarray = np.zeros(1)
-        self._closest = 0
+        self._tracked: TrackedPath | None = None
+        self._along = 0.0
         self._phase = _Phase.PLAN
         self._phase_since = 0.0
         self._last_plan = 0.0
@@ -152,6 +158,7 @@ class Navigator:
             attempt_id=attempt_id, goal=goal, state=NavigationState.RUNNING, started_at=now
         )
         self._path = None
+        self._tracked = None
         self._failures = 0
         self._failure_pose = None
         self._cleared_for_plan = False
@@ -354,23 +361,22 @@ class Navigator:
 
     def _set_path(self, path: Path, now: float) -> None:
         self._path = path
-        seg = np.hypot(*np.diff(path.points, axis=0).T) if len(path) > 1 else np.zeros(0)
-        self._cumulative = np.concatenate(([0.0], np.cumsum(seg)))
-        self._closest = 0
+        self._tracked = TrackedPath.from_points(path.points)
+        self._along = 0.0
         self._last_plan = now
         self._controller.set_path(path, self._require().goal)
         self._emit(events.PathPlanned(now, self._require(), length=path.length))
 
     def _remaining(self, pose: Pose2D) -> float:
         """Path length [m] from the point nearest the robot to the goal."""
-        if self._path is None:
+        if self._tracked is None:
             return pose.distance_to(self._require().goal)
-        pts = self._path.points
-        # Search forward from the last nearest point only: the robot moves along the path.
-        window = pts[self._closest : self._closest + 200]
-        d = np.hypot(window[:, 0] - pose.x, window[:, 1] - pose.y)
-        self._closest += int(np.argmin(d))
-        return float(self._cumulative[-1] - self._cumulative[self._closest] + d.min())
+        # Search forward from the last place only: the robot moves along the path.
+        self._along = self._tracked.project(
+            pose.x, pose.y, start=self._along, window=_REMAINING_SEARCH_WINDOW
+        )
+        px, py = self._tracked.point_at(self._along)
+        return self._tracked.length - self._along + float(np.hypot(px - pose.x, py - pose.y))
 
     def _track_distance(self, pose: Pose2D) -> None:
         if self._last_pose is not None:
