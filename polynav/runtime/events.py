@@ -34,6 +34,8 @@ def _json_value(value: object) -> object:
         return value
     if isinstance(value, float):
         return float(value)
+    if isinstance(value, tuple | list):
+        return [_json_value(item) for item in value]
     return str(value)
 
 
@@ -135,6 +137,160 @@ class NavigationStuck(RuntimeEvent):
     kind: ClassVar[str] = "navigation_stuck"
 
     attempt_id: int
+
+
+@dataclass(frozen=True, slots=True)
+class PlanningFailed(RuntimeEvent):
+    """A global plan failed during an attempt; ``cause`` is ``"start_unknown"`` (the robot
+    stands in unknown space), ``"start_occupied"`` (on or in an obstacle), ``"goal_occupied"``,
+    ``"outside_map"`` or ``"no_path"``. The attempt retries or fails as the navigator decides."""
+
+    kind: ClassVar[str] = "planning_failed"
+
+    attempt_id: int
+    cause: str
+
+
+@dataclass(frozen=True, slots=True)
+class NavigationBlocked(RuntimeEvent):
+    """The controller stopped in front of an obstacle on the path (it waits, then re-plans)."""
+
+    kind: ClassVar[str] = "navigation_blocked"
+
+    attempt_id: int
+
+
+@dataclass(frozen=True, slots=True)
+class MoveTaskPhase(RuntimeEvent):
+    """The phase of the running move task changed (what vendors call its running status):
+    ``"leave_charger"``, ``"navigate"``, ``"dock"``, or ``"idle"`` when no task runs."""
+
+    kind: ClassVar[str] = "move_task_phase"
+
+    phase: str
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveStarted(RuntimeEvent):
+    """A move began while docked: the robot drives off the charger first."""
+
+    kind: ClassVar[str] = "charger_leave_started"
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveRetry(RuntimeEvent):
+    """Leaving the charger made no headway for a while (an e-stop, an obstacle): retrying."""
+
+    kind: ClassVar[str] = "charger_leave_retry"
+
+    retries: int
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeft(RuntimeEvent):
+    kind: ClassVar[str] = "charger_left"
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveFailed(RuntimeEvent):
+    kind: ClassVar[str] = "charger_leave_failed"
+
+
+@dataclass(frozen=True, slots=True)
+class DockingStarted(RuntimeEvent):
+    """The robot reached the approach of charger ``point`` and starts docking onto it."""
+
+    kind: ClassVar[str] = "docking_started"
+
+    point: str
+
+
+@dataclass(frozen=True, slots=True)
+class DockingSucceeded(RuntimeEvent):
+    kind: ClassVar[str] = "docking_succeeded"
+
+    point: str
+
+
+@dataclass(frozen=True, slots=True)
+class DockingFailed(RuntimeEvent):
+    """Docking gave up; ``cause`` is ``"no_contact"`` (on the charger pose but no charging
+    current) or ``"timeout"``."""
+
+    kind: ClassVar[str] = "docking_failed"
+
+    point: str
+    cause: str
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolEvent(RuntimeEvent):
+    """Base of a patrol's (a cruise over points) events: what it runs over."""
+
+    patrol_id: int
+    points: tuple[str, ...]
+    count: int
+    tolerance: float
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolStarted(PatrolEvent):
+    kind: ClassVar[str] = "patrol_started"
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolFinished(PatrolEvent):
+    kind: ClassVar[str] = "patrol_finished"
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolFailed(PatrolEvent):
+    """The last leg of the last round failed."""
+
+    kind: ClassVar[str] = "patrol_failed"
+
+
+@dataclass(frozen=True, slots=True)
+class PatrolCanceled(PatrolEvent):
+    kind: ClassVar[str] = "patrol_canceled"
+
+
+@dataclass(frozen=True, slots=True)
+class PowerOffNotice(RuntimeEvent):
+    """The robot powers off ``after`` seconds from now (then on again if ``reboot``, ``delay``
+    seconds after the power-off)."""
+
+    kind: ClassVar[str] = "power_off_notice"
+
+    reboot: bool
+    after: float
+    delay: float
+
+
+@dataclass(frozen=True, slots=True)
+class SoftwareShutdownNotice(RuntimeEvent):
+    """The navigation software is about to stop (a restart or an update follows)."""
+
+    kind: ClassVar[str] = "software_shutdown_notice"
+
+
+@dataclass(frozen=True, slots=True)
+class RobotDisplaced(RuntimeEvent):
+    """The robot moved without being driven (pushed or carried by hand) by ``distance`` [m]."""
+
+    kind: ClassVar[str] = "robot_displaced"
+
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class ForeignObjectDetected(RuntimeEvent):
+    """Something sits inside the robot's body (the lidar sees returns closer than its own
+    housing allows over ``sector`` [rad] of its field of view)."""
+
+    kind: ClassVar[str] = "foreign_object_detected"
+
+    sector: float
 
 
 @dataclass(frozen=True, slots=True)

@@ -40,6 +40,8 @@ moves) and :mod:`~polynav.runtime.sim_placement` (floors and placing the simulat
 from __future__ import annotations
 
 import enum
+import heapq
+import itertools
 import logging
 import math
 import threading
@@ -63,6 +65,7 @@ from polynav.robot import sim as sim_kernels
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
+from polynav.runtime.device import Device
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.local_move import free_distance_in_scan, free_distance_on_costmap
@@ -199,6 +202,13 @@ class RobotRuntime:
             after_command=self._refresh,
             on_failure=lambda: self._robot.drive(Twist()),
         )
+        # Timers on the runtime's clock (services schedule follow-ups: a power-off after its
+        # notice), run by the loop between steps: (due time, sequence, function).
+        self._timers: list[tuple[float, int, Callable[[], None]]] = []
+        self._timer_seq = itertools.count()
+        # False while the (simulated) robot is powered off: commands are refused.
+        self.powered = True
+        self.device = Device(self)
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -258,6 +268,29 @@ class RobotRuntime:
 
     def settings(self) -> RobotSettings:
         return self._settings
+
+    @property
+    def navigation_stack(self) -> NavigationStack | None:
+        """The navigation stack while NAVIGATING (costmap, navigator, estimate), else ``None``.
+
+        For read-only queries from the loop thread or inside :meth:`run_between_ticks`; its
+        state changes every tick.
+        """
+        return self._stack
+
+    def run_between_ticks(self, fn: Callable[[], T]) -> T:
+        """Run ``fn`` between ticks (on the loop thread when it runs) and return its result:
+        for services and queries that read or change several parts consistently."""
+        return self._call(fn)
+
+    def publish(self, event: events.RuntimeEvent) -> None:
+        """Publish ``event`` on the runtime's bus (for the runtime's own services)."""
+        self._publish(event)
+
+    def schedule(self, delay: float, fn: Callable[[], None]) -> None:
+        """Run ``fn`` on the loop, between steps, ``delay`` seconds of the runtime's clock from
+        now (for services: a power-off 10 s after its notice). Call it between ticks."""
+        heapq.heappush(self._timers, (self.now() + max(0.0, delay), next(self._timer_seq), fn))
 
     # -- commands ------------------------------------------------------------------------------
 
@@ -533,13 +566,22 @@ class RobotRuntime:
         return self._loop.running
 
     def _call(self, fn: Callable[[], T]) -> T:
-        """Run a command between ticks: on the loop thread when it runs, else here."""
+        """Run a command between ticks: on the loop thread when it runs, else here.
+
+        Raises:
+            Conflict: the robot is powered off.
+        """
+        if not self.powered:
+            raise Conflict("the robot is powered off")
         return self._loop.call(fn)
 
     # -- the loop ------------------------------------------------------------------------------
 
     def _step(self) -> None:
         now = self.now()
+        while self._timers and self._timers[0][0] <= now + _EPS:
+            _, _, fn = heapq.heappop(self._timers)
+            fn()
         self._motion.brake_if_expired(now)  # the dead-man
         if now >= self._next_control - _EPS:
             self._control(now)
@@ -564,6 +606,7 @@ class RobotRuntime:
             self._robot.drive(Twist())
         self._check_localization(now)
         self._check_battery(now)
+        self.device.tick(now)
         self._refresh()
 
     def _free_ahead(self, direction: float, remaining: float) -> float:

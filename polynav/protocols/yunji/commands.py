@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, wrap_angle, yaw_to_quaternion
-from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply, StreamRequest
+from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply
 from polynav.runtime.robot_runtime import Mode, RobotRuntime
 from polynav.runtime.status import StatusSnapshot
 from polynav.site import Point, PointKind
@@ -42,9 +42,6 @@ Handler = Callable[["Context", Params], Reply]
 JOY_MAX_LINEAR = 0.5
 JOY_MAX_ANGULAR = 1.0
 ANGLE_OFFSET_LIMIT = 3.14
-# request_data (§3.9, §A-R2): default rates per topic, and the highest rate served.
-STREAM_DEFAULT_RATE: dict[str, float] = {"robot_status": 2.0, "robot_velocity": 1.0}
-STREAM_MAX_RATE = 20.0
 # set_params (§3.11): the vendor's ranges (clamped), then polynav's setting of that name.
 SPEED_PARAMS: dict[str, tuple[float, float, str]] = {
     "max_speed_linear": (0.1, 1.0, "max_linear_velocity"),
@@ -123,21 +120,21 @@ class Context:
 # -- parameters -------------------------------------------------------------------------------
 
 
-def _required(params: Params, name: str) -> str:
+def required(params: Params, name: str) -> str:
     value = params.get(name)
     if value is None or value == "":
         raise InvalidRequest(name, "is required")
     return value
 
 
-def _float(params: Params, name: str, default: float | None = None) -> float | None:
+def optional_float(params: Params, name: str, default: float | None = None) -> float | None:
     text = params.get(name)
     if text is None:
         return default
-    return _parse_float(name, text)
+    return parse_float(name, text)
 
 
-def _parse_float(name: str, text: str) -> float:
+def parse_float(name: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
@@ -147,7 +144,7 @@ def _parse_float(name: str, text: str) -> float:
     return value
 
 
-def _int(params: Params, name: str, default: int | None = None) -> int | None:
+def optional_int(params: Params, name: str, default: int | None = None) -> int | None:
     text = params.get(name)
     if text is None:
         return default
@@ -157,8 +154,8 @@ def _int(params: Params, name: str, default: int | None = None) -> int | None:
         raise InvalidRequest(name, f"must be an integer, got {text!r}") from None
 
 
-def _bool(params: Params, name: str) -> bool:
-    text = _required(params, name)
+def required_bool(params: Params, name: str) -> bool:
+    text = required(params, name)
     if text not in ("true", "false"):
         raise InvalidRequest(name, f"must be true or false, got {text!r}")
     return text == "true"
@@ -167,7 +164,7 @@ def _bool(params: Params, name: str) -> bool:
 # -- site terms -------------------------------------------------------------------------------
 
 
-def _floor_level(ctx: Context, floor_name: str | None) -> int:
+def floor_level(ctx: Context, floor_name: str | None) -> int:
     if floor_name is None:
         return 0
     try:
@@ -176,7 +173,7 @@ def _floor_level(ctx: Context, floor_name: str | None) -> int:
         return 0
 
 
-def _current_map(ctx: Context) -> str:
+def current_map(ctx: Context) -> str:
     """The map of the current floor: the navigation map, else the floor's map."""
     name = ctx.runtime.map_name
     if name is not None:
@@ -187,7 +184,7 @@ def _current_map(ctx: Context) -> str:
     return ctx.store.floor(floor).map_name
 
 
-def _map_of_level(ctx: Context, level: int) -> str:
+def map_of_level(ctx: Context, level: int) -> str:
     for record in ctx.store.floors():
         if record.level == level:
             return record.map_name
@@ -211,11 +208,11 @@ def _marker_json(ctx: Context, point: Point, level: int) -> dict[str, object]:
     }
 
 
-def _pose_json(pose: Pose2D) -> dict[str, float]:
+def pose_json(pose: Pose2D) -> dict[str, float]:
     return {"x": float(pose.x), "y": float(pose.y), "theta": float(pose.theta)}
 
 
-def _move_status(snapshot: StatusSnapshot) -> MoveStatus:
+def move_status_of(snapshot: StatusSnapshot) -> MoveStatus:
     return _MOVE_STATUS.get(snapshot.navigation_state, MoveStatus.IDLE)
 
 
@@ -230,7 +227,7 @@ def _task_id(attempt_id: int) -> str:
 def robot_status(ctx: Context, params: Params) -> Reply:
     """§3.3: the snapshot in Yunji terms."""
     s = ctx.runtime.status()
-    move_status = _move_status(s)
+    move_status = move_status_of(s)
     target = s.goal_point
     if target is None and s.attempt_id is not None:
         with ctx.lock:
@@ -249,8 +246,8 @@ def robot_status(ctx: Context, params: Params) -> Reply:
             "hard_estop_state": s.estop_hardware,
             "estop_state": s.estop_software or s.estop_hardware,
             "power_percent": int(round(s.battery_percent)),
-            "current_pose": _pose_json(s.pose),
-            "current_floor": _floor_level(ctx, s.floor),
+            "current_pose": pose_json(s.pose),
+            "current_floor": floor_level(ctx, s.floor),
             "chargepile_id": chargepile,
             "error_code": "00000000",
         }
@@ -260,7 +257,7 @@ def robot_status(ctx: Context, params: Params) -> Reply:
 def _charge_pile_id(ctx: Context, s: StatusSnapshot) -> str:
     """The ``num`` of the nearest charging-pile marker within 1 m, else ``"0"``."""
     try:
-        points = ctx.store.points(map_name=_current_map(ctx))
+        points = ctx.store.points(map_name=current_map(ctx))
     except (NotFound, Conflict):
         return "0"
     best: tuple[float, Point] | None = None
@@ -287,7 +284,7 @@ def move(ctx: Context, params: Params) -> Reply:
     marker = params.get("marker")
     if not location and not marker:
         raise InvalidRequest("marker", "marker or location is required")
-    angle_offset = _float(params, "angle_offset", 0.0)
+    angle_offset = optional_float(params, "angle_offset", 0.0)
     assert angle_offset is not None
     if abs(angle_offset) > ANGLE_OFFSET_LIMIT:
         raise InvalidRequest("angle_offset", f"must be within [-3.14, 3.14], got {angle_offset}")
@@ -301,7 +298,7 @@ def move(ctx: Context, params: Params) -> Reply:
         target = ""
     elif angle_offset != 0.0:
         assert marker is not None
-        point = ctx.store.point(_current_map(ctx), marker)
+        point = ctx.store.point(current_map(ctx), marker)
         pose = replace(point.pose, theta=wrap_angle(point.pose.theta + angle_offset))
         target = marker
     else:
@@ -310,7 +307,7 @@ def move(ctx: Context, params: Params) -> Reply:
     # One move starts at a time: two clients cannot both pass the "running" check, and
     # pending_target is this move's (the snapshot is refreshed after each runtime command).
     with ctx.move_lock:
-        if _move_status(ctx.runtime.status()) is MoveStatus.RUNNING:
+        if move_status_of(ctx.runtime.status()) is MoveStatus.RUNNING:
             raise Conflict("a move task is running: cancel it first")
         with ctx.lock:
             ctx.pending_target = target
@@ -331,23 +328,23 @@ def _location(text: str) -> Pose2D:
     parts = text.split(",")
     if len(parts) != 3:
         raise InvalidRequest("location", f"must be x,y,theta, got {text!r}")
-    x, y, theta = (_parse_float("location", part) for part in parts)
+    x, y, theta = (parse_float("location", part) for part in parts)
     return Pose2D(x, y, theta)
 
 
 def _check_unapplied(params: Params) -> None:
     """Validate the move options polynav accepts but does not apply yet (see docs/yunji.md)."""
     for name in ("distance_tolerance", "theta_tolerance"):
-        value = _float(params, name)
+        value = optional_float(params, name)
         if value is not None and value < 0.0:
             raise InvalidRequest(name, f"must be >= 0, got {value}")
-    occupied = _float(params, "occupied_tolerance")
+    occupied = optional_float(params, "occupied_tolerance")
     if occupied is not None and occupied < 0.1:
         raise InvalidRequest("occupied_tolerance", f"must be >= 0.1, got {occupied}")
-    retries = _int(params, "max_continuous_retries")
+    retries = optional_int(params, "max_continuous_retries")
     if retries is not None and retries < 0:
         raise InvalidRequest("max_continuous_retries", f"must be >= 0, got {retries}")
-    _int(params, "yaw_goal_reverse_allowed")
+    optional_int(params, "yaw_goal_reverse_allowed")
 
 
 def move_cancel(ctx: Context, params: Params) -> Reply:
@@ -359,13 +356,13 @@ def move_cancel(ctx: Context, params: Params) -> Reply:
 def markers_query_list(ctx: Context, params: Params) -> Reply:
     """§3.5.2: keyed by name; without ``floor``, every floor (the current floor wins a name
     clash, §A-K6); ``null`` when there is none (§A-K5)."""
-    level = _int(params, "floor")
+    level = optional_int(params, "floor")
     floors = ctx.store.floors()
     if level is not None:
         floors = [f for f in floors if f.level == level]
         if not floors:
             raise InvalidRequest("floor", f"no floor {level}")
-    current = _current_map(ctx)
+    current = current_map(ctx)
     floors.sort(key=lambda f: f.map_name == current)
     results: dict[str, object] = {}
     for record in floors:
@@ -376,10 +373,10 @@ def markers_query_list(ctx: Context, params: Params) -> Reply:
 
 def markers_insert(ctx: Context, params: Params) -> Reply:
     """§3.5.1: at the current pose, on the current map; an existing name is moved (§A-K1)."""
-    name = _required(params, "name")
+    name = required(params, "name")
     kind = _kind(params)
-    num = _int(params, "num", 1)
-    map_name = _current_map(ctx)
+    num = optional_int(params, "num", 1)
+    map_name = current_map(ctx)
     point = Point(name, map_name, ctx.runtime.status().pose, kind, num)
     try:
         ctx.store.point(map_name, name)
@@ -391,7 +388,7 @@ def markers_insert(ctx: Context, params: Params) -> Reply:
 
 
 def _kind(params: Params) -> PointKind:
-    marker_type = _int(params, "type", 0)
+    marker_type = optional_int(params, "type", 0)
     assert marker_type is not None
     if marker_type < 0:
         raise InvalidRequest("type", f"must be >= 0, got {marker_type}")
@@ -400,19 +397,19 @@ def _kind(params: Params) -> PointKind:
 
 def markers_delete(ctx: Context, params: Params) -> Reply:
     """§3.5.3: unknown name -> ``INVALID_REQUEST`` ``Marker Not Found``."""
-    name = _required(params, "name")
-    ctx.store.delete_point(_current_map(ctx), name)
+    name = required(params, "name")
+    ctx.store.delete_point(current_map(ctx), name)
     return Reply()
 
 
 def markers_count(ctx: Context, params: Params) -> Reply:
     """§3.5.4: markers of the current map."""
-    return Reply(results={"count": len(ctx.store.points(map_name=_current_map(ctx)))})
+    return Reply(results={"count": len(ctx.store.points(map_name=current_map(ctx)))})
 
 
 def markers_query_brief(ctx: Context, params: Params) -> Reply:
     """§3.5.5: ``name -> "<type>-<floor>"`` over every floor (as ``query_list``)."""
-    current = _current_map(ctx)
+    current = current_map(ctx)
     floors = sorted(ctx.store.floors(), key=lambda f: f.map_name == current)
     results: dict[str, object] = {}
     for record in floors:
@@ -424,16 +421,16 @@ def markers_query_brief(ctx: Context, params: Params) -> Reply:
 def markers_insert_by_pose(ctx: Context, params: Params) -> Reply:
     """§3.5.6: at ``x, y, theta`` on ``floor`` (default: the current one); theta outside
     [-π, π] is refused rather than wrapped (§A-K4); an existing name on that map is moved."""
-    name = _required(params, "name")
-    x = _parse_float("x", _required(params, "x"))
-    y = _parse_float("y", _required(params, "y"))
-    theta = _parse_float("theta", _required(params, "theta"))
+    name = required(params, "name")
+    x = parse_float("x", required(params, "x"))
+    y = parse_float("y", required(params, "y"))
+    theta = parse_float("theta", required(params, "theta"))
     if abs(theta) > math.pi + 1e-9:
         raise InvalidRequest("theta", f"must be within [-pi, pi], got {theta}")
     kind = _kind(params)
-    num = _int(params, "num", 1)
-    level = _int(params, "floor")
-    map_name = _current_map(ctx) if level is None else _map_of_level(ctx, level)
+    num = optional_int(params, "num", 1)
+    level = optional_int(params, "floor")
+    map_name = current_map(ctx) if level is None else map_of_level(ctx, level)
     point = Point(name, map_name, Pose2D(x, y, theta), kind, num)
     try:
         ctx.store.point(map_name, name)
@@ -446,8 +443,8 @@ def markers_insert_by_pose(ctx: Context, params: Params) -> Reply:
 
 def position_adjust(ctx: Context, params: Params) -> Reply:
     """§3.8.1: "the robot is at this marker" (of the current map)."""
-    name = _required(params, "marker")
-    point = ctx.store.point(_current_map(ctx), name)
+    name = required(params, "marker")
+    point = ctx.store.point(current_map(ctx), name)
     ctx.runtime.set_initial_pose(point.pose)
     return Reply()
 
@@ -456,13 +453,13 @@ def position_adjust_by_pose(ctx: Context, params: Params) -> Reply:
     """§3.8.2: "the robot is at this pose"; on another ``floor`` navigation restarts on that
     floor's map from the pose (the simulator carries the robot there)."""
     pose = Pose2D(
-        _parse_float("x", _required(params, "x")),
-        _parse_float("y", _required(params, "y")),
-        _parse_float("theta", _required(params, "theta")),
+        parse_float("x", required(params, "x")),
+        parse_float("y", required(params, "y")),
+        parse_float("theta", required(params, "theta")),
     )
-    level = _int(params, "floor")
-    current = _current_map(ctx)
-    target = current if level is None else _map_of_level(ctx, level)
+    level = optional_int(params, "floor")
+    current = current_map(ctx)
+    target = current if level is None else map_of_level(ctx, level)
     if target == current and ctx.runtime.mode is Mode.NAVIGATING:
         ctx.runtime.set_initial_pose(pose)
     else:
@@ -493,7 +490,7 @@ def set_params(ctx: Context, params: Params) -> Reply:
             continue
         low, high, setting = spec
         try:
-            value = _parse_float(name, text)
+            value = parse_float(name, text)
         except InvalidRequest as exc:
             log.info("yunji set_params: ignoring %s", exc)
             continue
@@ -540,58 +537,30 @@ def map_set_current_map(ctx: Context, params: Params) -> Reply:
     name = params.get("map_name") or params.get("hotel_id")
     if not name:
         raise InvalidRequest("map_name", "is required")
-    level = _int(params, "floor")
+    level = optional_int(params, "floor")
     if level is None:
         raise InvalidRequest("floor", "is required")
     record = ctx.store.map_record(name)
     levels = {f.name: f.level for f in ctx.store.floors()}
     if record.floor not in levels or levels[record.floor] != level:
         raise InvalidRequest("floor", f"map {name!r} is not on floor {level}")
-    if _move_status(ctx.runtime.status()) is MoveStatus.RUNNING:
+    if move_status_of(ctx.runtime.status()) is MoveStatus.RUNNING:
         raise Conflict("a move task is running: cancel it first")
     ctx.runtime.start_navigation(name)
     return Reply()
 
 
-def request_data(ctx: Context, params: Params) -> Reply:
-    """§3.9: start (or with the deprecated ``switch=off``, stop) a callback stream of
-    ``topic`` on this connection; a repeated request replaces the rate (§A-R1)."""
-    topic = _required(params, "topic")
-    if topic == "human_detection":
-        raise InvalidRequest("topic", "human_detection is not supported yet")
-    if topic not in STREAM_DEFAULT_RATE:
-        raise InvalidRequest("topic", f"unknown topic {topic!r}")
-    switch = params.get("switch", "on")
-    if switch not in ("on", "off"):
-        raise InvalidRequest("switch", f"must be on or off, got {switch!r}")
-    frequency = _float(params, "frequency", STREAM_DEFAULT_RATE[topic])
-    assert frequency is not None
-    if not 0.0 < frequency <= STREAM_MAX_RATE:
-        raise InvalidRequest(
-            "frequency", f"must be in (0, {STREAM_MAX_RATE:g}] Hz, got {frequency:g}"
-        )
-    return Reply(stream=StreamRequest(topic, frequency, switch == "on"))
-
-
-def stream_results(ctx: Context, topic: str) -> object:
-    """The ``results`` of one callback of ``topic`` (§3.9.1, §3.9.3)."""
-    if topic == "robot_status":
-        return robot_status(ctx, {}).results
-    s = ctx.runtime.status()
-    return {"angular": float(s.angular), "linear": float(s.linear)}
-
-
 def estop(ctx: Context, params: Params) -> Reply:
     """§3.7: the software e-stop only; the hardware button is separate."""
-    ctx.runtime.set_software_estop(_bool(params, "flag"))
+    ctx.runtime.set_software_estop(required_bool(params, "flag"))
     return Reply()
 
 
 def joy_control(ctx: Context, params: Params) -> Reply:
     """§3.6: clamped to ±0.5 m/s and ±1.0 rad/s; one command holds 0.5 s (the runtime's
     dead-man). A running move is not overridden: ``REQUEST_DENIED`` (§A-M12)."""
-    linear = _parse_float("linear_velocity", _required(params, "linear_velocity"))
-    angular = _parse_float("angular_velocity", _required(params, "angular_velocity"))
+    linear = parse_float("linear_velocity", required(params, "linear_velocity"))
+    angular = parse_float("angular_velocity", required(params, "angular_velocity"))
     linear = max(-JOY_MAX_LINEAR, min(JOY_MAX_LINEAR, linear))
     angular = max(-JOY_MAX_ANGULAR, min(JOY_MAX_ANGULAR, angular))
     ctx.runtime.teleop(linear, angular)
@@ -600,22 +569,22 @@ def joy_control(ctx: Context, params: Params) -> Reply:
 
 def get_current_location(ctx: Context, params: Params) -> Reply:
     """§3.23: every marker of the current map within ``distance_threshold``, nearest first."""
-    threshold = _float(params, "distance_threshold", DEFAULT_DISTANCE_THRESHOLD)
+    threshold = optional_float(params, "distance_threshold", DEFAULT_DISTANCE_THRESHOLD)
     assert threshold is not None
     if threshold < 0.01:
         raise InvalidRequest("distance_threshold", f"must be >= 0.01, got {threshold}")
     s = ctx.runtime.status()
     near: list[tuple[float, Point]] = []
-    for p in ctx.store.points(map_name=_current_map(ctx)):
+    for p in ctx.store.points(map_name=current_map(ctx)):
         d = math.hypot(p.pose.x - s.pose.x, p.pose.y - s.pose.y)
         if d <= threshold:
             near.append((d, p))
     near.sort(key=lambda item: item[0])
-    running = _move_status(s) is MoveStatus.RUNNING
+    running = move_status_of(s) is MoveStatus.RUNNING
     return Reply(
         results={
-            "current_floor": _floor_level(ctx, s.floor),
-            "current_pose": _pose_json(s.pose),
+            "current_floor": floor_level(ctx, s.floor),
+            "current_pose": pose_json(s.pose),
             "near_markers": [
                 {"distance": d, "key": _marker_type(p), "marker_name": p.name} for d, p in near
             ],
@@ -627,12 +596,12 @@ def get_current_location(ctx: Context, params: Params) -> Reply:
 def map_get_current_map(ctx: Context, params: Params) -> Reply:
     """§3.14.3: ``floor`` is a string as in the spec's example (§A-J4)."""
     s = ctx.runtime.status()
-    record = ctx.store.map_record(_current_map(ctx))
+    record = ctx.store.map_record(current_map(ctx))
     return Reply(
         results={
             "hotel_id": record.name,
             "map_name": record.name,
-            "floor": str(_floor_level(ctx, s.floor)),
+            "floor": str(floor_level(ctx, s.floor)),
             "info": {
                 "resolution": record.resolution,
                 "width": record.width,
@@ -666,7 +635,6 @@ HANDLERS: dict[str, Handler] = {
     "/api/map/list_info": map_list_info,
     "/api/map/set_current_map": map_set_current_map,
     "/api/set_params": set_params,
-    "/api/request_data": request_data,
     "/api/get_params": get_params,
     "/api/estop": estop,
     "/api/joy_control": joy_control,

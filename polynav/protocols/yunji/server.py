@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import polynav
 from polynav.errors import ConfigError
-from polynav.protocols.yunji import codec, commands, errors
+from polynav.protocols.yunji import codec, commands, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
 from polynav.runtime.robot_runtime import RobotRuntime
@@ -277,7 +277,7 @@ class YunjiServer:
             now = runtime.now()
             if now + 1e-9 >= due:
                 try:
-                    results = await asyncio.to_thread(commands.stream_results, self._ctx, topic)
+                    results = await asyncio.to_thread(streams.stream_results, self._ctx, topic)
                 except Exception:  # the stream's broad except: log, keep streaming
                     log.error("yunji: %s stream failed", topic, exc_info=True)
                 else:
@@ -286,7 +286,7 @@ class YunjiServer:
             await asyncio.sleep(self.config.stream_poll_interval)
 
     async def _answer(self, command: codec.Command) -> tuple[bytes, Reply]:
-        handler = commands.HANDLERS.get(command.path)
+        handler = routes.HANDLERS.get(command.path)
         if handler is None:
             reply = Reply(Status.INVALID_REQUEST, f"unknown command {command.path}")
         else:

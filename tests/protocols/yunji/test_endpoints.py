@@ -1,23 +1,27 @@
 """Coverage of ``yunji-api.endpoints.json``: every entry (reserved codes excepted) has a test.
 
-``COVERED`` names the test in ``test_server.py`` that exercises an implemented command.
-``PENDING_COMMANDS`` and the notification codes are not implemented yet: each has a strict xfail
-test below that asks for what the spec promises (an ``OK`` reply, a produced notification) and
-genuinely fails today. When a command is implemented its xfail starts passing, which fails the
-suite (strict): move the entry to ``COVERED`` with a real test in ``test_server.py``.
+Each test module of this package names what it covers in a module-level ``COVERED`` dict: entry
+key (``"<method> <section> <path>"``) -> the name of a test function in that module. This module
+collects them. An entry nobody covers yet is pending: commands in ``PENDING_COMMANDS`` get a
+strict xfail that asks for what the spec promises (an ``OK`` reply on the demo site) and
+genuinely fails today; pending notification codes get a strict xfail asking for the code in the
+catalogue of produced codes. When an entry gets covered its xfail disappears on its own; an entry
+neither covered nor pending fails the coverage test.
 """
 
 from __future__ import annotations
 
 import importlib
 import json
+import pkgutil
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+import tests.protocols.yunji as package
+from polynav.protocols.yunji import events as yunji_events
 from tests.conftest import SHARED
-from tests.protocols.yunji import test_server
 from tests.protocols.yunji.conftest import Client
 
 SPEC = SHARED / "spec" / "yunji-api.endpoints.json"
@@ -35,42 +39,23 @@ def _key(entry: dict[str, Any]) -> str:
     return f"{entry['method']} {entry['section']} {entry['path']}"
 
 
+def _covered() -> dict[str, tuple[str, str]]:
+    """entry key -> (test module, test name), from every test module's ``COVERED``."""
+    out: dict[str, tuple[str, str]] = {}
+    for info in pkgutil.iter_modules(package.__path__):
+        if not info.name.startswith("test_") or info.name == "test_endpoints":
+            continue
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        for key, test_name in getattr(module, "COVERED", {}).items():
+            assert key not in out, f"{key} is covered twice: {out[key]} and {info.name}"
+            assert callable(getattr(module, test_name, None)), f"{key}: no {info.name}.{test_name}"
+            out[key] = (info.name, test_name)
+    return out
+
+
 ENTRIES = _entries(SPEC)
 LIVE = [e for e in ENTRIES if not e.get("reserved")]
-
-COVERED: dict[str, str] = {
-    "cmd 1.1 /api/move": "test_move_to_marker_succeeds_within_5_cm_and_0_1_rad",
-    "cmd 2 /api/move/cancel": "test_move_cancel_stops_the_move_then_has_nothing_to_cancel",
-    "cmd 3 /api/robot_status": "test_robot_status_has_every_field_of_the_spec",
-    "cmd 4 /api/robot_info": "test_robot_info_reports_the_product_id",
-    "cmd 5.1 /api/markers/insert": "test_markers_insert_query_count_delete_round_trip",
-    "cmd 5.2 /api/markers/query_list": "test_markers_query_list_filters_by_floor",
-    "cmd 5.3 /api/markers/delete": "test_markers_insert_query_count_delete_round_trip",
-    "cmd 5.4 /api/markers/count": "test_markers_insert_query_count_delete_round_trip",
-    "cmd 6 /api/joy_control":
-        "test_joy_control_is_clamped_and_stops_half_a_second_after_the_last_command",
-    "cmd 7 /api/estop": "test_estop_sets_and_clears_the_soft_estop",
-    "cmd 5.5 /api/markers/query_brief": "test_markers_query_brief_gives_type_dash_floor",
-    "cmd 5.6 /api/markers/insert_by_pose":
-        "test_markers_insert_by_pose_on_another_floor_and_bad_theta",
-    "cmd 8.1 /api/position_adjust": "test_position_adjust_puts_the_robot_at_the_marker",
-    "cmd 8.2 /api/position_adjust_by_pose":
-        "test_position_adjust_by_pose_on_this_floor_and_on_another",
-    "cmd 9.1 /api/request_data?topic=robot_status":
-        "test_request_data_streams_robot_status_callbacks",
-    "cmd 9.3 /api/request_data?topic=robot_velocity":
-        "test_request_data_streams_robot_velocity_and_rejects_bad_requests",
-    "cmd 11 /api/set_params": "test_set_params_clamps_and_always_answers_ok",
-    "cmd 12 /api/get_params": "test_get_params_reports_the_current_speed_limits",
-    "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
-    "cmd 14.2 /api/map/set_current_map":
-        "test_map_set_current_map_moves_the_robot_to_that_floor",
-    "cmd 14.4 /api/map/list_info": "test_map_list_info_gives_each_map_its_grid",
-    "cmd 14.3 /api/map/get_current_map": "test_map_get_current_map_reports_name_floor_and_grid",
-    "cmd 16.1 /api/software/get_version": "test_software_get_version_is_polynav_version",
-    "cmd 23 /api/get_current_location":
-        "test_get_current_location_lists_near_markers_nearest_first",
-}
+COVERED = _covered()
 
 # Not implemented yet: entry -> a request the spec says is answered OK on the demo site.
 PENDING_COMMANDS: dict[str, str] = {
@@ -98,17 +83,12 @@ PENDING_COMMANDS: dict[str, str] = {
         "/api/make_plan?start_x=8.0&start_y=8.5&start_floor=1&goal_x=5.5&goal_y=12.5&goal_floor=1",
 }
 
-COVERED.update({
-    "notify 10 01001": "test_move_notifications_go_to_every_client",
-    "notify 10 01002": "test_move_notifications_go_to_every_client",
-    "notify 10 01003": "test_failed_move_notification_is_a_warning",
-    "notify 10 01004": "test_cancel_notification_names_the_marker_of_an_offset_move",
-    "notify 10 02003": "test_estop_notifications_on_and_off",
-    "notify 10 02004": "test_estop_notifications_on_and_off",
-})
-
+PENDING_COMMANDS = {k: v for k, v in PENDING_COMMANDS.items() if k not in COVERED}
+NOT_PRODUCED = {f"notify 10 {code}" for code in yunji_events.NOT_PRODUCED}
 PENDING_NOTIFICATIONS = [
-    _key(e) for e in LIVE if e["method"] == "notify" and _key(e) not in COVERED
+    _key(e)
+    for e in LIVE
+    if e["method"] == "notify" and _key(e) not in COVERED and _key(e) not in NOT_PRODUCED
 ]
 
 _pending = pytest.mark.xfail(strict=True, reason="not implemented yet")
@@ -118,12 +98,19 @@ _pending = pytest.mark.xfail(strict=True, reason="not implemented yet")
 def test_every_endpoint_entry_has_a_test_or_a_pending_xfail() -> None:
     keys = [_key(e) for e in LIVE]
     assert len(keys) == len(set(keys)), "entry keys must be unique"
-    accounted = set(COVERED) | set(PENDING_COMMANDS) | set(PENDING_NOTIFICATIONS)
+    accounted = set(COVERED) | set(PENDING_COMMANDS) | set(PENDING_NOTIFICATIONS) | NOT_PRODUCED
     assert sorted(set(keys) - accounted) == []
     assert sorted(accounted - set(keys)) == []  # nothing stale
-    assert set(COVERED).isdisjoint(PENDING_COMMANDS)
-    for key, test_name in COVERED.items():
-        assert callable(getattr(test_server, test_name, None)), f"{key}: no test {test_name}"
+    assert NOT_PRODUCED.isdisjoint(COVERED), "a produced code is listed as not produced"
+
+
+@pytest.mark.parametrize("code", sorted(yunji_events.NOT_PRODUCED))
+def test_a_code_polynav_cannot_produce_is_catalogued_with_the_reason(code: str) -> None:
+    """Codes whose trigger polynav has no feature for (containers, cabins, ...) are in the
+    catalogue with the spec's level and description, never emitted, and say why."""
+    assert code in yunji_events.NOTIFICATIONS
+    assert code not in yunji_events.PRODUCED
+    assert len(yunji_events.NOT_PRODUCED[code]) > 10
 
 
 @_pending
@@ -137,6 +124,4 @@ def test_pending_command_is_answered_ok(key: str, client: Client) -> None:
 @_pending
 @pytest.mark.parametrize("key", PENDING_NOTIFICATIONS)
 def test_pending_notification_is_produced(key: str) -> None:
-    code = key.split()[-1]
-    events = importlib.import_module("polynav.protocols.yunji.events")
-    assert code in events.NOTIFICATIONS
+    assert key.split()[-1] in yunji_events.PRODUCED

@@ -527,3 +527,48 @@ def test_estop_notifications_on_and_off(harness: Harness, client: Client) -> Non
     harness.runtime.advance(0.1)
     assert [(n["code"], n["description"], n["data"]) for n in _notifications(client, 2)] == [
         ("02003", "Estop on.", {}), ("02004", "Estop off.", {})]
+
+
+# Entries of yunji-api.endpoints.json this module tests (collected by test_endpoints.py).
+COVERED: dict[str, str] = {
+    "cmd 1.1 /api/move": "test_move_to_marker_succeeds_within_5_cm_and_0_1_rad",
+    "cmd 2 /api/move/cancel": "test_move_cancel_stops_the_move_then_has_nothing_to_cancel",
+    "cmd 3 /api/robot_status": "test_robot_status_has_every_field_of_the_spec",
+    "cmd 4 /api/robot_info": "test_robot_info_reports_the_product_id",
+    "cmd 5.1 /api/markers/insert": "test_markers_insert_query_count_delete_round_trip",
+    "cmd 5.2 /api/markers/query_list": "test_markers_query_list_filters_by_floor",
+    "cmd 5.3 /api/markers/delete": "test_markers_insert_query_count_delete_round_trip",
+    "cmd 5.4 /api/markers/count": "test_markers_insert_query_count_delete_round_trip",
+    "cmd 6 /api/joy_control":
+        "test_joy_control_is_clamped_and_stops_half_a_second_after_the_last_command",
+    "cmd 7 /api/estop": "test_estop_sets_and_clears_the_soft_estop",
+    "cmd 5.5 /api/markers/query_brief": "test_markers_query_brief_gives_type_dash_floor",
+    "cmd 5.6 /api/markers/insert_by_pose":
+        "test_markers_insert_by_pose_on_another_floor_and_bad_theta",
+    "cmd 8.1 /api/position_adjust": "test_position_adjust_puts_the_robot_at_the_marker",
+    "cmd 8.2 /api/position_adjust_by_pose":
+        "test_position_adjust_by_pose_on_this_floor_and_on_another",
+    "cmd 9.1 /api/request_data?topic=robot_status":
+        "test_request_data_streams_robot_status_callbacks",
+    "cmd 9.3 /api/request_data?topic=robot_velocity":
+        "test_request_data_streams_robot_velocity_and_rejects_bad_requests",
+    "cmd 11 /api/set_params": "test_set_params_clamps_and_always_answers_ok",
+    "cmd 12 /api/get_params": "test_get_params_reports_the_current_speed_limits",
+    "cmd 14.1 /api/map/list": "test_map_list_gives_each_map_its_floor",
+    "cmd 14.2 /api/map/set_current_map":
+        "test_map_set_current_map_moves_the_robot_to_that_floor",
+    "cmd 14.4 /api/map/list_info": "test_map_list_info_gives_each_map_its_grid",
+    "cmd 14.3 /api/map/get_current_map": "test_map_get_current_map_reports_name_floor_and_grid",
+    "cmd 16.1 /api/software/get_version": "test_software_get_version_is_polynav_version",
+    "cmd 23 /api/get_current_location":
+        "test_get_current_location_lists_near_markers_nearest_first",
+}
+
+COVERED.update({
+    "notify 10 01001": "test_move_notifications_go_to_every_client",
+    "notify 10 01002": "test_move_notifications_go_to_every_client",
+    "notify 10 01003": "test_failed_move_notification_is_a_warning",
+    "notify 10 01004": "test_cancel_notification_names_the_marker_of_an_offset_move",
+    "notify 10 02003": "test_estop_notifications_on_and_off",
+    "notify 10 02004": "test_estop_notifications_on_and_off",
+})

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import pytest
 
 from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
-from polynav.protocols.yunji import YunjiConfig, commands, errors, serve
+from polynav.protocols.yunji import YunjiConfig, commands, errors, routes, serve
 from polynav.protocols.yunji.messages import Reply, Status
 from polynav.protocols.yunji.server import YunjiServer
 from tests.protocols.yunji.conftest import Client, Harness
@@ -68,7 +68,7 @@ def test_a_handler_crash_is_unknown_error_and_the_connection_stays(
     def broken(ctx: commands.Context, params: commands.Params) -> Reply:
         raise RuntimeError("boom")
 
-    monkeypatch.setitem(commands.HANDLERS, "/api/robot_info", broken)
+    monkeypatch.setitem(routes.HANDLERS, "/api/robot_info", broken)
     reply = client.request("/api/robot_info?uuid=x")
     assert (reply["command"], reply["uuid"], reply["status"], reply["error_message"]) == (
         "/api/robot_info", "x", "UNKNOWN_ERROR", "internal error")

@@ -1,0 +1,63 @@
+"""``/api/request_data`` (§3.9): callback streams, their topics, rates and results.
+
+A topic is a default rate and a function that builds one callback's ``results``. The server keeps
+one stream per (connection, topic) and calls :func:`stream_results` each period.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from polynav.errors import InvalidRequest
+from polynav.protocols.yunji.commands import (
+    Context,
+    Params,
+    optional_float,
+    required,
+    robot_status,
+)
+from polynav.protocols.yunji.messages import Reply, StreamRequest
+
+STREAM_MAX_RATE = 20.0
+
+
+def _robot_status(ctx: Context) -> object:
+    return robot_status(ctx, {}).results
+
+
+def _robot_velocity(ctx: Context) -> object:
+    s = ctx.runtime.status()
+    return {"angular": float(s.angular), "linear": float(s.linear)}
+
+
+# topic -> (default rate [Hz], results builder) (§3.9, §A-R2).
+TOPICS: dict[str, tuple[float, Callable[[Context], object]]] = {
+    "robot_status": (2.0, _robot_status),
+    "robot_velocity": (1.0, _robot_velocity),
+}
+
+
+def request_data(ctx: Context, params: Params) -> Reply:
+    """§3.9: start (or with the deprecated ``switch=off``, stop) a callback stream of
+    ``topic`` on this connection; a repeated request replaces the rate (§A-R1)."""
+    topic = required(params, "topic")
+    if topic not in TOPICS:
+        raise InvalidRequest("topic", f"unknown topic {topic!r}")
+    switch = params.get("switch", "on")
+    if switch not in ("on", "off"):
+        raise InvalidRequest("switch", f"must be on or off, got {switch!r}")
+    frequency = optional_float(params, "frequency", TOPICS[topic][0])
+    assert frequency is not None
+    if not 0.0 < frequency <= STREAM_MAX_RATE:
+        raise InvalidRequest(
+            "frequency", f"must be in (0, {STREAM_MAX_RATE:g}] Hz, got {frequency:g}"
+        )
+    return Reply(stream=StreamRequest(topic, frequency, switch == "on"))
+
+
+def stream_results(ctx: Context, topic: str) -> object:
+    """The ``results`` of one callback of ``topic``."""
+    return TOPICS[topic][1](ctx)
+
+
+HANDLERS = {"/api/request_data": request_data}
