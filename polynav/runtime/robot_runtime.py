@@ -62,6 +62,7 @@ from polynav.nav.attempt import NavigationState
 from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
+from polynav.robot.interface import Robot
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
@@ -247,6 +248,11 @@ class RobotRuntime:
     def now(self) -> float:
         """The runtime's clock [s] (simulated time on the simulator)."""
         return self._clock.now()
+
+    @property
+    def robot(self) -> Robot:
+        """The robot backend (sensors, battery, e-stop); read it, never drive it."""
+        return self._robot
 
     @property
     def simulation(self) -> Simulation:
