@@ -38,6 +38,11 @@ class Controller(Protocol):
         """The velocity to command for the next ``dt`` [s], given the robot's pose and velocity."""
         ...
 
+    def set_goal_options(self, *, yaw_tolerance: float | None, reverse_allowed: bool) -> None:
+        """Per-goal heading tolerance [rad] (``None``: the configured one) and whether the
+        reversed goal heading is accepted; kept until set again (not cleared by reset)."""
+        ...
+
     def reset(self) -> None:
         """Forget the path and the velocity history (after a cancel or a recovery)."""
         ...

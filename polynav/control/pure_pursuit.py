@@ -49,7 +49,7 @@ from polynav.control.interface import ControlCommand, ControlStatus
 from polynav.control.pose_filter import PoseFilter
 from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
-from polynav.geometry import Pose2D, Twist, angle_diff
+from polynav.geometry import Pose2D, Twist, angle_diff, wrap_angle
 from polynav.maps import costs
 from polynav.maps.interface import CostGrid
 from polynav.planning.path import Path
@@ -187,6 +187,15 @@ class RegulatedPurePursuit:
         self._arrived = False
         self._settle = 0.0  # time [s] spent within a goal tolerance without reaching the aim
         self._status: ControlStatus | None = None
+        self._reverse_allowed = False
+
+    def set_goal_options(self, *, yaw_tolerance: float | None, reverse_allowed: bool) -> None:
+        """The next goals' heading tolerance [rad] (``None``: the configured one), and whether
+        the goal heading reversed is accepted too (a robot that may stop tail-first)."""
+        self._goal_checker.yaw_tolerance = (
+            self.config.yaw_goal_tolerance if yaw_tolerance is None else yaw_tolerance
+        )
+        self._reverse_allowed = reverse_allowed
 
     # -- Controller protocol -----------------------------------------------------------------
 
@@ -268,11 +277,16 @@ class RegulatedPurePursuit:
         goal = self._goal
         assert goal is not None
         error = angle_diff(goal.theta, pose.theta)
+        if self._reverse_allowed:
+            reversed_error = angle_diff(goal.theta + math.pi, pose.theta)
+            if abs(reversed_error) < abs(error):
+                goal = Pose2D(goal.x, goal.y, wrap_angle(goal.theta + math.pi))
+                error = reversed_error
         if self._goal_checker.heading_reached(pose, goal):
             self._settle += dt
             overshot = error * velocity.angular < 0.0
             if (
-                abs(error) <= cfg.yaw_goal_tolerance * cfg.goal_aim_fraction
+                abs(error) <= self._goal_checker.yaw_tolerance * cfg.goal_aim_fraction
                 or overshot
                 or self._settle >= cfg.goal_settle_time
             ):

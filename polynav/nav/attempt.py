@@ -33,6 +33,50 @@ class FailureReason(enum.Enum):
     STUCK = "stuck"
     LOCALIZATION_LOST = "localization lost"
     ESTOP = "e-stop"
+    UNDOCK_FAILED = "undock failed"
+    DOCK_FAILED = "dock failed"
+
+
+class Phase(enum.Enum):
+    """What a running attempt is doing (vendors' detailed running status)."""
+
+    LEAVE_CHARGER = "leave_charger"
+    NAVIGATE = "navigate"
+    DOCK = "dock"
+
+
+@dataclass(frozen=True, slots=True)
+class GoalOptions:
+    """How one goal is to be reached, beyond the navigator's defaults.
+
+    Attributes:
+        yaw_tolerance: accepted final heading error [rad] (else the controller's).
+        reverse_allowed: the goal heading reversed (the robot's tail facing the goal's
+            direction) is accepted too, for robots that dock either way.
+        near_tolerance: when the goal itself cannot be reached (occupied, walled off), ending
+            within this distance [m] of it counts as success.
+        max_retries: consecutive failures without progress before giving up (else the
+            navigator's).
+        undock_distance: the robot stands on a charger: back straight off it this far [m]
+            before planning.
+        dock: the goal is a charger's docking pose: drive to its approach, then dock onto it
+            and wait for charging contact.
+    """
+
+    yaw_tolerance: float | None = None
+    reverse_allowed: bool = False
+    near_tolerance: float | None = None
+    max_retries: int | None = None
+    undock_distance: float | None = None
+    dock: bool = False
+
+    def __post_init__(self) -> None:
+        for key in ("yaw_tolerance", "near_tolerance", "undock_distance"):
+            value = getattr(self, key)
+            if value is not None and not value > 0.0:
+                raise ValueError(f"{key} must be > 0, got {value}")
+        if self.max_retries is not None and self.max_retries < 0:
+            raise ValueError(f"max_retries must be >= 0, got {self.max_retries}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,3 +93,6 @@ class NavigationAttempt:
     retries: int = 0
     distance_travelled: float = 0.0
     distance_remaining: float | None = None
+    phase: Phase = Phase.NAVIGATE
+    plans: int = 0
+    options: GoalOptions = GoalOptions()

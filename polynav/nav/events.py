@@ -79,3 +79,50 @@ class NavigationFailed(NavigationEvent):
 @dataclass(frozen=True, slots=True)
 class NavigationCanceled(NavigationEvent):
     pass
+
+
+@dataclass(frozen=True, slots=True)
+class PlanFailed(NavigationEvent):
+    """A global plan failed; ``cause``: ``"start_unknown"``, ``"start_occupied"``,
+    ``"goal_occupied"``, ``"outside_map"`` or ``"no_path"``. A retry or a failure follows."""
+
+    cause: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveStarted(NavigationEvent):
+    """The attempt begins on a charger: the robot backs straight off it first."""
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveRetry(NavigationEvent):
+    """No headway off the charger for ``undock_retry_after`` seconds; ``retries`` so far."""
+
+    retries: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeft(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class ChargerLeaveFailed(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class DockingStarted(NavigationEvent):
+    """The robot stands at the charger's approach and drives onto the contacts."""
+
+
+@dataclass(frozen=True, slots=True)
+class DockingSucceeded(NavigationEvent):
+    pass
+
+
+@dataclass(frozen=True, slots=True)
+class DockingFailed(NavigationEvent):
+    """``cause``: ``"no_contact"`` or ``"timeout"``."""
+
+    cause: str = ""

@@ -13,6 +13,12 @@ Inside a running attempt the navigator moves between phases:
   usually walks on), then re-plan;
 - *recover*: a recovery behaviour runs (clear costmap, spin, back up) before the next plan.
 
+An attempt's :class:`~polynav.nav.attempt.GoalOptions` add phases around that (the attempt's
+``phase``): a robot standing on a charger first backs straight off it (*leave charger*, retried
+when it makes no headway for ``undock_retry_after`` seconds, failed after
+``undock_max_retries``), and a goal that is a charger is reached at its approach pose, from
+where the robot drives straight onto the contacts and waits for charging current (*dock*).
+
 Each failure counts as a retry; ``max_retries`` failures in a row without the robot getting
 anywhere end the attempt with a :class:`FailureReason`. An e-stop or lost localization holds the
 robot without ending the attempt; it resumes with a fresh plan when the hold is released.
@@ -22,6 +28,7 @@ from __future__ import annotations
 
 import enum
 import logging
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
@@ -31,11 +38,18 @@ from polynav.control.interface import Controller, ControlStatus
 from polynav.control.progress_checker import ProgressChecker
 from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
-from polynav.geometry import Pose2D, Twist
+from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
+from polynav.maps import costs as cost_values
 from polynav.maps.costmap import Costmap
 from polynav.nav import events
-from polynav.nav.attempt import FailureReason, NavigationAttempt, NavigationState
+from polynav.nav.attempt import (
+    FailureReason,
+    GoalOptions,
+    NavigationAttempt,
+    NavigationState,
+    Phase,
+)
 from polynav.nav.recoveries import BackUp, ClearCostmap, Recovery, Spin
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
@@ -60,9 +74,20 @@ class NavigatorConfig:
     progress_reset_distance: float = 1.0
     localization_grace: float = 5.0
     estop_fail_after: float | None = None
+    undock_speed: float = 0.15
+    undock_retry_after: float = 10.0
+    undock_max_retries: int = 3
+    dock_approach: float = 0.5
+    dock_speed: float = 0.1
+    dock_contact_wait: float = 3.0
+    dock_timeout: float = 40.0
 
     def __post_init__(self) -> None:
-        for key in ("replan_period", "blocked_wait", "localization_grace"):
+        for key in (
+            "replan_period", "blocked_wait", "localization_grace", "undock_speed",
+            "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
+            "dock_timeout",
+        ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
         if self.replan_min_remaining < 0.0:
@@ -71,6 +96,8 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         if self.max_retries < 0:
             raise ConfigError("nav.navigator.max_retries", "must be >= 0")
+        if self.undock_max_retries < 0:
+            raise ConfigError("nav.navigator.undock_max_retries", "must be >= 0")
         if self.estop_fail_after is not None and self.estop_fail_after <= 0.0:
             raise ConfigError("nav.navigator.estop_fail_after", "must be > 0 or None")
 
@@ -97,6 +124,7 @@ class Navigator:
         on_event: EventSink | None = None,
     ) -> None:
         self.config = config or NavigatorConfig()
+        self._robot_radius = robot_radius
         self._costmap = costmap
         self._planner = planner
         self._controller = controller
@@ -125,6 +153,16 @@ class Navigator:
         self._hold_since = 0.0
         self._last_pose: Pose2D | None = None
         self._last_tick: float | None = None
+        # Per attempt: where the robot navigates to (a charger's approach, else the goal), the
+        # retry limit, and the charger phases' progress.
+        self._target = Pose2D()
+        self._max_retries = self.config.max_retries
+        self._undock_origin: Pose2D | None = None
+        self._undock_best = 0.0
+        self._undock_since = 0.0
+        self._undock_retries = 0
+        self._dock_since = 0.0
+        self._contact_since: float | None = None
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -148,15 +186,37 @@ class Navigator:
 
     # -- commands ----------------------------------------------------------------------------
 
-    def start(self, goal: Pose2D, now: float) -> int:
+    def start(self, goal: Pose2D, now: float, options: GoalOptions | None = None) -> int:
         """Begin an attempt to reach ``goal`` (map frame); a running attempt is canceled first."""
         if self.state in (NavigationState.RUNNING, NavigationState.PAUSED):
             self.cancel(now)
+        options = options or GoalOptions()
         attempt_id = self._next_id
         self._next_id += 1
+        phase = Phase.LEAVE_CHARGER if options.undock_distance is not None else Phase.NAVIGATE
         self._attempt = NavigationAttempt(
-            attempt_id=attempt_id, goal=goal, state=NavigationState.RUNNING, started_at=now
+            attempt_id=attempt_id,
+            goal=goal,
+            state=NavigationState.RUNNING,
+            started_at=now,
+            phase=phase,
+            options=options,
         )
+        self._target = goal
+        if options.dock:
+            back = self.config.dock_approach
+            self._target = Pose2D(
+                goal.x - back * math.cos(goal.theta), goal.y - back * math.sin(goal.theta),
+                goal.theta,
+            )
+        self._max_retries = (
+            self.config.max_retries if options.max_retries is None else options.max_retries
+        )
+        self._undock_origin = None
+        self._undock_best = 0.0
+        self._undock_since = now
+        self._undock_retries = 0
+        self._contact_since = None
         self._path = None
         self._tracked = None
         self._failures = 0
@@ -166,10 +226,16 @@ class Navigator:
         self._hold = None
         self._last_pose = None
         self._controller.reset()
+        self._controller.set_goal_options(
+            yaw_tolerance=options.yaw_tolerance,
+            reverse_allowed=options.reverse_allowed and not options.dock,
+        )
         self._enter(_Phase.PLAN, now)
         log.info("navigation %d started to (%.2f, %.2f, %.2f)", attempt_id, goal.x, goal.y,
                  goal.theta)
         self._emit(events.NavigationStarted(now, self._attempt))
+        if phase is Phase.LEAVE_CHARGER:
+            self._emit(events.ChargerLeaveStarted(now, self._require()))
         return attempt_id
 
     def pause(self, now: float) -> bool:
@@ -200,15 +266,29 @@ class Navigator:
     # -- the control period ------------------------------------------------------------------
 
     def tick(
-        self, now: float, estimate: LocalizationEstimate, velocity: Twist, estop: bool
+        self,
+        now: float,
+        estimate: LocalizationEstimate,
+        velocity: Twist,
+        estop: bool,
+        *,
+        charging: bool = False,
     ) -> Twist:
-        """Advance the attempt by one control period; returns the velocity to command."""
+        """Advance the attempt by one control period; returns the velocity to command.
+
+        ``charging``: the charger contacts carry current (docking ends on it).
+        """
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
         self._last_tick = now
         if self.state is not NavigationState.RUNNING:
             return Twist()
         pose = estimate.pose
         self._track_distance(pose)
+        phase = self._require().phase
+        if phase is Phase.LEAVE_CHARGER:
+            return self._tick_undock(pose, now, estop)
+        if phase is Phase.DOCK:
+            return self._tick_dock(pose, now, estop, charging)
         if self._held(now, estimate, estop):
             return Twist()
         if self._phase is _Phase.RECOVER:
@@ -265,9 +345,8 @@ class Navigator:
         return True
 
     def _plan(self, pose: Pose2D, now: float) -> bool:
-        goal = self._require().goal
         try:
-            path = self._planner.plan(self._costmap, pose, goal)
+            path = self._plan_path(pose)
         except PlanningError as exc:
             self._on_plan_error(exc, pose, now)
             return False
@@ -277,8 +356,28 @@ class Navigator:
         self._enter(_Phase.FOLLOW, now)
         return True
 
+    def _plan_path(self, pose: Pose2D) -> Path:
+        return self._planner.plan(
+            self._costmap, pose, self._target,
+            goal_tolerance=self._require().options.near_tolerance,
+        )
+
+    def _plan_failure_cause(self, exc: PlanningError, pose: Pose2D) -> str:
+        cost = self._costmap.cost_at(pose.x, pose.y)
+        if isinstance(exc, OutsideMap):
+            return "outside_map"
+        if cost == cost_values.UNKNOWN:
+            return "start_unknown"
+        if isinstance(exc, StartOccupied) or cost == cost_values.LETHAL:
+            return "start_occupied"
+        if isinstance(exc, GoalOccupied):
+            return "goal_occupied"
+        return "no_path"
+
     def _on_plan_error(self, exc: PlanningError, pose: Pose2D, now: float) -> None:
         log.warning("planning failed: %s", exc)
+        cause = self._plan_failure_cause(exc, pose)
+        self._emit(events.PlanFailed(now, self._require(), cause=cause))
         if isinstance(exc, OutsideMap):
             self._fail(FailureReason.NO_PATH, f"outside the map: {exc}", now)
         elif isinstance(exc, (NoPath, GoalOccupied)):
@@ -302,7 +401,7 @@ class Navigator:
         """A periodic re-plan: on failure keep the old path, the controller still guards it."""
         self._last_plan = now
         try:
-            path = self._planner.plan(self._costmap, pose, self._require().goal)
+            path = self._plan_path(pose)
         except PlanningError as exc:
             log.debug("periodic re-plan failed, keeping the path: %s", exc)
             return
@@ -312,6 +411,17 @@ class Navigator:
         command = self._controller.compute(pose, velocity, self._costmap, dt)
         self._update(distance_remaining=self._remaining(pose))
         if command.status is ControlStatus.ARRIVED:
+            self._arrived(now)
+            return Twist()
+        near = self._require().options.near_tolerance
+        if (
+            command.status is ControlStatus.BLOCKED
+            and near is not None
+            and not self._require().options.dock
+            and pose.distance_to(self._target) <= near
+        ):
+            log.info("blocked %.2f m from the goal, within its tolerance: done",
+                     pose.distance_to(self._target))
             self._finish(NavigationState.SUCCEEDED, now)
             return Twist()
         if command.status is ControlStatus.BLOCKED:
@@ -333,9 +443,9 @@ class Navigator:
         self._failures += 1
         self._failure_pose = pose
         self._update(retries=self._require().retries + 1)
-        if self._failures > self.config.max_retries:
+        if self._failures > self._max_retries:
             reason = FailureReason.STUCK
-            self._fail(reason, f"{cause} after {self.config.max_retries} retries", now)
+            self._fail(reason, f"{cause} after {self._max_retries} retries", now)
             return
         self._controller.reset()
         if cause == "blocked":
@@ -357,6 +467,91 @@ class Navigator:
             self._enter(_Phase.PLAN, now)
         return twist
 
+    # -- charger phases ----------------------------------------------------------------------
+
+    def _arrived(self, now: float) -> None:
+        """At the navigation target: done, or at a charger's approach: dock."""
+        if not self._require().options.dock:
+            self._finish(NavigationState.SUCCEEDED, now)
+            return
+        self._controller.reset()
+        self._update(phase=Phase.DOCK, distance_remaining=self.config.dock_approach)
+        self._dock_since = now
+        self._contact_since = None
+        log.info("navigation %d: at the charger's approach, docking", self._require().attempt_id)
+        self._emit(events.DockingStarted(now, self._require()))
+
+    def _tick_undock(self, pose: Pose2D, now: float, estop: bool) -> Twist:
+        """Back straight off the charger; no headway for a while is a retry, too many fail."""
+        cfg = self.config
+        options = self._require().options
+        assert options.undock_distance is not None
+        if self._undock_origin is None:
+            self._undock_origin = pose
+        moved = pose.distance_to(self._undock_origin)
+        if moved >= options.undock_distance:
+            self._update(phase=Phase.NAVIGATE)
+            self._enter(_Phase.PLAN, now)
+            log.info("left the charger after %.2f m", moved)
+            self._emit(events.ChargerLeft(now, self._require()))
+            return Twist()
+        if moved > self._undock_best + 0.02:
+            self._undock_best = moved
+            self._undock_since = now
+        elif now - self._undock_since >= cfg.undock_retry_after:
+            self._undock_retries += 1
+            self._undock_since = now
+            if self._undock_retries > cfg.undock_max_retries:
+                self._emit(events.ChargerLeaveFailed(now, self._require()))
+                self._fail(FailureReason.UNDOCK_FAILED, "could not leave the charger", now)
+                return Twist()
+            log.warning("no headway off the charger: retry %d", self._undock_retries)
+            self._emit(events.ChargerLeaveRetry(now, self._require(), retries=self._undock_retries))
+        if estop or not self._free_behind(pose):
+            return Twist()
+        return Twist(-cfg.undock_speed, 0.0)
+
+    def _free_behind(self, pose: Pose2D) -> bool:
+        reach = self._robot_radius + 0.1
+        x = pose.x - reach * math.cos(pose.theta)
+        y = pose.y - reach * math.sin(pose.theta)
+        return self._costmap.cost_at(x, y) < cost_values.LETHAL
+
+    def _tick_dock(self, pose: Pose2D, now: float, estop: bool, charging: bool) -> Twist:
+        """Drive straight onto the charger's pose, then wait for charging current."""
+        cfg = self.config
+        attempt = self._require()
+        if charging:
+            self._emit(events.DockingSucceeded(now, attempt))
+            self._update(distance_remaining=0.0)
+            self._finish(NavigationState.SUCCEEDED, now)
+            return Twist()
+        if now - self._dock_since >= cfg.dock_timeout:
+            return self._dock_failed("timeout", now)
+        goal = attempt.goal
+        dx, dy = goal.x - pose.x, goal.y - pose.y
+        cos_g, sin_g = math.cos(goal.theta), math.sin(goal.theta)
+        along = dx * cos_g + dy * sin_g
+        lateral = -dx * sin_g + dy * cos_g
+        self._update(distance_remaining=max(0.0, along))
+        if along <= 0.01:
+            if self._contact_since is None:
+                self._contact_since = now
+            elif now - self._contact_since >= cfg.dock_contact_wait:
+                return self._dock_failed("no_contact", now)
+            return Twist()
+        if estop:
+            return Twist()
+        speed = min(cfg.dock_speed, max(0.03, along))
+        turn = 1.5 * angle_diff(goal.theta, pose.theta) + 4.0 * lateral
+        return Twist(speed, max(-0.4, min(0.4, turn)))
+
+    def _dock_failed(self, cause: str, now: float) -> Twist:
+        log.warning("docking failed: %s", cause)
+        self._emit(events.DockingFailed(now, self._require(), cause=cause))
+        self._fail(FailureReason.DOCK_FAILED, f"docking failed: {cause}", now)
+        return Twist()
+
     # -- bookkeeping -------------------------------------------------------------------------
 
     def _set_path(self, path: Path, now: float) -> None:
@@ -364,13 +559,20 @@ class Navigator:
         self._tracked = TrackedPath.from_points(path.points)
         self._along = 0.0
         self._last_plan = now
-        self._controller.set_path(path, self._require().goal)
+        end = path.points[-1]
+        target = self._target
+        if math.hypot(end[0] - target.x, end[1] - target.y) > 1e-6:
+            # The planner ends exactly on the goal, or on a substitute cell near an occupied
+            # goal (near_tolerance): then the robot ends there.
+            target = Pose2D(float(end[0]), float(end[1]), target.theta)
+        self._controller.set_path(path, target)
+        self._update(plans=self._require().plans + 1)
         self._emit(events.PathPlanned(now, self._require(), length=path.length))
 
     def _remaining(self, pose: Pose2D) -> float:
         """Path length [m] from the point nearest the robot to the goal."""
         if self._tracked is None:
-            return pose.distance_to(self._require().goal)
+            return pose.distance_to(self._target)
         # Search forward from the last place only: the robot moves along the path.
         self._along = self._tracked.project(
             pose.x, pose.y, start=self._along, window=_REMAINING_SEARCH_WINDOW

@@ -18,6 +18,7 @@ from polynav.localization.interface import LocalizationEstimate
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.map import Map
+from polynav.nav.attempt import GoalOptions
 from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import Robot
@@ -81,9 +82,9 @@ class NavigationStack:
         """Tell localization roughly where the robot is (it refines the pose itself)."""
         self.localizer.initialize(pose, now)
 
-    def go_to(self, goal: Pose2D, now: float) -> int:
+    def go_to(self, goal: Pose2D, now: float, options: GoalOptions | None = None) -> int:
         """Start navigating to ``goal``; returns the attempt id."""
-        return self.navigator.start(goal, now)
+        return self.navigator.start(goal, now, options)
 
     def set_map(self, grid: Map) -> None:
         """Switch maps (floor change); localization needs a new initial pose afterwards."""
@@ -103,7 +104,10 @@ class NavigationStack:
             self._last_scan_stamp = scan.stamp
             self.costmap.update_scan(estimate.pose, scan)
         estop = self.software_estop or self.robot.estop_pressed()
-        self._command = self.navigator.tick(now, estimate, odometry.twist, estop)
+        charging = self.robot.read_battery().charging
+        self._command = self.navigator.tick(
+            now, estimate, odometry.twist, estop, charging=charging
+        )
         if estop:
             self._command = Twist()
         self.robot.drive(self._command)

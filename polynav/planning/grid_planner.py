@@ -139,13 +139,21 @@ class GridPlanner:
     def config(self) -> GridPlannerConfig:
         return self._config
 
-    def plan(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> Path:
+    def plan(
+        self,
+        costmap: CostGrid,
+        start: Pose2D,
+        goal: Pose2D,
+        *,
+        goal_tolerance: float | None = None,
+    ) -> Path:
         """A path from ``start`` to ``goal`` over ``costmap``.
 
         Args:
             costmap: the cost grid (a live costmap or a snapshot); read, never written.
             start: the robot's pose; only the position matters.
             goal: the goal pose; only the position matters.
+            goal_tolerance: this plan's ``goal_tolerance`` [m] (``None``: the configured one).
 
         Returns:
             At least two world points [m], the exact start first and the exact goal last (or
@@ -162,7 +170,10 @@ class GridPlanner:
         start_cell = _cell(info, start, "start")
         goal_cell = _cell(info, goal, "goal")
         tables = self._tables(int(grid[start_cell[1], start_cell[0]]), start_cell)
-        found, reached_goal = self._find(grid, info, start_cell, goal_cell, goal, tables)
+        tolerance = self._config.goal_tolerance if goal_tolerance is None else goal_tolerance
+        found, reached_goal = self._find(
+            grid, info, start_cell, goal_cell, goal, tables, tolerance
+        )
         cells = found.cells
         if self._config.smooth:
             measure = tables.search if tables.escape is None else tables.escape
@@ -195,7 +206,7 @@ class GridPlanner:
             start_cell = _cell(info, start, "start")
             goal_cell = _cell(info, goal, "goal")
             tables = self._tables(int(grid[start_cell[1], start_cell[0]]), start_cell)
-            self._find(grid, info, start_cell, goal_cell, goal, tables)
+            self._find(grid, info, start_cell, goal_cell, goal, tables, self._config.goal_tolerance)
         except (OutsideMap, StartOccupied, GoalOccupied, NoPath):
             return False
         return True
@@ -228,10 +239,10 @@ class GridPlanner:
         goal: tuple[int, int],
         goal_pose: Pose2D,
         tables: _Tables,
+        tolerance: float,
     ) -> tuple[CellPath, bool]:
         """The cell path to the goal, or under the tolerance to a substitute; and whether the
         path ends at the goal cell itself."""
-        tolerance = self._config.goal_tolerance
         goal_free = bool(np.isfinite(tables.search[grid[goal[1], goal[0]]]))
         if not goal_free and tolerance <= 0.0:
             raise GoalOccupied(f"goal cell {goal} is occupied (cost {grid[goal[1], goal[0]]})")

@@ -10,6 +10,17 @@ from polynav.planning.path import Path
 
 
 class GlobalPlanner(Protocol):
-    def plan(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> Path:
-        """A path from ``start`` to ``goal``; raises a :class:`PlanningError` subclass if none."""
+    def plan(
+        self,
+        costmap: CostGrid,
+        start: Pose2D,
+        goal: Pose2D,
+        *,
+        goal_tolerance: float | None = None,
+    ) -> Path:
+        """A path from ``start`` to ``goal``; raises a :class:`PlanningError` subclass if none.
+
+        ``goal_tolerance`` [m]: when the goal is occupied or unreachable, a path to the nearest
+        reachable point within this distance of it is accepted (``None``: the planner's own).
+        """
         ...

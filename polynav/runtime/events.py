@@ -88,13 +88,15 @@ class NavigationSucceeded(RuntimeEvent):
 
 @dataclass(frozen=True, slots=True)
 class NavigationFailed(RuntimeEvent):
-    """The attempt gave up; ``reason`` is a :class:`~polynav.nav.attempt.FailureReason` value."""
+    """The attempt gave up; ``reason`` is a :class:`~polynav.nav.attempt.FailureReason` value;
+    ``planned``: whether any path was ever found (if not, the goal was unreachable)."""
 
     kind: ClassVar[str] = "navigation_failed"
 
     attempt_id: int
     reason: str
     distance: float
+    planned: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -161,18 +163,15 @@ class NavigationBlocked(RuntimeEvent):
 
 
 @dataclass(frozen=True, slots=True)
-class MoveTaskPhase(RuntimeEvent):
-    """The phase of the running move task changed (what vendors call its running status):
-    ``"leave_charger"``, ``"navigate"``, ``"dock"``, or ``"idle"`` when no task runs."""
+class AttemptEvent(RuntimeEvent):
+    """A step of navigation attempt ``attempt_id`` that carries nothing else."""
 
-    kind: ClassVar[str] = "move_task_phase"
-
-    phase: str
+    attempt_id: int
 
 
 @dataclass(frozen=True, slots=True)
-class ChargerLeaveStarted(RuntimeEvent):
-    """A move began while docked: the robot drives off the charger first."""
+class ChargerLeaveStarted(AttemptEvent):
+    """The attempt began on a charger: the robot backs off it before planning."""
 
     kind: ClassVar[str] = "charger_leave_started"
 
@@ -183,43 +182,44 @@ class ChargerLeaveRetry(RuntimeEvent):
 
     kind: ClassVar[str] = "charger_leave_retry"
 
+    attempt_id: int
     retries: int
 
 
 @dataclass(frozen=True, slots=True)
-class ChargerLeft(RuntimeEvent):
+class ChargerLeft(AttemptEvent):
     kind: ClassVar[str] = "charger_left"
 
 
 @dataclass(frozen=True, slots=True)
-class ChargerLeaveFailed(RuntimeEvent):
+class ChargerLeaveFailed(AttemptEvent):
+    """The robot could not get off the charger; the attempt fails next."""
+
     kind: ClassVar[str] = "charger_leave_failed"
 
 
 @dataclass(frozen=True, slots=True)
-class DockingStarted(RuntimeEvent):
-    """The robot reached the approach of charger ``point`` and starts docking onto it."""
+class DockingStarted(AttemptEvent):
+    """Attempt ``attempt_id`` reached the approach of its charger and starts docking."""
 
     kind: ClassVar[str] = "docking_started"
 
-    point: str
-
 
 @dataclass(frozen=True, slots=True)
-class DockingSucceeded(RuntimeEvent):
-    kind: ClassVar[str] = "docking_succeeded"
+class DockingSucceeded(AttemptEvent):
+    """Charging contact made; the attempt succeeds next."""
 
-    point: str
+    kind: ClassVar[str] = "docking_succeeded"
 
 
 @dataclass(frozen=True, slots=True)
 class DockingFailed(RuntimeEvent):
     """Docking gave up; ``cause`` is ``"no_contact"`` (on the charger pose but no charging
-    current) or ``"timeout"``."""
+    current) or ``"timeout"``. The attempt fails next."""
 
     kind: ClassVar[str] = "docking_failed"
 
-    point: str
+    attempt_id: int
     cause: str
 
 

@@ -47,7 +47,9 @@ def translate(
         out.append(events.NavigationSucceeded(stamp, attempt_id, distance))
     elif isinstance(event, nav_events.NavigationFailed):
         reason = attempt.reason.value if attempt.reason else (attempt.message or "unknown")
-        out.append(events.NavigationFailed(stamp, attempt_id, reason, distance))
+        out.append(
+            events.NavigationFailed(stamp, attempt_id, reason, distance, attempt.plans > 0)
+        )
     elif isinstance(event, nav_events.NavigationCanceled):
         out.append(events.NavigationCanceled(stamp, attempt_id, distance))
     elif isinstance(event, nav_events.NavigationPaused):
@@ -58,7 +60,29 @@ def translate(
         if event.cause == "stuck":
             out.append(events.NavigationStuck(stamp, attempt_id))
         out.append(events.NavigationRetry(stamp, attempt_id, attempt.retries, event.cause))
+    elif isinstance(event, nav_events.PlanFailed):
+        out.append(events.PlanningFailed(stamp, attempt_id, event.cause))
+    elif isinstance(event, nav_events.NavigationBlocked):
+        out.append(events.NavigationBlocked(stamp, attempt_id))
+    elif isinstance(event, nav_events.ChargerLeaveRetry):
+        out.append(events.ChargerLeaveRetry(stamp, attempt_id, event.retries))
+    elif isinstance(event, nav_events.DockingFailed):
+        out.append(events.DockingFailed(stamp, attempt_id, event.cause))
+    else:
+        simple = _SIMPLE.get(type(event))
+        if simple is not None:
+            out.append(simple(stamp, attempt_id))
     return out
+
+
+# Navigator events that become a runtime event carrying only the attempt id.
+_SIMPLE: dict[type[nav_events.NavigationEvent], type[events.AttemptEvent]] = {
+    nav_events.ChargerLeaveStarted: events.ChargerLeaveStarted,
+    nav_events.ChargerLeft: events.ChargerLeft,
+    nav_events.ChargerLeaveFailed: events.ChargerLeaveFailed,
+    nav_events.DockingStarted: events.DockingStarted,
+    nav_events.DockingSucceeded: events.DockingSucceeded,
+}
 
 
 class AttemptBook:

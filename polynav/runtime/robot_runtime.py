@@ -58,7 +58,7 @@ from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
-from polynav.nav.attempt import NavigationState
+from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
@@ -76,7 +76,7 @@ from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
-from polynav.site import Point
+from polynav.site import Point, PointKind
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -86,6 +86,8 @@ T = TypeVar("T")
 _EPS = 1e-9
 _MAX_LOCAL_ROTATION = 4.0 * math.pi
 _MAX_LOCAL_DISTANCE = 10.0
+UNDOCK_DISTANCE = 0.5
+"""How far [m] a robot backs straight off its charger before it plans (clear of the dock)."""
 
 
 class Mode(enum.Enum):
@@ -361,15 +363,21 @@ class RobotRuntime:
         point: str | None = None,
         pose: Pose2D | None = None,
         map_name: str | None = None,
+        options: GoalOptions | None = None,
     ) -> int:
         """Start a goal to a point of the current map, or to a pose on it; a goal already
         running is canceled first.
+
+        A robot on a charger backs off it first; a charger point is docked onto (its pose is
+        the docked pose, its heading the docking direction).
 
         Args:
             point: the goal point's name.
             pose: the goal pose (map frame).
             map_name: the map ``point`` or ``pose`` is on; only the current map is reachable
                 until multi-map routing exists.
+            options: tolerances and retries for this goal (see
+                :class:`~polynav.nav.attempt.GoalOptions`).
 
         Returns:
             The attempt id.
@@ -388,11 +396,17 @@ class RobotRuntime:
             stack = self._require_navigating()
             assert self._map_name is not None
             target_map = map_name or self._map_name
+            goal_options = options or GoalOptions()
             if point is not None:
-                goal = self.store.point(target_map, point).pose
+                record = self.store.point(target_map, point)
+                goal = record.pose
+                if record.kind is PointKind.CHARGER:
+                    goal_options = replace(goal_options, dock=True)
             else:
                 assert pose is not None
                 goal = pose
+            if goal_options.undock_distance is None and self._robot.read_battery().charging:
+                goal_options = replace(goal_options, undock_distance=UNDOCK_DISTANCE)
             if target_map != self._map_name:
                 raise InvalidRequest(
                     "map", f"{target_map!r} is not the current map {self._map_name!r}: "
@@ -404,7 +418,7 @@ class RobotRuntime:
                 stack = self._rebuild_stack()
             self._attempts.pending_point = point
             try:
-                nav_id = stack.go_to(goal, self.now())
+                nav_id = stack.go_to(goal, self.now(), goal_options)
             finally:
                 self._attempts.pending_point = None
             return self._attempts.runtime_id(nav_id)
@@ -816,6 +830,8 @@ class RobotRuntime:
             goal_point=attempts.attempt_point if attempt is not None else None,
             reason=attempt.reason.value if attempt is not None and attempt.reason else None,
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
+            retries=attempt.retries if attempt is not None else 0,
+            phase=attempt.phase.value if attempt is not None else None,
         )
 
 

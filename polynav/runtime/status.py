@@ -38,6 +38,8 @@ class StatusSnapshot:
         goal, goal_point: that attempt's goal and the point it was named by.
         reason: why it failed (a :class:`~polynav.nav.attempt.FailureReason` value), if it did.
         distance_remaining: path length [m] still to go, when known.
+        retries: that attempt's retries so far (re-plans after a failure).
+        phase: that attempt's phase (``leave_charger``, ``navigate``, ``dock``).
     """
 
     mode: str
@@ -59,6 +61,8 @@ class StatusSnapshot:
     goal_point: str | None = None
     reason: str | None = None
     distance_remaining: float | None = None
+    retries: int = 0
+    phase: str | None = None
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""

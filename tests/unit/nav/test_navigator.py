@@ -45,7 +45,9 @@ class ScriptedPlanner:
     failures: list[PlanningError] = field(default_factory=list)
     calls: int = 0
 
-    def plan(self, costmap: object, start: Pose2D, goal: Pose2D) -> Path:
+    def plan(
+        self, costmap: object, start: Pose2D, goal: Pose2D, *, goal_tolerance: float | None = None
+    ) -> Path:
         self.calls += 1
         if self.failures:
             raise self.failures.pop(0)
@@ -66,6 +68,9 @@ class ScriptedController:
         status = self.statuses.pop(0) if len(self.statuses) > 1 else self.statuses[0]
         moving = status in (ControlStatus.TRACKING, ControlStatus.SLOWING)
         return ControlCommand(Twist(0.5 if moving else 0.0, 0.0), status)
+
+    def set_goal_options(self, *, yaw_tolerance: float | None, reverse_allowed: bool) -> None:
+        self.goal_options = (yaw_tolerance, reverse_allowed)
 
     def reset(self) -> None:
         pass
@@ -131,7 +136,9 @@ def test_no_path_clears_the_costmap_once_then_fails() -> None:
     assert attempt is not None and attempt.state is NavigationState.FAILED
     assert attempt.reason is FailureReason.NO_PATH
     assert h.costmap.cleared == 1 and planner.calls == 2
-    assert h.kinds() == ["NavigationStarted", "NavigationRetry", "NavigationFailed"]
+    assert h.kinds() == [
+        "NavigationStarted", "PlanFailed", "NavigationRetry", "PlanFailed", "NavigationFailed"
+    ]
     assert attempt.ended_at == pytest.approx(DT)
 
 
@@ -140,7 +147,7 @@ def test_no_path_that_clearing_resolves_goes_on() -> None:
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.run(0.5, move=True)
     assert h.nav.state is NavigationState.RUNNING
-    assert h.kinds()[:3] == ["NavigationStarted", "NavigationRetry", "PathPlanned"]
+    assert h.kinds()[:4] == ["NavigationStarted", "PlanFailed", "NavigationRetry", "PathPlanned"]
 
 
 def test_goal_occupied_and_outside_map_reasons() -> None:

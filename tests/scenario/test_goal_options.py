@@ -1,0 +1,154 @@
+"""Per-goal options and the charger phases, through the runtime on the seeded demo site.
+
+A charger point is docked onto (charging contact is the simulator's: standing still on the
+charger's pose); a robot on its charger backs off before it plans. Simulated time throughout.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from polynav.geometry import Pose2D, angle_diff
+from polynav.nav.attempt import GoalOptions
+from polynav.runtime import events
+from polynav.runtime.event_bus import Subscription
+from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+from polynav.site import Point, PointKind
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from polynav.worlds.world import World
+
+
+@pytest.fixture(scope="module")
+def world() -> World:
+    return load_world("demo")
+
+
+@pytest.fixture
+def runtime(world: World, tmp_path: Path) -> Iterator[RobotRuntime]:
+    with SiteStore.open(tmp_path / "data", seed_world=world) as store:
+        rt = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+        rt.start_navigation("floor1")
+        rt.advance(0.5)
+        yield rt
+
+
+def _run(rt: RobotRuntime, timeout: float = 120.0) -> str:
+    assert rt.advance_until(lambda: rt.status().navigation_state != "running", timeout)
+    return rt.status().navigation_state
+
+
+def _kinds(sub: Subscription, wanted: set[str]) -> list[str]:
+    return [e.kind for e in sub.get_nowait() if e.kind in wanted]
+
+
+CHARGER_KINDS = {
+    "navigation_started", "navigation_succeeded", "navigation_failed", "docking_started",
+    "docking_succeeded", "docking_failed", "charger_leave_started", "charger_leave_retry",
+    "charger_left", "charger_leave_failed", "charge_changed",
+}
+
+
+def _dock(rt: RobotRuntime) -> None:
+    rt.go_to(point="charger")
+    assert _run(rt) == "succeeded"
+    rt.advance(0.5)
+    assert rt.status().charging
+
+
+def test_a_charger_point_is_docked_onto_and_charging_starts(runtime: RobotRuntime) -> None:
+    sub = runtime.bus.subscribe()
+    runtime.go_to(point="charger")
+    assert runtime.advance_until(lambda: runtime.status().phase == "dock", 120.0)
+    assert runtime.status().navigation_state == "running"  # docking is part of the move
+    assert _run(runtime) == "succeeded"
+    runtime.advance(0.5)
+    assert runtime.status().charging
+    charger = runtime.store.point("floor1", "charger").pose
+    true = runtime.simulation.true_pose
+    assert true.distance_to(charger) <= 0.1
+    assert _kinds(sub, CHARGER_KINDS) == [
+        "navigation_started", "docking_started", "docking_succeeded", "navigation_succeeded",
+        "charge_changed",
+    ]
+
+
+def test_a_move_from_the_charger_backs_off_it_first(runtime: RobotRuntime) -> None:
+    _dock(runtime)
+    sub = runtime.bus.subscribe()
+    runtime.go_to(point="lobby")
+    runtime.advance(0.1)
+    assert runtime.status().phase == "leave_charger"
+    assert _run(runtime) == "succeeded"
+    assert _kinds(sub, CHARGER_KINDS) == [
+        "navigation_started", "charger_leave_started", "charge_changed", "charger_left",
+        "navigation_succeeded",
+    ]
+
+
+def test_leaving_the_charger_retries_every_10_s_then_fails(runtime: RobotRuntime) -> None:
+    _dock(runtime)
+    sub = runtime.bus.subscribe()
+    runtime.set_software_estop(True)
+    runtime.go_to(point="lobby")
+    assert _run(runtime, timeout=60.0) == "failed"
+    assert runtime.status().reason == "undock failed"
+    seen = [e for e in sub.get_nowait() if e.kind in CHARGER_KINDS]
+    assert [e.kind for e in seen] == [
+        "navigation_started", "charger_leave_started", "charger_leave_retry",
+        "charger_leave_retry", "charger_leave_retry", "charger_leave_failed", "navigation_failed",
+    ]
+    retries = [e for e in seen if isinstance(e, events.ChargerLeaveRetry)]
+    assert [e.retries for e in retries] == [1, 2, 3]
+    gaps = [b.stamp - a.stamp for a, b in zip(seen[1:5], seen[2:6], strict=True)]
+    assert all(abs(gap - 10.0) < 0.1 for gap in gaps), gaps
+
+
+def test_docking_where_no_charger_stands_fails_for_want_of_contact(
+    runtime: RobotRuntime,
+) -> None:
+    runtime.store.add_point(
+        Point("fake_dock", "floor1", Pose2D(5.5, 12.5, math.pi), PointKind.CHARGER, 40)
+    )
+    sub = runtime.bus.subscribe()
+    runtime.go_to(point="fake_dock")
+    assert _run(runtime) == "failed"
+    assert runtime.status().reason == "dock failed"
+    failed = [e for e in sub.get_nowait() if isinstance(e, events.DockingFailed)]
+    assert [e.cause for e in failed] == ["no_contact"]
+    assert not runtime.status().charging
+
+
+def test_heading_tolerance_and_reversed_heading_are_per_goal(runtime: RobotRuntime) -> None:
+    lobby = runtime.store.point("floor1", "lobby").pose
+    flipped = Pose2D(lobby.x, lobby.y, math.pi)
+    runtime.go_to(pose=flipped, options=GoalOptions(reverse_allowed=True))
+    assert _run(runtime) == "succeeded"
+    true = runtime.simulation.true_pose
+    # Arrived facing east (0 rad), which the reversed heading accepts.
+    assert min(abs(angle_diff(true.theta, 0.0)), abs(angle_diff(true.theta, math.pi))) <= 0.1
+    assert true.distance_to(flipped) <= 0.1
+    runtime.go_to(pose=Pose2D(8.0, 8.5, 0.0), options=GoalOptions(yaw_tolerance=0.6))
+    assert _run(runtime) == "succeeded"
+    assert abs(angle_diff(runtime.simulation.true_pose.theta, 0.0)) <= 0.6
+
+
+def test_an_occupied_goal_within_near_tolerance_ends_next_to_it(runtime: RobotRuntime) -> None:
+    wall = Pose2D(0.2, 12.5, math.pi)  # inside the west wall by the lobby
+    runtime.go_to(pose=wall)
+    assert _run(runtime) == "failed"
+    runtime.go_to(pose=wall, options=GoalOptions(near_tolerance=1.0))
+    assert _run(runtime) == "succeeded"
+    assert runtime.simulation.true_pose.distance_to(wall) <= 1.0
+
+
+def test_max_retries_is_per_goal(runtime: RobotRuntime) -> None:
+    sub = runtime.bus.subscribe()
+    runtime.go_to(pose=Pose2D(0.2, 12.5, 0.0), options=GoalOptions(max_retries=0))
+    assert _run(runtime) == "failed"
+    assert runtime.status().retries <= 1
+    assert any(isinstance(e, events.PlanningFailed) for e in sub.get_nowait())
