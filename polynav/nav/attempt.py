@@ -53,6 +53,8 @@ class GoalOptions:
         yaw_tolerance: accepted final heading error [rad] (else the controller's).
         reverse_allowed: the goal heading reversed (the robot's tail facing the goal's
             direction) is accepted too, for robots that dock either way.
+        pass_tolerance: the goal is reached as soon as the robot comes this close [m], with
+            no final turn (a waypoint passed on the way, as a patrol's points).
         near_tolerance: when the goal itself cannot be reached (occupied, walled off), ending
             within this distance [m] of it counts as success.
         max_retries: consecutive failures without progress before giving up (else the
@@ -65,13 +67,14 @@ class GoalOptions:
 
     yaw_tolerance: float | None = None
     reverse_allowed: bool = False
+    pass_tolerance: float | None = None
     near_tolerance: float | None = None
     max_retries: int | None = None
     undock_distance: float | None = None
     dock: bool = False
 
     def __post_init__(self) -> None:
-        for key in ("yaw_tolerance", "near_tolerance", "undock_distance"):
+        for key in ("yaw_tolerance", "pass_tolerance", "near_tolerance", "undock_distance"):
             value = getattr(self, key)
             if value is not None and not value > 0.0:
                 raise ValueError(f"{key} must be > 0, got {value}")

@@ -410,10 +410,15 @@ class Navigator:
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:
         command = self._controller.compute(pose, velocity, self._costmap, dt)
         self._update(distance_remaining=self._remaining(pose))
-        if command.status is ControlStatus.ARRIVED:
+        options = self._require().options
+        if command.status is ControlStatus.ARRIVED or (
+            options.pass_tolerance is not None
+            and not options.dock
+            and pose.distance_to(self._target) <= options.pass_tolerance
+        ):
             self._arrived(now)
             return Twist()
-        near = self._require().options.near_tolerance
+        near = options.near_tolerance
         if (
             command.status is ControlStatus.BLOCKED
             and near is not None

@@ -50,7 +50,7 @@ from dataclasses import dataclass, replace
 from typing import Protocol, TypeVar
 
 from polynav.clock import Clock
-from polynav.errors import ConfigError, Conflict, InvalidRequest
+from polynav.errors import ConfigError, Conflict, InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
@@ -77,6 +77,7 @@ from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.site import Point, PointKind
+from polynav.tasks.patrol import Patrol, PatrolPlan, PatrolState
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -209,6 +210,10 @@ class RobotRuntime:
         # notice), run by the loop between steps: (due time, sequence, function).
         self._timers: list[tuple[float, int, Callable[[], None]]] = []
         self._timer_seq = itertools.count()
+        # The current or last patrol (a task over several goals), if any.
+        self._patrol: Patrol | None = None
+        self._patrol_seq = 0
+        self._patrol_options = GoalOptions()
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
@@ -393,35 +398,45 @@ class RobotRuntime:
             raise InvalidRequest("pose", "coordinates must be finite")
 
         def run() -> int:
-            stack = self._require_navigating()
+            self._end_patrol(canceled=True)
+            self._patrol = None  # the last task is this goal now
+            return self._start_goal(point, pose, map_name, options)
+
+        return self._call(run)
+
+    def patrol(self, plan: PatrolPlan, options: GoalOptions | None = None) -> int:
+        """Patrol ``plan``'s points of the current map, one goal per point, ``plan.count``
+        rounds; a running goal or patrol is canceled first.
+
+        Each point is passed within ``plan.tolerance`` [m] (a charger point is docked onto), a
+        failed leg is skipped, and :meth:`cancel` ends the whole patrol. ``options`` apply to
+        every leg (retries). Events: ``patrol_started``, the legs' navigation events, then
+        ``patrol_finished``, ``patrol_failed`` (the last leg failed) or ``patrol_canceled``.
+
+        Returns:
+            The patrol id.
+
+        Raises:
+            InvalidRequest: fewer than 2 points, a bad count or tolerance.
+            NotFound: a point not on the current map.
+            Conflict: not NAVIGATING.
+        """
+
+        def run() -> int:
+            self._require_navigating()
             assert self._map_name is not None
-            target_map = map_name or self._map_name
-            goal_options = options or GoalOptions()
-            if point is not None:
-                record = self.store.point(target_map, point)
-                goal = record.pose
-                if record.kind is PointKind.CHARGER:
-                    goal_options = replace(goal_options, dock=True)
-            else:
-                assert pose is not None
-                goal = pose
-            if goal_options.undock_distance is None and self._robot.read_battery().charging:
-                goal_options = replace(goal_options, undock_distance=UNDOCK_DISTANCE)
-            if target_map != self._map_name:
-                raise InvalidRequest(
-                    "map", f"{target_map!r} is not the current map {self._map_name!r}: "
-                           "goals on other maps need multi-map routing (not yet available)"
-                )
-            self._motion.yield_control()
-            if self._settings_dirty:
-                self._cancel_goal()
-                stack = self._rebuild_stack()
-            self._attempts.pending_point = point
-            try:
-                nav_id = stack.go_to(goal, self.now(), goal_options)
-            finally:
-                self._attempts.pending_point = None
-            return self._attempts.runtime_id(nav_id)
+            for name in plan.points:
+                self.store.point(self._map_name, name)  # NotFound before anything changes
+            self._end_patrol(canceled=True)
+            self._patrol_seq += 1
+            patrol = Patrol(self._patrol_seq, plan)
+            self._patrol = patrol
+            self._patrol_options = replace(
+                options or GoalOptions(), pass_tolerance=plan.tolerance
+            )
+            self._patrol_event(events.PatrolStarted, patrol)
+            self._start_goal(patrol.point, None, None, self._patrol_options)
+            return patrol.patrol_id
 
         return self._call(run)
 
@@ -451,6 +466,10 @@ class RobotRuntime:
         def run() -> None:
             if self._motion.local_move_active:
                 self._motion.end_local_move()
+                return
+            patrol = self._patrol
+            if patrol is not None and patrol.running:
+                self._end_patrol(canceled=True)
                 return
             if not self._cancel_goal():
                 raise Conflict("no goal or local move to cancel")
@@ -619,6 +638,7 @@ class RobotRuntime:
             stack.software_estop = self._software_estop
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
+            self._advance_patrol()
         override = self._motion.override(now, estop, self._free_ahead)
         if override is not None:
             self._robot.drive(override)
@@ -694,6 +714,7 @@ class RobotRuntime:
                     "point", f"map {name!r} has no initial point: give the initial point or pose"
                 )
         place(self._sim, floor, initial)  # may raise before anything changed
+        self._end_patrol(canceled=True)
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)
@@ -716,6 +737,7 @@ class RobotRuntime:
         if self._mode is Mode.FREE:
             return
         self._set_mode(Mode.BUSY)
+        self._end_patrol(canceled=True)
         self._cancel_goal()
         self._halt_motion()
         self._stack = None
@@ -759,6 +781,82 @@ class RobotRuntime:
             NavigationState.RUNNING,
             NavigationState.PAUSED,
         )
+
+    def _start_goal(
+        self,
+        point: str | None,
+        pose: Pose2D | None,
+        map_name: str | None,
+        options: GoalOptions | None,
+    ) -> int:
+        stack = self._require_navigating()
+        assert self._map_name is not None
+        target_map = map_name or self._map_name
+        goal_options = options or GoalOptions()
+        if point is not None:
+            record = self.store.point(target_map, point)
+            goal = record.pose
+            if record.kind is PointKind.CHARGER:
+                goal_options = replace(goal_options, dock=True, pass_tolerance=None)
+        else:
+            assert pose is not None
+            goal = pose
+        if goal_options.undock_distance is None and self._robot.read_battery().charging:
+            goal_options = replace(goal_options, undock_distance=UNDOCK_DISTANCE)
+        if target_map != self._map_name:
+            raise InvalidRequest(
+                "map", f"{target_map!r} is not the current map {self._map_name!r}: "
+                       "goals on other maps need multi-map routing (not yet available)"
+            )
+        self._motion.yield_control()
+        if self._settings_dirty:
+            self._cancel_goal()
+            stack = self._rebuild_stack()
+        self._attempts.pending_point = point
+        try:
+            nav_id = stack.go_to(goal, self.now(), goal_options)
+        finally:
+            self._attempts.pending_point = None
+        return self._attempts.runtime_id(nav_id)
+
+    # -- patrols -------------------------------------------------------------------------------
+
+    def _patrol_event(self, cls: type[events.PatrolEvent], patrol: Patrol) -> None:
+        plan = patrol.plan
+        self._publish(cls(self.now(), patrol.patrol_id, plan.points, plan.count, plan.tolerance))
+
+    def _advance_patrol(self) -> None:
+        """Start the next leg when the current one ended (between ticks, right after it)."""
+        patrol = self._patrol
+        if patrol is None or not patrol.running or self._stack is None:
+            return
+        attempt = self._stack.navigator.attempt
+        if attempt is None or not attempt.state.finished:
+            return
+        if attempt.state is NavigationState.CANCELED:
+            self._end_patrol(canceled=True)
+            return
+        point = patrol.leg_ended(attempt.state is NavigationState.SUCCEEDED)
+        if point is not None:
+            try:
+                self._start_goal(point, None, None, self._patrol_options)
+                return
+            except PolynavError as exc:  # the point was deleted meanwhile: the patrol ends
+                log.warning("patrol %d: cannot start the leg to %r: %s",
+                            patrol.patrol_id, point, exc)
+                patrol.leg_ended(False)
+                patrol.state = PatrolState.FAILED
+        self._patrol_event(
+            events.PatrolFinished if patrol.state is PatrolState.SUCCEEDED else events.PatrolFailed,
+            patrol,
+        )
+
+    def _end_patrol(self, *, canceled: bool) -> None:
+        """A running patrol ends (canceled, or replaced by another goal)."""
+        patrol = self._patrol
+        if patrol is not None and canceled and patrol.cancel():
+            self._cancel_goal()
+            self._patrol_event(events.PatrolCanceled, patrol)
 
     def _cancel_goal(self) -> bool:
         if self._stack is None:
@@ -832,6 +930,7 @@ class RobotRuntime:
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
             retries=attempt.retries if attempt is not None else 0,
             phase=attempt.phase.value if attempt is not None else None,
+            patrol_state=self._patrol.state.value if self._patrol is not None else None,
         )
 
 

@@ -40,6 +40,8 @@ class StatusSnapshot:
         distance_remaining: path length [m] still to go, when known.
         retries: that attempt's retries so far (re-plans after a failure).
         phase: that attempt's phase (``leave_charger``, ``navigate``, ``dock``).
+        patrol_state: the current or last patrol's state (``running``, ``succeeded``,
+            ``failed``, ``canceled``); ``None`` when the last task was a single goal.
     """
 
     mode: str
@@ -63,6 +65,7 @@ class StatusSnapshot:
     distance_remaining: float | None = None
     retries: int = 0
     phase: str | None = None
+    patrol_state: str | None = None
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""

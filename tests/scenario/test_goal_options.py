@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, angle_diff
 from polynav.nav.attempt import GoalOptions
 from polynav.runtime import events
@@ -19,6 +20,7 @@ from polynav.runtime.event_bus import Subscription
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
+from polynav.tasks.patrol import PatrolPlan
 from polynav.worlds import load_world
 from polynav.worlds.world import World
 
@@ -152,3 +154,68 @@ def test_max_retries_is_per_goal(runtime: RobotRuntime) -> None:
     assert _run(runtime) == "failed"
     assert runtime.status().retries <= 1
     assert any(isinstance(e, events.PlanningFailed) for e in sub.get_nowait())
+
+
+PATROL_KINDS = {
+    "patrol_started", "patrol_finished", "patrol_failed", "patrol_canceled",
+    "navigation_started", "navigation_succeeded", "navigation_failed", "navigation_canceled",
+}
+
+
+def _patrol_log(sub: Subscription) -> list[tuple[str, str | None]]:
+    out: list[tuple[str, str | None]] = []
+    for e in sub.get_nowait():
+        if e.kind in PATROL_KINDS:
+            out.append((e.kind, e.point if isinstance(e, events.NavigationStarted) else None))
+    return out
+
+
+def test_a_patrol_visits_its_points_round_after_round(runtime: RobotRuntime) -> None:
+    sub = runtime.bus.subscribe()
+    runtime.patrol(PatrolPlan(("lobby", "front_desk", "corridor_west"), count=2, tolerance=0.5))
+    assert runtime.status().patrol_state == "running"
+    assert runtime.advance_until(lambda: runtime.status().patrol_state != "running", 300.0)
+    assert runtime.status().patrol_state == "succeeded"
+    legs = ["lobby", "front_desk", "corridor_west"] * 2
+    assert _patrol_log(sub) == [
+        ("patrol_started", None),
+        *[pair for leg in legs for pair in (("navigation_started", leg),
+                                              ("navigation_succeeded", None))],
+        ("patrol_finished", None),
+    ]
+    last = runtime.store.point("floor1", "corridor_west").pose
+    assert runtime.simulation.true_pose.distance_to(last) <= 0.5
+
+
+def test_a_patrol_skips_a_failed_leg_and_fails_if_the_last_leg_fails(
+    runtime: RobotRuntime,
+) -> None:
+    wall = Pose2D(0.2, 12.5, 0.0)
+    runtime.store.add_point(Point("in_wall", "floor1", wall, PointKind.GENERAL, 41))
+    sub = runtime.bus.subscribe()
+    runtime.patrol(PatrolPlan(("in_wall", "lobby", "in_wall"), count=1))
+    assert runtime.advance_until(lambda: runtime.status().patrol_state != "running", 300.0)
+    assert runtime.status().patrol_state == "failed"
+    kinds = [kind for kind, _ in _patrol_log(sub)]
+    assert kinds == [
+        "patrol_started", "navigation_started", "navigation_failed", "navigation_started",
+        "navigation_succeeded", "navigation_started", "navigation_failed", "patrol_failed",
+    ]
+
+
+def test_canceling_a_patrol_ends_it_and_a_new_goal_replaces_it(runtime: RobotRuntime) -> None:
+    runtime.patrol(PatrolPlan(("lobby", "front_desk"), count=-1))
+    runtime.advance(3.0)
+    sub = runtime.bus.subscribe()
+    runtime.cancel()
+    assert runtime.status().patrol_state == "canceled"
+    assert [kind for kind, _ in _patrol_log(sub)] == ["navigation_canceled", "patrol_canceled"]
+    with pytest.raises(Conflict):
+        runtime.cancel()
+    runtime.go_to(point="lobby")
+    assert runtime.status().patrol_state is None
+    with pytest.raises(InvalidRequest):
+        PatrolPlan(("lobby",))
+    with pytest.raises(NotFound):
+        runtime.patrol(PatrolPlan(("lobby", "nowhere")))
+    assert runtime.status().navigation_state == "running"  # the refused patrol changed nothing

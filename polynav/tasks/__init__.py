@@ -1,0 +1,1 @@
+"""Tasks: what the robot does with navigation over time (patrols over points, ...)."""
