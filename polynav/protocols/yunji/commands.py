@@ -27,11 +27,13 @@ from dataclasses import dataclass, field, replace
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, wrap_angle, yaw_to_quaternion
+from polynav.nav.attempt import GoalOptions
 from polynav.protocols.yunji.messages import MarkerType, MoveStatus, Reply
 from polynav.runtime.robot_runtime import Mode, RobotRuntime
 from polynav.runtime.status import StatusSnapshot
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
+from polynav.tasks.patrol import FOREVER, PatrolPlan
 
 log = logging.getLogger(__name__)
 
@@ -70,6 +72,10 @@ _TYPE_BY_KIND: dict[PointKind, int] = {
     PointKind.GATE: MarkerType.GATE,
     PointKind.CUSTOM: MarkerType.CUSTOM,
 }
+_RUNNING_STATUS = {"leave_charger": "leave_charging_pile", "dock": "dock_to_charging_pile"}
+# Cruise (§3.1.2): the least and default pass tolerance [m], the default retries per leg.
+CRUISE_MIN_TOLERANCE = 0.5
+CRUISE_DEFAULT_RETRIES = 5
 _MOVE_STATUS = {
     "idle": MoveStatus.IDLE,
     "running": MoveStatus.RUNNING,
@@ -213,7 +219,22 @@ def pose_json(pose: Pose2D) -> dict[str, float]:
 
 
 def move_status_of(snapshot: StatusSnapshot) -> MoveStatus:
-    return _MOVE_STATUS.get(snapshot.navigation_state, MoveStatus.IDLE)
+    """The move task's status: the patrol's while a cruise is the last task (``running`` for
+    the whole cruise, §3.1.2), else the navigation attempt's."""
+    state = snapshot.patrol_state or snapshot.navigation_state
+    return _MOVE_STATUS.get(state, MoveStatus.IDLE)
+
+
+def running_status(snapshot: StatusSnapshot) -> str:
+    """§3.3 ``running_status``: the attempt's phase while the move task runs, else ``idle``."""
+    if move_status_of(snapshot) is not MoveStatus.RUNNING:
+        return "idle"
+    return _RUNNING_STATUS.get(snapshot.phase or "", "running")
+
+
+def _cruise_task_id(patrol_id: int) -> str:
+    """A cruise's task id: its patrol id with the top bit set, so it never equals a move's."""
+    return f"{(1 << 127) | patrol_id:032X}"
 
 
 def _task_id(attempt_id: int) -> str:
@@ -239,8 +260,8 @@ def robot_status(ctx: Context, params: Params) -> Reply:
         results={
             "move_target": target or "",
             "move_status": move_status.value,
-            "running_status": "running" if move_status is MoveStatus.RUNNING else "idle",
-            "move_retry_times": 0,
+            "running_status": running_status(s),
+            "move_retry_times": int(s.retries),
             "charge_state": s.charging,
             "soft_estop_state": s.estop_software,
             "hard_estop_state": s.estop_hardware,
@@ -277,9 +298,9 @@ def robot_info(ctx: Context, params: Params) -> Reply:
 
 
 def move(ctx: Context, params: Params) -> Reply:
-    """§3.1.1: to a marker or a location; a cruise (``markers=``) is not implemented yet."""
+    """§3.1.1: to a marker or a location; with ``markers``, a cruise (§3.1.2)."""
     if "markers" in params:
-        raise InvalidRequest("markers", "cruise is not supported yet")
+        return cruise(ctx, params)
     location = params.get("location")
     marker = params.get("marker")
     if not location and not marker:
@@ -288,9 +309,8 @@ def move(ctx: Context, params: Params) -> Reply:
     assert angle_offset is not None
     if abs(angle_offset) > ANGLE_OFFSET_LIMIT:
         raise InvalidRequest("angle_offset", f"must be within [-3.14, 3.14], got {angle_offset}")
-    _check_unapplied(params)
-    if ctx.runtime.mode is not Mode.NAVIGATING:
-        raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
+    options = _goal_options(params)
+    _require_navigation(ctx)
     pose: Pose2D | None = None
     if location:
         raw = _location(location)
@@ -307,21 +327,60 @@ def move(ctx: Context, params: Params) -> Reply:
     # One move starts at a time: two clients cannot both pass the "running" check, and
     # pending_target is this move's (the snapshot is refreshed after each runtime command).
     with ctx.move_lock:
-        if move_status_of(ctx.runtime.status()) is MoveStatus.RUNNING:
-            raise Conflict("a move task is running: cancel it first")
+        _refuse_while_running(ctx)
         with ctx.lock:
             ctx.pending_target = target
         try:
             if pose is not None:
-                attempt = ctx.runtime.go_to(pose=pose)
+                attempt = ctx.runtime.go_to(pose=pose, options=options)
             else:
-                attempt = ctx.runtime.go_to(point=target)
+                attempt = ctx.runtime.go_to(point=target, options=options)
             with ctx.lock:
                 ctx.targets[attempt] = target
         finally:
             with ctx.lock:
                 ctx.pending_target = None
     return Reply(task_id=_task_id(attempt))
+
+
+def cruise(ctx: Context, params: Params) -> Reply:
+    """§3.1.2: rounds over ``markers`` of the current floor (a polynav patrol)."""
+    names = tuple(name for name in required(params, "markers").split(","))
+    if any(not name for name in names):
+        raise InvalidRequest("markers", "marker names must not be empty")
+    if len(names) < 2:
+        raise InvalidRequest("markers", f"a cruise needs at least 2 markers, got {len(names)}")
+    count = optional_int(params, "count", 1)
+    assert count is not None
+    if count == 0 or count < FOREVER:
+        raise InvalidRequest("count", f"must be >= 1 or -1 (forever), got {count}")
+    tolerance = optional_float(params, "distance_tolerance", CRUISE_MIN_TOLERANCE)
+    assert tolerance is not None
+    if tolerance < CRUISE_MIN_TOLERANCE:
+        raise InvalidRequest(
+            "distance_tolerance", f"must be >= {CRUISE_MIN_TOLERANCE}, got {tolerance}"
+        )
+    retries = optional_int(params, "max_continuous_retries", CRUISE_DEFAULT_RETRIES)
+    if retries is not None and retries < 0:
+        raise InvalidRequest("max_continuous_retries", f"must be >= 0, got {retries}")
+    _require_navigation(ctx)
+    with ctx.move_lock:
+        _refuse_while_running(ctx)
+        patrol = ctx.runtime.patrol(
+            PatrolPlan(names, count=count, tolerance=tolerance),
+            GoalOptions(max_retries=retries),
+        )
+    return Reply(task_id=_cruise_task_id(patrol))
+
+
+def _require_navigation(ctx: Context) -> None:
+    if ctx.runtime.mode is not Mode.NAVIGATING:
+        raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
+
+
+def _refuse_while_running(ctx: Context) -> None:
+    if move_status_of(ctx.runtime.status()) is MoveStatus.RUNNING:
+        raise Conflict("a move task is running: cancel it first")
 
 
 def _location(text: str) -> Pose2D:
@@ -332,19 +391,29 @@ def _location(text: str) -> Pose2D:
     return Pose2D(x, y, theta)
 
 
-def _check_unapplied(params: Params) -> None:
-    """Validate the move options polynav accepts but does not apply yet (see docs/yunji.md)."""
+def _goal_options(params: Params) -> GoalOptions:
+    """The per-goal options of §3.1.1 as polynav's (see docs/yunji.md for the mapping)."""
+    tolerances: dict[str, float] = {}
     for name in ("distance_tolerance", "theta_tolerance"):
         value = optional_float(params, name)
-        if value is not None and value < 0.0:
-            raise InvalidRequest(name, f"must be >= 0, got {value}")
+        if value is not None:
+            if not value > 0.0:
+                raise InvalidRequest(name, f"must be > 0, got {value}")
+            tolerances[name] = value
     occupied = optional_float(params, "occupied_tolerance")
     if occupied is not None and occupied < 0.1:
         raise InvalidRequest("occupied_tolerance", f"must be >= 0.1, got {occupied}")
     retries = optional_int(params, "max_continuous_retries")
     if retries is not None and retries < 0:
         raise InvalidRequest("max_continuous_retries", f"must be >= 0, got {retries}")
-    optional_int(params, "yaw_goal_reverse_allowed")
+    reverse = optional_int(params, "yaw_goal_reverse_allowed")
+    near = max(tolerances.get("distance_tolerance", 0.0), occupied or 0.0)
+    return GoalOptions(
+        yaw_tolerance=tolerances.get("theta_tolerance"),
+        reverse_allowed=reverse == 1,
+        near_tolerance=near if near > 0.0 else None,
+        max_retries=retries,
+    )
 
 
 def move_cancel(ctx: Context, params: Params) -> Reply:
@@ -580,7 +649,6 @@ def get_current_location(ctx: Context, params: Params) -> Reply:
         if d <= threshold:
             near.append((d, p))
     near.sort(key=lambda item: item[0])
-    running = move_status_of(s) is MoveStatus.RUNNING
     return Reply(
         results={
             "current_floor": floor_level(ctx, s.floor),
@@ -588,7 +656,7 @@ def get_current_location(ctx: Context, params: Params) -> Reply:
             "near_markers": [
                 {"distance": d, "key": _marker_type(p), "marker_name": p.name} for d, p in near
             ],
-            "running_status": "running" if running else "idle",
+            "running_status": running_status(s),
         }
     )
 

@@ -1,9 +1,16 @@
 """Runtime events to Yunji notifications (§3.10), sent to every connected client.
 
-Only the codes whose trigger polynav produces today are in :data:`NOTIFICATIONS`; the rest of the
-spec's table (cruise, charging-pile docking, lifts, gates, trapped/planning, power) comes with the
-features behind them. ``data`` carries ``target`` (the move's marker, ``""`` for a location,
-§A-N2) and, when a move ends, ``distance`` travelled [m] (§3.10.3).
+:data:`NOTIFICATIONS` catalogues every defined code; :data:`PRODUCED` are those polynav sends and
+:data:`NOT_PRODUCED` those it has no feature for, each with the reason. ``data`` carries
+``target`` (the move's marker, ``""`` for a location, §A-N2) for the move codes 01001-01027,
+``distance`` travelled [m] when a move ends (01002/01003/01004, §3.10.3), and ``markers``,
+``count``, ``distance_tolerance`` for the cruise codes 011xx; other codes carry ``{}``.
+
+Sequences (§3.10.4): ``01001`` -> [``01010`` -> ``01011``] -> (``01005``)* -> [``01020`` ->
+``01021``] -> ``01002``; a move that cannot plan from the start sends ``01007`` then ``01003``
+with no retries; too many retries without progress send ``01006`` then ``01003``. ``01203``
+(and ``01202`` when the robot stands on an obstacle or in a forbidden zone) is sent at most every
+5 s of the runtime's clock while planning keeps failing.
 """
 
 from __future__ import annotations
@@ -132,18 +139,57 @@ NOT_PRODUCED: dict[str, str] = {
     "01081": _NO_CONTAINERS,
     "01082": _NO_CONTAINERS,
     "01200": "polynav runs one robot: there is no multi-robot traffic control",
+    "01201": "polynav's costmap takes unknown (grey) space as free by default, and with "
+             "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
+             "in by grey area; a goal in unknown space is answered 01007",
     "01210": "polynav has no no-entry sign detector",
     **{code: _LIFTS for code in NOTIFICATIONS if code.startswith("040")},
 }
 
 # Codes the mapper below sends.
-PRODUCED: frozenset[str] = frozenset({"01001", "01002", "01003", "01004", "02003", "02004"})
+PRODUCED: frozenset[str] = frozenset({
+    "01001", "01002", "01003", "01004", "01005", "01006", "01007",
+    "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
+    "01101", "01102", "01103", "01104",
+    "01202", "01203", "01204",
+    "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
+    "03001",
+})
+PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
 _MOVE_END: dict[type[events.RuntimeEvent], str] = {
     events.NavigationSucceeded: "01002",
     events.NavigationFailed: "01003",
     events.NavigationCanceled: "01004",
 }
+# Move-task steps that carry only the target.
+_STEP: dict[type[events.RuntimeEvent], str] = {
+    events.ChargerLeaveStarted: "01010",
+    events.ChargerLeft: "01011",
+    events.ChargerLeaveFailed: "01012",
+    events.ChargerLeaveRetry: "01013",
+    events.DockingStarted: "01020",
+    events.DockingSucceeded: "01021",
+    events.NavigationBlocked: "01204",
+}
+_DOCK_CAUSE = {"no_contact": "01025", "timeout": "01027"}
+_PATROL: dict[type[events.RuntimeEvent], str] = {
+    events.PatrolStarted: "01101",
+    events.PatrolFinished: "01102",
+    events.PatrolFailed: "01103",
+    events.PatrolCanceled: "01104",
+}
+_STATUS: dict[type[events.RuntimeEvent], str] = {
+    events.PowerOffNotice: "02000",
+    events.RobotDisplaced: "02005",
+    events.SoftwareShutdownNotice: "02006",
+    events.ForeignObjectDetected: "03001",
+}
+# Retries that are the navigator's check of a first plan (clear the lidar marks, plan again),
+# not a move retry: the move then either goes or fails with 01007 (no retries, L634).
+_SILENT_RETRY_CAUSES = {"no path", "goal occupied"}
+_UNREACHABLE_REASONS = {"no path", "goal occupied"}
+_TRAPPED = {"start_occupied": "01202"}
 
 
 def notification(code: str, data: dict[str, object] | None = None) -> Notification:
@@ -153,7 +199,7 @@ def notification(code: str, data: dict[str, object] | None = None) -> Notificati
 
 class NotificationMapper:
     """Turns runtime events into notifications; keeps what it needs across events (the target
-    of each attempt, the last combined e-stop state).
+    of each attempt, the last combined e-stop state, when planning notices were last sent).
 
     Args:
         target_of: the marker name the adapter recorded for an attempt id, if any (moves sent
@@ -165,23 +211,84 @@ class NotificationMapper:
         self._target_of = target_of
         self._targets: dict[int, str] = {}
         self._estop = estop_active
+        self._lost = False
+        self._planning_sent: dict[str, float] = {}
+
+    def _target(self, attempt_id: int) -> str:
+        return self._targets.get(attempt_id) or self._target_of(attempt_id) or ""
 
     def map(self, event: events.RuntimeEvent) -> list[Notification]:
         if isinstance(event, events.NavigationStarted):
             target = event.point or self._target_of(event.attempt_id) or ""
             self._targets[event.attempt_id] = target
+            self._planning_sent.clear()
             return [notification("01001", {"target": target})]
-        if isinstance(
+        if type(event) in _MOVE_END:
+            return self._move_end(event)
+        if type(event) in _STEP:
+            assert isinstance(event, events.AttemptEvent | events.ChargerLeaveRetry
+                              | events.NavigationBlocked)
+            return [notification(_STEP[type(event)], {"target": self._target(event.attempt_id)})]
+        if isinstance(event, events.DockingFailed):
+            data: dict[str, object] = {"target": self._target(event.attempt_id)}
+            out = [notification("01022", data)]
+            if event.cause in _DOCK_CAUSE:
+                out.append(notification(_DOCK_CAUSE[event.cause], dict(data)))
+            return out
+        if isinstance(event, events.NavigationRetry):
+            if event.cause in _SILENT_RETRY_CAUSES:
+                return []
+            return [notification("01005", {"target": self._target(event.attempt_id)})]
+        if isinstance(event, events.PlanningFailed):
+            return self._planning(event)
+        if isinstance(event, events.PatrolEvent):
+            return [notification(_PATROL[type(event)], {
+                "markers": list(event.points),
+                "count": event.count,
+                "distance_tolerance": event.tolerance,
+            })]
+        if type(event) in _STATUS:
+            return [notification(_STATUS[type(event)])]
+        return self._status(event)
+
+    def _move_end(self, event: events.RuntimeEvent) -> list[Notification]:
+        assert isinstance(
             event,
-            (events.NavigationSucceeded, events.NavigationFailed, events.NavigationCanceled),
-        ):
-            code = _MOVE_END[type(event)]
-            target = self._targets.pop(event.attempt_id, "") or (
-                self._target_of(event.attempt_id) or ""
-            )
-            data: dict[str, object] = {"target": target, "distance": float(event.distance)}
-            return [notification(code, data)]
+            events.NavigationSucceeded | events.NavigationFailed | events.NavigationCanceled,
+        )
+        target = self._targets.pop(event.attempt_id, "") or (
+            self._target_of(event.attempt_id) or ""
+        )
+        out: list[Notification] = []
+        if isinstance(event, events.NavigationFailed):
+            if event.reason == "stuck":
+                out.append(notification("01006", {"target": target}))
+            elif event.reason in _UNREACHABLE_REASONS and not event.planned:
+                out.append(notification("01007", {"target": target}))
+        data: dict[str, object] = {"target": target, "distance": float(event.distance)}
+        out.append(notification(_MOVE_END[type(event)], data))
+        return out
+
+    def _planning(self, event: events.PlanningFailed) -> list[Notification]:
+        out: list[Notification] = []
+        for code in (_TRAPPED.get(event.cause), "01203"):
+            if code is None:
+                continue
+            last = self._planning_sent.get(code)
+            if last is None or event.stamp - last >= PLANNING_NOTICE_PERIOD - 1e-9:
+                self._planning_sent[code] = event.stamp
+                out.append(notification(code))
+        return out
+
+    def _status(self, event: events.RuntimeEvent) -> list[Notification]:
         if isinstance(event, events.EStopChanged) and event.active != self._estop:
             self._estop = event.active
             return [notification("02003" if event.active else "02004")]
+        if isinstance(event, events.ChargeChanged):
+            return [notification("02001" if event.charging else "02002")]
+        if isinstance(event, events.LocalizationChanged):
+            lost = event.state == "lost"
+            changed, self._lost = lost != self._lost, lost
+            if lost and changed:
+                return [notification("02010")]
         return []

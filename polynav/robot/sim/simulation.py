@@ -220,6 +220,22 @@ class Simulation:
         self._next_scan = now + self._scan_period
         log.info("teleported to %s at %s", name, pose)
 
+    def place_obstacle(self, floor: str, x: float, y: float, radius: float) -> None:
+        """Put a round obstacle (a trolley left in a corridor) into ``floor``'s ground truth at
+        (x, y) [m]: the lidar sees it and the base collides with it; the site map knows nothing.
+        """
+        state = self._floors[self.world.floor(floor).name]
+        info = state.info
+        ix, iy = info.world_to_cell(x, y)
+        reach = int(math.ceil(radius / info.resolution))
+        ys, xs = np.mgrid[iy - reach:iy + reach + 1, ix - reach:ix + reach + 1]
+        cx = info.origin.x + (xs + 0.5) * info.resolution  # the origin has zero yaw (checked)
+        cy = info.origin.y + (ys + 0.5) * info.resolution
+        inside = (np.hypot(cx - x, cy - y) <= radius) & (xs >= 0) & (ys >= 0)
+        inside &= (xs < info.width) & (ys < info.height)
+        state.occupied[ys[inside], xs[inside]] = True
+        log.info("obstacle of radius %.2f m placed at (%.2f, %.2f) on %s", radius, x, y, floor)
+
     def drive(self, command: Twist) -> None:
         """Command a body velocity (clamped to the limits); ignored while the e-stop is pressed."""
         if not self._estop:
