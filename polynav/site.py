@@ -16,6 +16,7 @@ class PointKind(enum.Enum):
     GENERAL = "general"
     CHARGER = "charger"
     INITIAL = "initial"
+    FRONT_DESK = "front-desk"
     LIFT_OUTSIDE = "lift-outside"
     LIFT_INSIDE = "lift-inside"
     GATE = "gate"
@@ -24,10 +25,15 @@ class PointKind(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class Point:
-    """A named pose on one map."""
+    """A named pose on one map.
+
+    ``custom_type`` is the site's own type number of a ``CUSTOM`` point (integrators tag their
+    points, as Yunji's custom marker types >= 1000); ``None`` otherwise.
+    """
 
     name: str
     map_name: str
     pose: Pose2D
     kind: PointKind = PointKind.GENERAL
     number: int | None = None
+    custom_type: int | None = None

@@ -85,6 +85,11 @@ MIGRATIONS: tuple[Migration, ...] = (
             "CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL)",
         ),
     ),
+    Migration(
+        2,
+        "points: the site's own type number of custom points",
+        ("ALTER TABLE points ADD COLUMN custom_type INTEGER",),
+    ),
 )
 
 SCHEMA_VERSION = MIGRATIONS[-1].version

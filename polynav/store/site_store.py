@@ -63,7 +63,7 @@ _MAX_NAME = 200
 _SEEDED_KEY = "seeded_from"
 _SERIAL_KEY = "map_file_serial"
 
-_POINT_COLUMNS = "p.map_name, p.name, p.x, p.y, p.theta, p.kind, p.number"
+_POINT_COLUMNS = "p.map_name, p.name, p.x, p.y, p.theta, p.kind, p.number, p.custom_type"
 _MAP_COLUMNS = "name, floor, resolution, width, height, origin_x, origin_y, origin_theta"
 
 
@@ -416,8 +416,8 @@ class SiteStore:
             if _point_exists(conn, point.map_name, point.name):
                 raise Conflict(f"map {point.map_name!r} already has a point {point.name!r}")
             conn.execute(
-                "INSERT INTO points (map_name, name, x, y, theta, kind, number) "
-                "VALUES (?, ?, ?, ?, ?, ?, ?)",
+                "INSERT INTO points (map_name, name, x, y, theta, kind, number, custom_type) "
+                "VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
                 values,
             )
         return point
@@ -442,7 +442,7 @@ class SiteStore:
                 raise Conflict(f"map {point.map_name!r} already has a point {point.name!r}")
             conn.execute(
                 "UPDATE points SET map_name = ?, name = ?, x = ?, y = ?, theta = ?, kind = ?, "
-                "number = ? WHERE map_name = ? AND name = ?",
+                "number = ?, custom_type = ? WHERE map_name = ? AND name = ?",
                 (*values, map_name, name),
             )
         return point
@@ -720,8 +720,9 @@ class SiteStore:
                             (item.name, item.floor, *_info_columns(item.grid), file),
                         )
                     conn.executemany(
-                        "INSERT INTO points (map_name, name, x, y, theta, kind, number) "
-                        "VALUES (?, ?, ?, ?, ?, ?, ?)",
+                        "INSERT INTO points "
+                        "(map_name, name, x, y, theta, kind, number, custom_type) "
+                        "VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
                         [_point_columns(p) for p in plan.points],
                     )
                     conn.execute(
@@ -789,16 +790,21 @@ def _point_columns(point: Point) -> tuple[str, str, float, float, float, str, in
     number = point.number
     if number is not None and (isinstance(number, bool) or not isinstance(number, int)):
         raise InvalidRequest("point.number", f"expected an integer or None, got {number!r}")
-    return (point.map_name, point.name, x, y, theta, point.kind.value, number)
+    custom = point.custom_type
+    if custom is not None and (isinstance(custom, bool) or not isinstance(custom, int)):
+        raise InvalidRequest("point.custom_type", f"expected an integer or None, got {custom!r}")
+    if custom is not None and point.kind is not PointKind.CUSTOM:
+        raise InvalidRequest("point.custom_type", "only a custom point has a custom type")
+    return (point.map_name, point.name, x, y, theta, point.kind.value, number, custom)
 
 
 def _point(row: Sequence[Any]) -> Point:
-    map_name, name, x, y, theta, kind, number = row
+    map_name, name, x, y, theta, kind, number, custom_type = row
     try:
         point_kind = PointKind(kind)
     except ValueError as exc:
         raise StorageError(f"point {map_name}/{name} has an unknown kind {kind!r}") from exc
-    return Point(name, map_name, Pose2D(x, y, theta), point_kind, number)
+    return Point(name, map_name, Pose2D(x, y, theta), point_kind, number, custom_type)
 
 
 def _point_exists(conn: sqlite3.Connection, map_name: str, name: str) -> bool:

@@ -58,6 +58,7 @@ DEFAULT_DISTANCE_THRESHOLD = 2.0
 
 _KIND_BY_TYPE: dict[int, PointKind] = {
     MarkerType.GENERAL: PointKind.GENERAL,
+    MarkerType.FRONT_DESK: PointKind.FRONT_DESK,
     MarkerType.LIFT_OUTSIDE: PointKind.LIFT_OUTSIDE,
     MarkerType.LIFT_INSIDE: PointKind.LIFT_INSIDE,
     MarkerType.GATE: PointKind.GATE,
@@ -66,6 +67,7 @@ _KIND_BY_TYPE: dict[int, PointKind] = {
 _TYPE_BY_KIND: dict[PointKind, int] = {
     PointKind.GENERAL: MarkerType.GENERAL,
     PointKind.INITIAL: MarkerType.GENERAL,
+    PointKind.FRONT_DESK: MarkerType.FRONT_DESK,
     PointKind.CHARGER: MarkerType.CHARGING_PILE,
     PointKind.LIFT_OUTSIDE: MarkerType.LIFT_OUTSIDE,
     PointKind.LIFT_INSIDE: MarkerType.LIFT_INSIDE,
@@ -198,6 +200,9 @@ def map_of_level(ctx: Context, level: int) -> str:
 
 
 def _marker_type(point: Point) -> int:
+    """The marker ``key``: the kind's type, a custom point's own number (>= 1000)."""
+    if point.kind is PointKind.CUSTOM and point.custom_type is not None:
+        return point.custom_type
     return int(_TYPE_BY_KIND.get(point.kind, MarkerType.GENERAL))
 
 
@@ -443,10 +448,10 @@ def markers_query_list(ctx: Context, params: Params) -> Reply:
 def markers_insert(ctx: Context, params: Params) -> Reply:
     """§3.5.1: at the current pose, on the current map; an existing name is moved (§A-K1)."""
     name = required(params, "name")
-    kind = _kind(params)
+    kind, custom = _kind(params)
     num = optional_int(params, "num", 1)
     map_name = current_map(ctx)
-    point = Point(name, map_name, ctx.runtime.status().pose, kind, num)
+    point = Point(name, map_name, ctx.runtime.status().pose, kind, num, custom)
     try:
         ctx.store.point(map_name, name)
     except NotFound:
@@ -456,12 +461,18 @@ def markers_insert(ctx: Context, params: Params) -> Reply:
     return Reply()
 
 
-def _kind(params: Params) -> PointKind:
+def _kind(params: Params) -> tuple[PointKind, int | None]:
+    """The point kind of ``type`` (§3.5.1), and the custom type number for types >= 1000."""
     marker_type = optional_int(params, "type", 0)
     assert marker_type is not None
-    if marker_type < 0:
-        raise InvalidRequest("type", f"must be >= 0, got {marker_type}")
-    return _KIND_BY_TYPE.get(marker_type, PointKind.CUSTOM)
+    if marker_type >= MarkerType.CUSTOM:
+        return PointKind.CUSTOM, marker_type
+    kind = _KIND_BY_TYPE.get(marker_type)
+    if kind is None:
+        raise InvalidRequest(
+            "type", f"must be 0, 1, 3, 4, 7, 11 or a custom type >= 1000, got {marker_type}"
+        )
+    return kind, None
 
 
 def markers_delete(ctx: Context, params: Params) -> Reply:
@@ -496,11 +507,11 @@ def markers_insert_by_pose(ctx: Context, params: Params) -> Reply:
     theta = parse_float("theta", required(params, "theta"))
     if abs(theta) > math.pi + 1e-9:
         raise InvalidRequest("theta", f"must be within [-pi, pi], got {theta}")
-    kind = _kind(params)
+    kind, custom = _kind(params)
     num = optional_int(params, "num", 1)
     level = optional_int(params, "floor")
     map_name = current_map(ctx) if level is None else map_of_level(ctx, level)
-    point = Point(name, map_name, Pose2D(x, y, theta), kind, num)
+    point = Point(name, map_name, Pose2D(x, y, theta), kind, num, custom)
     try:
         ctx.store.point(map_name, name)
     except NotFound:

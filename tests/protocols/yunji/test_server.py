@@ -308,6 +308,25 @@ def test_map_get_current_map_reports_name_floor_and_grid(client: Client) -> None
 # -- more markers, relocalization, maps ----------------------------------------------------------
 
 
+def test_marker_types_front_desk_and_custom_read_back_and_others_are_refused(
+    harness: Harness, client: Client
+) -> None:
+    for name, marker_type in (("desk", 1), ("cart_bay", 1007), ("gate_2", 7), ("pile", 11)):
+        command = f"/api/markers/insert_by_pose?name={name}&x=5&y=12&theta=0&type={marker_type}"
+        assert client.request(command)["status"] == "OK"
+    listed = client.request("/api/markers/query_list?floor=1")["results"]
+    assert {n: listed[n]["key"] for n in ("desk", "cart_bay", "gate_2", "pile")} == {
+        "desk": 1, "cart_bay": 1007, "gate_2": 7, "pile": 11}
+    brief = client.request("/api/markers/query_brief")["results"]
+    assert (brief["desk"], brief["cart_bay"]) == ("1-1", "1007-1")
+    kinds = {p.name: p.kind.value for p in harness.runtime.store.points(map_name="floor1")}
+    assert (kinds["desk"], kinds["cart_bay"], kinds["pile"]) == ("front-desk", "custom", "charger")
+    for bad in ("2", "5", "999", "-1", "x"):
+        reply = client.request(f"/api/markers/insert?name=odd&type={bad}")
+        assert reply["status"] == "INVALID_REQUEST", reply
+        assert reply["error_message"].startswith("type: "), reply
+
+
 def test_markers_query_brief_gives_type_dash_floor(client: Client) -> None:
     reply = client.request("/api/markers/query_brief")
     assert reply["status"] == "OK"

@@ -26,7 +26,7 @@ def _tables(conn: sqlite3.Connection) -> list[str]:
 
 def test_migrations_are_numbered_from_one() -> None:
     assert [m.version for m in MIGRATIONS] == list(range(1, len(MIGRATIONS) + 1))
-    assert SCHEMA_VERSION == len(MIGRATIONS) == 1
+    assert SCHEMA_VERSION == len(MIGRATIONS) == 2
 
 
 def test_open_records_the_schema_version_and_creates_the_tables(tmp_path: Path) -> None:
@@ -45,10 +45,10 @@ def test_migrate_an_empty_database_from_version_0(tmp_path: Path) -> None:
     conn = _connect(tmp_path / "site.db")
     try:
         assert schema_version(conn) == 0
-        assert migrate(conn) == 1
-        assert schema_version(conn) == 1
+        assert migrate(conn) == SCHEMA_VERSION
+        assert schema_version(conn) == SCHEMA_VERSION
         assert _tables(conn) == TABLES
-        assert migrate(conn) == 1  # nothing left to do
+        assert migrate(conn) == SCHEMA_VERSION  # nothing left to do
     finally:
         conn.close()
 
@@ -62,7 +62,7 @@ def test_store_opens_a_database_left_at_version_0(tmp_path: Path) -> None:
 
 
 EXTRA = Migration(
-    2,
+    SCHEMA_VERSION + 1,
     "points get a note",
     (
         "ALTER TABLE points ADD COLUMN note TEXT NOT NULL DEFAULT ''",
@@ -71,16 +71,29 @@ EXTRA = Migration(
 )
 
 
-def test_migrate_from_version_1_keeps_the_data(tmp_path: Path) -> None:
+def test_migration_2_keeps_version_1_points_without_a_custom_type(tmp_path: Path) -> None:
+    conn = _connect(tmp_path / "site.db")
+    try:
+        assert migrate(conn, MIGRATIONS[:1]) == 1
+        conn.execute("INSERT INTO maps VALUES ('lab', NULL, 0.05, 1, 1, 0, 0, 0, 'lab.yaml')")
+        conn.execute("INSERT INTO points VALUES ('lab', 'p', 1.0, 2.0, 0.5, 'custom', 7)")
+        assert migrate(conn) == 2
+        rows = conn.execute("SELECT name, kind, number, custom_type FROM points").fetchall()
+        assert rows == [("p", "custom", 7, None)]
+    finally:
+        conn.close()
+
+
+def test_migrate_from_the_current_version_keeps_the_data(tmp_path: Path) -> None:
     data = tmp_path / "data"
     with SiteStore.open(data) as store:
         store.save_map("lab", small_map(["."]))
         store.add_point(Point("p", "lab", Pose2D(1.0, 2.0, 0.5)))
     conn = _connect(data / "site.db")
     try:
-        assert schema_version(conn) == 1
-        assert migrate(conn, (*MIGRATIONS, EXTRA)) == 2
-        assert schema_version(conn) == 2
+        assert schema_version(conn) == SCHEMA_VERSION
+        assert migrate(conn, (*MIGRATIONS, EXTRA)) == SCHEMA_VERSION + 1
+        assert schema_version(conn) == SCHEMA_VERSION + 1
         rows = conn.execute("SELECT map_name, name, x, y, theta, note FROM points").fetchall()
         assert rows == [("lab", "p", 1.0, 2.0, 0.5, "from v1")]
     finally:
@@ -88,13 +101,15 @@ def test_migrate_from_version_1_keeps_the_data(tmp_path: Path) -> None:
 
 
 def test_failed_migration_is_rolled_back_entirely(tmp_path: Path) -> None:
-    broken = Migration(2, "half a step", ("CREATE TABLE tasks (id INTEGER)", "NOT SQL"))
+    broken = Migration(
+        SCHEMA_VERSION + 1, "half a step", ("CREATE TABLE tasks (id INTEGER)", "NOT SQL")
+    )
     conn = _connect(tmp_path / "site.db")
     try:
         migrate(conn)
         with pytest.raises(StorageError, match="schema migration failed"):
             migrate(conn, (*MIGRATIONS, broken))
-        assert schema_version(conn) == 1
+        assert schema_version(conn) == SCHEMA_VERSION
         assert "tasks" not in _tables(conn)
     finally:
         conn.close()
@@ -108,15 +123,17 @@ def test_store_refuses_a_database_from_a_newer_polynav(tmp_path: Path) -> None:
         migrate(conn, (*MIGRATIONS, EXTRA))
     finally:
         conn.close()
-    with pytest.raises(StorageError, match="schema version 2, newer than this polynav knows"):
+    newer = f"schema version {SCHEMA_VERSION + 1}, newer than this polynav knows"
+    with pytest.raises(StorageError, match=newer):
         SiteStore.open(data)
 
 
 def test_migrations_must_be_consecutive(tmp_path: Path) -> None:
     conn = _connect(tmp_path / "site.db")
     try:
-        with pytest.raises(StorageError, match="migration 2 is numbered 3"):
-            migrate(conn, (*MIGRATIONS, Migration(3, "gap", ())))
+        gap = SCHEMA_VERSION + 2
+        with pytest.raises(StorageError, match=f"migration {gap - 1} is numbered {gap}"):
+            migrate(conn, (*MIGRATIONS, Migration(gap, "gap", ())))
         assert schema_version(conn) == 0
     finally:
         conn.close()

@@ -141,6 +141,23 @@ def test_add_point_then_read_it_back(demo_store: SiteStore) -> None:
     assert demo_store.find_point("bin") == new
 
 
+def test_a_custom_point_keeps_its_custom_type_and_only_custom_points_have_one(
+    demo_store: SiteStore,
+) -> None:
+    tagged = Point("cart_bay", "floor2", Pose2D(1.0, 1.0, 0.0), PointKind.CUSTOM, 3, 1007)
+    demo_store.add_point(tagged)
+    assert demo_store.point("floor2", "cart_bay").custom_type == 1007
+    moved = dataclasses.replace(tagged, pose=Pose2D(2.0, 1.0, 0.0), custom_type=1008)
+    demo_store.update_point("floor2", "cart_bay", moved)
+    assert demo_store.point("floor2", "cart_bay") == moved
+    desk = Point("desk", "floor2", Pose2D(1.0, 2.0, 0.0), PointKind.FRONT_DESK, 4)
+    assert demo_store.add_point(desk) == demo_store.point("floor2", "desk")
+    with pytest.raises(InvalidRequest, match="only a custom point"):
+        demo_store.add_point(dataclasses.replace(desk, name="desk2", custom_type=1001))
+    with pytest.raises(InvalidRequest, match="custom_type"):
+        demo_store.add_point(dataclasses.replace(tagged, name="t2", custom_type="x"))  # type: ignore[arg-type]
+
+
 def test_add_point_with_a_taken_name_raises_conflict(demo_store: SiteStore) -> None:
     duplicate = dataclasses.replace(LOBBY, pose=Pose2D(1.0, 1.0, 0.0))
     with pytest.raises(Conflict, match="already has a point 'lobby'"):
