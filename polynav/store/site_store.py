@@ -772,7 +772,9 @@ def _check_name(field: str, name: object) -> None:
         raise InvalidRequest(field, "control characters are not allowed")
 
 
-def _point_columns(point: Point) -> tuple[str, str, float, float, float, str, int | None]:
+def _point_columns(
+    point: Point,
+) -> tuple[str, str, float, float, float, str, int | None, int | None]:
     """The row of ``point``, validated."""
     if not isinstance(point, Point):
         raise InvalidRequest("point", f"expected a Point, got {type(point).__name__}")
