@@ -422,7 +422,7 @@ class Navigator:
         if (
             command.status is ControlStatus.BLOCKED
             and near is not None
-            and not self._require().options.dock
+            and not options.dock
             and pose.distance_to(self._target) <= near
         ):
             log.info("blocked %.2f m from the goal, within its tolerance: done",
