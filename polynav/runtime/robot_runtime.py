@@ -74,6 +74,7 @@ from polynav.runtime.loop import CommandLoop
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
+from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.site import Point, PointKind
@@ -217,6 +218,7 @@ class RobotRuntime:
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
+        self.queries = SiteQueries(self)
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -281,6 +283,11 @@ class RobotRuntime:
 
     def settings(self) -> RobotSettings:
         return self._settings
+
+    def stack_config(self) -> StackConfig:
+        """The navigation stack's configuration under the current settings (the planner and
+        costmap a query should use to answer as the robot would plan)."""
+        return self._settings.stack_config(self._base_stack_config)
 
     @property
     def navigation_stack(self) -> NavigationStack | None:

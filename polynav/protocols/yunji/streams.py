@@ -30,9 +30,24 @@ def _robot_velocity(ctx: Context) -> object:
     return {"angular": float(s.angular), "linear": float(s.linear)}
 
 
+def _human_detection(ctx: Context) -> object:
+    """§3.9.2, §A-R3: ``"legtrack <id>"`` -> position and velocity in the robot frame [m,
+    m/s]; ``{}`` when nobody is seen. From the simulator's leg tracker."""
+    runtime = ctx.runtime
+    people = runtime.run_between_ticks(runtime.simulation.detect_people)
+    return {
+        f"legtrack {p.track_id}": {
+            "position": {"x": p.x, "y": p.y},
+            "velocity": {"x": p.vx, "y": p.vy},
+        }
+        for p in people
+    }
+
+
 # topic -> (default rate [Hz], results builder) (§3.9, §A-R2).
 TOPICS: dict[str, tuple[float, Callable[[Context], object]]] = {
     "robot_status": (2.0, _robot_status),
+    "human_detection": (1.0, _human_detection),
     "robot_velocity": (1.0, _robot_velocity),
 }
 

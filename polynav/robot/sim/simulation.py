@@ -41,6 +41,7 @@ from polynav.robot.sim.imu import Imu
 from polynav.robot.sim.lidar import Lidar
 from polynav.robot.sim.odometry import WheelOdometry
 from polynav.robot.sim.people import Person, as_circles
+from polynav.robot.sim.people_detector import PeopleDetector, PersonDetection
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.site import PointKind
 from polynav.worlds.world import World, WorldFloor
@@ -104,6 +105,7 @@ class Simulation:
         self._imu = Imu(config, pose.theta, np.random.default_rng(imu_seed), now)
         self._battery = Battery(config, now)
         self._people_enabled = people
+        self._people_detector = PeopleDetector(config.lidar_range, config.lidar_fov)
         self._command = Twist()
         self._estop = False
         self._collisions: list[Collision] = []
@@ -181,6 +183,15 @@ class Simulation:
         if not self._people_enabled:
             return ()
         return tuple(p.pose for p in self._floors[self._floor].people)
+
+    def detect_people(self) -> list[PersonDetection]:
+        """The people the robot's leg tracker sees now (robot frame, see
+        :mod:`~polynav.robot.sim.people_detector`); none when the walkers are off."""
+        state = self._floors[self._floor]
+        people = [(p.x, p.y) for p in state.people] if self._people_enabled else []
+        return self._people_detector.detect(
+            self.clock.now(), self._base.pose, people, state.occupied, state.info
+        )
 
     # -- operator and test controls ------------------------------------------------------------
 
