@@ -73,6 +73,7 @@ class Floor:
     grid: npt.NDArray[np.int8] = field(init=False)
     points: list[Point] = field(default_factory=list)
     people: list[PersonRoute] = field(default_factory=list)
+    access_points: list[dict[str, object]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         w = round((BUILDING_W + 2 * MARGIN) / RESOLUTION)
@@ -229,6 +230,16 @@ def floor_one() -> Floor:
     f.walker([(11.0, 11.45), (33.0, 11.45)], 1.0, loop=False)
     f.walker([(17.6, 15.0), (17.6, 13.6), (18.6, 10.4), (18.6, 8.0)], 0.8, loop=False)
     f.walker([(25.0, 2.5), (25.0, 11.7), (23.6, 12.3), (23.6, 14.6)], 0.9, loop=False)
+
+    # Wi-Fi: the office network on both bands by the lobby, a guest network by the kitchen.
+    f.access_points += [
+        {"ssid": "polynav-office", "x": 9.0, "y": 12.0, "frequency": 2437,
+         "security": "WPA2", "password": "office-2437"},
+        {"ssid": "polynav-office-5G", "x": 9.0, "y": 12.0, "frequency": 5260,
+         "security": "WPA WPA2", "password": "office-5260"},
+        {"ssid": "polynav-guest", "x": 31.0, "y": 18.0, "frequency": 2462,
+         "security": "", "password": ""},
+    ]
     return f
 
 
@@ -294,6 +305,12 @@ def floor_two() -> Floor:
     a = bounds[2] + 0.1
     f.walker([(a + 0.75, 14.5), (a + 0.75, 9.5)], 0.7, loop=False)  # room 205 to room 206
     f.walker([(2.0, 9.0), (6.5, 9.0), (6.5, 15.0), (2.0, 15.0)], 0.8, loop=True)  # the lounge
+
+    # Wi-Fi: the hotel's own network in the corridor.
+    f.access_points.append(
+        {"ssid": "polynav-hotel", "x": 20.0, "y": 12.0, "frequency": 2412,
+         "security": "WPA2", "password": "hotel-2412"}
+    )
     return f
 
 
@@ -370,6 +387,7 @@ def world_document(floors: list[Floor]) -> dict[str, object]:
         docs.append({
             "name": f.name, "level": f.level, "map": f"{f.name}.yaml", "map_name": f.name,
             "lift": dict(lift), "points": points, "people": people,
+            "access_points": f.access_points,
         })
     return {
         "name": "demo",

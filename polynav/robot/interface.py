@@ -58,13 +58,17 @@ class ImuReading:
 
 @dataclass(frozen=True, slots=True)
 class BatteryState:
-    """Battery charge [%], voltage [V], current [A] (negative while discharging), and charging."""
+    """Battery charge [%], voltage [V], current [A] (negative while discharging), charging, the
+    charger's output voltage [V] (0 when not on a charger) and the current the computers and
+    sensors draw [A]."""
 
     stamp: float
     percent: float
     voltage: float
     current: float
     charging: bool
+    charger_voltage: float = 0.0
+    electronics_current: float = 0.0
 
 
 class Robot(Protocol):

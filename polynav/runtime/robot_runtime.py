@@ -647,13 +647,17 @@ class RobotRuntime:
             self._attempts.follow(stack.navigator.attempt)
             self._advance_patrol()
         override = self._motion.override(now, estop, self._free_ahead)
+        commanded = Twist()
         if override is not None:
             self._robot.drive(override)
+            commanded = override
         elif stack is None:
             self._robot.drive(Twist())
+        else:
+            commanded = stack.command
         self._check_localization(now)
         self._check_battery(now)
-        self.device.tick(now)
+        self.device.tick(now, commanded)
         self._refresh()
 
     def _free_ahead(self, direction: float, remaining: float) -> float:

@@ -22,6 +22,8 @@ obstacle_slowdown_distance  0.2 .. 5.0   1.5 m
 obstacle_stop_distance      0.05 .. 2.0  0.35 m (at most obstacle_slowdown_distance)
 low_battery_percent         1 .. 90      20 %
 critical_battery_percent    0 .. 50      10 % (at most low_battery_percent)
+led_luminance               0 .. 100     100 % (the light strip's brightness)
+led_red, led_green, led_blue  0 .. 100   0, 100, 0 % (its colour; not all 0)
 ==========================  ===========  =======
 """
 
@@ -48,6 +50,10 @@ SETTING_RANGES: dict[str, tuple[float, float]] = {
     "obstacle_stop_distance": (0.05, 2.0),
     "low_battery_percent": (1.0, 90.0),
     "critical_battery_percent": (0.0, 50.0),
+    "led_luminance": (0.0, 100.0),
+    "led_red": (0.0, 100.0),
+    "led_green": (0.0, 100.0),
+    "led_blue": (0.0, 100.0),
 }
 
 # Obstacles raise costs this far [m] beyond the robot's radius, so paths keep off walls.
@@ -67,6 +73,10 @@ class RobotSettings:
     obstacle_stop_distance: float = 0.35
     low_battery_percent: float = 20.0
     critical_battery_percent: float = 10.0
+    led_luminance: float = 100.0
+    led_red: float = 0.0
+    led_green: float = 100.0
+    led_blue: float = 0.0
 
     def __post_init__(self) -> None:
         try:
@@ -176,3 +186,5 @@ def _validate(settings: RobotSettings) -> None:
             "critical_battery_percent",
             f"must be <= low_battery_percent ({settings.low_battery_percent:g})",
         )
+    if settings.led_red == settings.led_green == settings.led_blue == 0.0:
+        raise InvalidRequest("led", "red, green and blue all 0 would be no colour")

@@ -47,6 +47,36 @@ class PersonRoute:
 
 
 @dataclass(frozen=True, slots=True)
+class AccessPoint:
+    """A Wi-Fi access point on a floor, for the simulated wireless card.
+
+    Attributes:
+        ssid: the network name.
+        x, y: where it hangs [m], world frame.
+        frequency: channel centre [MHz] (2412..2484 for 2.4 GHz, 5170..5825 for 5 GHz).
+        security: ``"WPA2"``, ``"WPA WPA2"``... or ``""`` for an open network.
+        password: what connecting takes (``""`` for an open network).
+    """
+
+    ssid: str
+    x: float
+    y: float
+    frequency: int = 2412
+    security: str = "WPA2"
+    password: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.ssid:
+            raise InvalidRequest("ssid", "must not be empty")
+        if not (2400 <= self.frequency <= 2500 or 4900 <= self.frequency <= 5900):
+            raise InvalidRequest(
+                "frequency", f"must be a 2.4 or 5 GHz channel [MHz], got {self.frequency}"
+            )
+        if bool(self.security) != bool(self.password):
+            raise InvalidRequest("password", "a secured network has a password, an open one none")
+
+
+@dataclass(frozen=True, slots=True)
 class LiftShaft:
     """The lift car's floor area on one floor: an axis-aligned rectangle in world metres.
 
@@ -91,6 +121,7 @@ class WorldFloor:
         points: the floor's named points.
         lift: the lift car's area on this floor, if a lift stops here.
         people: routes of the people walking on this floor.
+        access_points: the Wi-Fi access points on this floor.
     """
 
     name: str
@@ -100,6 +131,7 @@ class WorldFloor:
     points: tuple[Point, ...]
     lift: LiftShaft | None
     people: tuple[PersonRoute, ...]
+    access_points: tuple[AccessPoint, ...] = ()
 
     def point(self, name: str) -> Point:
         """The point called ``name`` on this floor.

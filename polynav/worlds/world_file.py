@@ -14,11 +14,15 @@ The layout, every length in metres and every angle in radians::
           - {name: lobby, x: 4.0, y: 6.0, theta: 0.0, kind: general, number: 1}
         people:
           - {waypoints: [[10.0, 11.5], [30.0, 11.5]], speed: 1.0, radius: 0.25, loop: false}
+        access_points:
+          - {ssid: office, x: 12.0, y: 12.0, frequency: 2437, security: WPA2, password: pw}
 
 ``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
-``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``
-and ``loop`` may be left out. Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`,
-so any ROS map can be the reality of a simulated floor.
+``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``,
+``loop`` and ``access_points`` (Wi-Fi for the simulated wireless card; ``frequency`` in MHz,
+``security`` and ``password`` empty for an open network) may be left out. Ground truth is
+loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a
+simulated floor.
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.ros_map import load_map
 from polynav.site import Point, PointKind
 from polynav.worlds.errors import WorldFormatError
-from polynav.worlds.world import LiftShaft, PersonRoute, World, WorldFloor
+from polynav.worlds.world import AccessPoint, LiftShaft, PersonRoute, World, WorldFloor
 
 log = logging.getLogger(__name__)
 
@@ -113,10 +117,37 @@ def _floor(root: Path, raw: object, key: str) -> WorldFloor:
         _person(p, f"{key}.people[{n}]")
         for n, p in enumerate(_list(doc.get("people", []), f"{key}.people"))
     )
+    access_points = tuple(
+        _access_point(a, f"{key}.access_points[{n}]")
+        for n, a in enumerate(_list(doc.get("access_points", []), f"{key}.access_points"))
+    )
     return WorldFloor(
         name=name, level=level, map_name=map_name, map=grid, points=points, lift=lift,
-        people=people,
+        people=people, access_points=access_points,
     )
+
+
+def _access_point(raw: object, key: str) -> AccessPoint:
+    doc = _mapping(raw, key)
+    frequency = doc.get("frequency", 2412)
+    if isinstance(frequency, bool) or not isinstance(frequency, int):
+        raise WorldFormatError(f"{key}.frequency", f"expected an integer [MHz], got {frequency!r}")
+    security = doc.get("security", "")
+    password = doc.get("password", "")
+    for field, value in (("security", security), ("password", password)):
+        if not isinstance(value, str):
+            raise WorldFormatError(f"{key}.{field}", f"expected a string, got {value!r}")
+    try:
+        return AccessPoint(
+            ssid=_str(doc, "ssid", f"{key}.ssid"),
+            x=_num(doc, "x", key),
+            y=_num(doc, "y", key),
+            frequency=frequency,
+            security=security,
+            password=password,
+        )
+    except InvalidRequest as exc:
+        raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
 
 
 def _lift(doc: dict[str, Any], key: str) -> LiftShaft:

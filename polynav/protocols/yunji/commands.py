@@ -379,6 +379,8 @@ def cruise(ctx: Context, params: Params) -> Reply:
 
 
 def _require_navigation(ctx: Context) -> None:
+    if not ctx.runtime.powered:
+        raise Conflict("the robot is powered off")
     if ctx.runtime.mode is not Mode.NAVIGATING:
         raise Conflict(f"the robot is not ready to navigate (mode {ctx.runtime.mode.value})")
 

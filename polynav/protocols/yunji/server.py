@@ -292,20 +292,26 @@ class YunjiServer:
         else:
             try:
                 reply = await asyncio.to_thread(handler, self._ctx, command.params)
+                packet = _encode(command, reply)
             except Exception as exc:  # the one broad except per request (STYLE R4)
                 status, message = errors.status_for(exc)
                 if status is Status.UNKNOWN_ERROR:
                     log.error("yunji: %s failed", command.raw, exc_info=True)
                 reply = Reply(status, message)
-        packet = codec.encode_reply(
-            command.path,
-            command.uuid,
-            reply.status.value,
-            reply.error_message,
-            reply.results,
-            task_id=reply.task_id,
-        )
-        return packet, reply
+            else:
+                return packet, reply
+        return _encode(command, reply), reply
+
+
+def _encode(command: codec.Command, reply: Reply) -> bytes:
+    return codec.encode_reply(
+        command.path,
+        command.uuid,
+        reply.status.value,
+        reply.error_message,
+        reply.results,
+        task_id=reply.task_id,
+    )
 
 
 async def serve(runtime: RobotRuntime, config: YunjiConfig | None = None) -> YunjiServer:

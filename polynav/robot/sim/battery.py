@@ -5,7 +5,8 @@ per hour, plus ``battery_drain_per_metre`` for each metre its wheels roll; on a 
 ``battery_charge_rate`` per hour instead (the charger also feeds the electronics) until full.
 Voltage is linear in charge between the empty and full pack voltages, and the current follows
 from the rate of change: ``capacity [Ah] * rate [%/h] / 100``, negative while discharging (the
-:class:`~polynav.robot.interface.BatteryState` convention).
+:class:`~polynav.robot.interface.BatteryState` convention). The charger holds the pack's full
+voltage; the electronics draw the idle drain's current.
 """
 
 from __future__ import annotations
@@ -57,4 +58,6 @@ class Battery:
             voltage=voltage,
             current=c.battery_capacity * rate / 100.0,
             charging=charging,
+            charger_voltage=c.battery_full_voltage if charging else 0.0,
+            electronics_current=c.battery_capacity * c.battery_idle_drain / 100.0,
         )

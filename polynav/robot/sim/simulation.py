@@ -21,6 +21,7 @@ deterministic without any randomness.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -43,6 +44,7 @@ from polynav.robot.sim.odometry import WheelOdometry
 from polynav.robot.sim.people import Person, as_circles
 from polynav.robot.sim.people_detector import PeopleDetector, PersonDetection
 from polynav.robot.sim.sim_robot import SimRobot
+from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind
 from polynav.worlds.world import World, WorldFloor
 
@@ -50,6 +52,9 @@ log = logging.getLogger(__name__)
 
 _NO_PEOPLE = np.empty((0, 3), dtype=np.float64)
 _EPS = 1e-9
+LASER_SLOT_OBJECT = "laser_slot_object"
+FAULTS = frozenset({LASER_SLOT_OBJECT})
+_SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -106,6 +111,10 @@ class Simulation:
         self._battery = Battery(config, now)
         self._people_enabled = people
         self._people_detector = PeopleDetector(config.lidar_range, config.lidar_fov)
+        self.wifi = WirelessCard(world, seed)
+        self._faults: set[str] = set()
+        self._push = Twist()
+        self._push_left = 0.0
         self._command = Twist()
         self._estop = False
         self._collisions: list[Collision] = []
@@ -183,6 +192,37 @@ class Simulation:
         if not self._people_enabled:
             return ()
         return tuple(p.pose for p in self._floors[self._floor].people)
+
+    def wifi_scan(self) -> list[VisibleNetwork]:
+        """The Wi-Fi networks the robot's card receives where it stands now."""
+        state = self._floors[self._floor]
+        pose = self._base.pose
+        return self.wifi.scan(state.floor.level, pose.x, pose.y, state.occupied, state.info)
+
+    def push(self, distance: float, speed: float = 0.3) -> None:
+        """Push the robot by hand ``distance`` [m] straight ahead (negative: backwards) at
+        ``speed`` [m/s], whatever it is commanded: its wheels roll, so odometry sees the
+        motion, as when someone moves an e-stopped (free-wheeling) robot."""
+        if not (math.isfinite(distance) and speed > 0.0):
+            raise InvalidRequest("distance", "must be finite, with a speed > 0")
+        self._push = Twist(math.copysign(speed, distance), 0.0)
+        self._push_left = abs(distance) / speed
+
+    def inject_fault(self, fault: str) -> None:
+        """Break something, for tests and demos: ``"laser_slot_object"`` puts an object into
+        the lidar's slot (it then returns a few centimetres over a sector).
+
+        Raises:
+            InvalidRequest: an unknown fault.
+        """
+        if fault not in FAULTS:
+            raise InvalidRequest("fault", f"unknown fault {fault!r}; known: {sorted(FAULTS)}")
+        self._faults.add(fault)
+        log.warning("fault injected: %s", fault)
+
+    def clear_fault(self, fault: str) -> None:
+        """Undo :meth:`inject_fault` (nothing if the fault is not there)."""
+        self._faults.discard(fault)
 
     def detect_people(self) -> list[PersonDetection]:
         """The people the robot's leg tracker sees now (robot frame, see
@@ -287,7 +327,13 @@ class Simulation:
             circles = _NO_PEOPLE
 
         v_before = base.twist.linear
-        step = base.propose(Twist() if self._estop else self._command, h)
+        if self._push_left > 0.0:
+            # Pushed by hand: the wheels roll free (as under the e-stop), odometry counts it.
+            self._push_left -= h
+            command = self._push
+        else:
+            command = Twist() if self._estop else self._command
+        step = base.propose(command, h)
         distance, rotation = step.distance, step.rotation
         if distance != 0.0 or rotation != 0.0:
             hit = self._obstacle_hit(here, step.pose, circles)
@@ -352,7 +398,10 @@ class Simulation:
         if circles is None:
             circles = as_circles(here.people) if self._people_enabled and here.people else (
                 _NO_PEOPLE)
-        self._scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
+        scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
+        if LASER_SLOT_OBJECT in self._faults:
+            scan = _blocked_slot(scan)
+        self._scan = scan
 
     def _default_pose(self, floor: str) -> Pose2D:
         if floor == self.world.start_floor:
@@ -370,6 +419,16 @@ class Simulation:
         if gap < 0.0:
             raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps a wall by {-gap:.3f} m")
         return gap
+
+def _blocked_slot(scan: LaserScan) -> LaserScan:
+    """The scan with the beams of a sector around straight ahead stopped a few centimetres out,
+    as by an object stuck in the lidar's slot."""
+    ranges = scan.ranges.copy()
+    angles = scan.angles
+    sector = np.abs(np.arctan2(np.sin(angles), np.cos(angles))) <= 0.5 * _SLOT_SECTOR
+    ranges[sector] = np.float32(max(scan.range_min, 0.06))
+    return dataclasses.replace(scan, ranges=ranges)
+
 
 def _next_due(due: float, period: float, now: float) -> float:
     """The next sample time on the sensor's own grid, never in the past."""

@@ -1,12 +1,10 @@
 """Coverage of ``yunji-api.endpoints.json``: every entry (reserved codes excepted) has a test.
 
 Each test module of this package names what it covers in a module-level ``COVERED`` dict: entry
-key (``"<method> <section> <path>"``) -> the name of a test function in that module. This module
-collects them. An entry nobody covers yet is pending: commands in ``PENDING_COMMANDS`` get a
-strict xfail that asks for what the spec promises (an ``OK`` reply on the demo site) and
-genuinely fails today; pending notification codes get a strict xfail asking for the code in the
-catalogue of produced codes. When an entry gets covered its xfail disappears on its own; an entry
-neither covered nor pending fails the coverage test.
+key (``"<method> <section> <path>"``) -> the name of a test function in that module that
+exercises it over a real socket. This module collects them. Every command and every notification
+code polynav produces must be covered; a code polynav has no feature for must be in
+``events.NOT_PRODUCED`` with the reason (reserved codes are not entries to cover).
 """
 
 from __future__ import annotations
@@ -22,7 +20,6 @@ import pytest
 import tests.protocols.yunji as package
 from polynav.protocols.yunji import events as yunji_events
 from tests.conftest import SHARED
-from tests.protocols.yunji.conftest import Client
 
 SPEC = SHARED / "spec" / "yunji-api.endpoints.json"
 
@@ -57,51 +54,21 @@ ENTRIES = _entries(SPEC)
 LIVE = [e for e in ENTRIES if not e.get("reserved")]
 COVERED = _covered()
 
-# Not implemented yet: entry -> a request the spec says is answered OK on the demo site.
-PENDING_COMMANDS: dict[str, str] = {
-    "cmd 1.2 /api/move": "/api/move?markers=lobby,front_desk&count=1",
-    "cmd 9.2 /api/request_data?topic=human_detection":
-        "/api/request_data?topic=human_detection&frequency=0.5",
-    "cmd 13.1 /api/wifi/list": "/api/wifi/list",
-    "cmd 13.2 /api/wifi/connect": "/api/wifi/connect?SSID=polynav&password=secret",
-    "cmd 13.3 /api/wifi/get_active_connection": "/api/wifi/get_active_connection",
-    "cmd 13.4 /api/wifi/info": "/api/wifi/info",
-    "cmd 13.5 /api/wifi/detail_list": "/api/wifi/detail_list",
-    "cmd 14.5 /api/map/accessible_point_query": "/api/map/accessible_point_query?x=8.0&y=8.5",
-    "cmd 14.6 /api/map/distance_probe": "/api/map/distance_probe?x=8.0&y=8.5",
-    "cmd 15 /api/shutdown": "/api/shutdown?reboot=true",
-    "cmd 16.2 /api/software/check_for_update": "/api/software/check_for_update",
-    "cmd 16.3 /api/software/update": "/api/software/update",
-    "cmd 16.4 /api/software/restart": "/api/software/restart",
-    "cmd 17.1 /api/LED/set_luminance": "/api/LED/set_luminance?value=50",
-    "cmd 17.2 /api/LED/set_color": "/api/LED/set_color?r=255&g=0&b=0",
-    "cmd 18 /api/diagnosis/get_result": "/api/diagnosis/get_result",
-    "cmd 19 /api/get_power_status": "/api/get_power_status",
-    "cmd 20 /api/get_planned_path": "/api/get_planned_path",
-    "cmd 21 /api/lift_status": "/api/lift_status",
-    "cmd 22 /api/make_plan":
-        "/api/make_plan?start_x=8.0&start_y=8.5&start_floor=1&goal_x=5.5&goal_y=12.5&goal_floor=1",
-}
-
-PENDING_COMMANDS = {k: v for k, v in PENDING_COMMANDS.items() if k not in COVERED}
 NOT_PRODUCED = {f"notify 10 {code}" for code in yunji_events.NOT_PRODUCED}
-PENDING_NOTIFICATIONS = [
-    _key(e)
-    for e in LIVE
-    if e["method"] == "notify" and _key(e) not in COVERED and _key(e) not in NOT_PRODUCED
-]
-
-_pending = pytest.mark.xfail(strict=True, reason="not implemented yet")
 
 
 @pytest.mark.skipif(not ENTRIES, reason="shared/spec is not beside the checkout")
-def test_every_endpoint_entry_has_a_test_or_a_pending_xfail() -> None:
+def test_every_endpoint_entry_has_a_test() -> None:
     keys = [_key(e) for e in LIVE]
     assert len(keys) == len(set(keys)), "entry keys must be unique"
-    accounted = set(COVERED) | set(PENDING_COMMANDS) | set(PENDING_NOTIFICATIONS) | NOT_PRODUCED
-    assert sorted(set(keys) - accounted) == []
-    assert sorted(accounted - set(keys)) == []  # nothing stale
-    assert NOT_PRODUCED.isdisjoint(COVERED), "a produced code is listed as not produced"
+    assert sorted(set(keys) - set(COVERED) - NOT_PRODUCED) == [], "entries without a test"
+    assert sorted((set(COVERED) | NOT_PRODUCED) - set(keys)) == [], "stale entries"
+    assert NOT_PRODUCED.isdisjoint(COVERED), "a code is both produced and not produced"
+
+
+def test_produced_codes_are_exactly_the_covered_notifications() -> None:
+    covered = {key.split()[-1] for key in COVERED if key.startswith("notify ")}
+    assert covered == set(yunji_events.PRODUCED)
 
 
 @pytest.mark.parametrize("code", sorted(yunji_events.NOT_PRODUCED))
@@ -113,15 +80,10 @@ def test_a_code_polynav_cannot_produce_is_catalogued_with_the_reason(code: str) 
     assert len(yunji_events.NOT_PRODUCED[code]) > 10
 
 
-@_pending
-@pytest.mark.parametrize("key", sorted(PENDING_COMMANDS))
-def test_pending_command_is_answered_ok(key: str, client: Client) -> None:
-    command = PENDING_COMMANDS[key]
-    reply = client.request(command)
-    assert (reply["command"], reply["status"]) == (command.split("?")[0], "OK"), reply
-
-
-@_pending
-@pytest.mark.parametrize("key", PENDING_NOTIFICATIONS)
-def test_pending_notification_is_produced(key: str) -> None:
-    assert key.split()[-1] in yunji_events.PRODUCED
+def test_the_catalogue_holds_every_defined_code_verbatim() -> None:
+    codes = {e["path"] for e in LIVE if e["method"] == "notify"}
+    if codes:
+        assert set(yunji_events.NOTIFICATIONS) == codes
+    assert yunji_events.NOTIFICATIONS["01012"] == ("warning", "Failed to leave charging plie.")
+    assert yunji_events.NOTIFICATIONS["04023"] == ("warning", "Take lift more than 3 minutes.")
+    assert yunji_events.NOTIFICATIONS["04002"][0] == "info"  # sic (§A-N3)
