@@ -108,11 +108,13 @@ def _run(args: argparse.Namespace) -> int:
                 from polynav.protocols.yunji import YunjiConfig
                 from polynav.protocols.yunji.server import YunjiThread
 
+                http_port = None if args.no_yunji_http else args.yunji_http_port
+                config = YunjiConfig(host=args.host, port=args.yunji_port, http_port=http_port)
                 try:
-                    yunji = YunjiThread(runtime, YunjiConfig(host=args.host, port=args.yunji_port))
+                    yunji = YunjiThread(runtime, config)
                 except OSError as exc:
-                    print(f"polynav run: cannot listen on {args.host}:{args.yunji_port} (Yunji): "
-                          f"{exc}", file=sys.stderr)
+                    print(f"polynav run: cannot listen (Yunji, ports {args.yunji_port}, "
+                          f"{http_port}): {exc}", file=sys.stderr)
                     return 1
             base = f"http://{host}:{port}"
             print(f"polynav: simulating world {world.name!r} at {args.speed:g}x, data in "
@@ -121,6 +123,9 @@ def _run(args: argparse.Namespace) -> int:
                   f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
             if yunji is not None:
                 print(f"polynav: Yunji API tcp://{host}:{yunji.port}", flush=True)
+                if yunji.http_port is not None:
+                    print(f"polynav: Yunji HTTP http://{host}:{yunji.http_port}/api/...",
+                          flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             if not stop_requested:
                 server.run(sockets=[sock])
@@ -215,6 +220,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--yunji-port", type=int, default=31001,
                      help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")
+    run.add_argument("--yunji-http-port", type=int, default=8808,
+                     help="Yunji legacy HTTP port, 0 for any free one (default: %(default)s)")
+    run.add_argument("--no-yunji-http", action="store_true",
+                     help="do not serve the Yunji legacy HTTP form")
     maps = sub.add_parser("map", help="list, import or export ROS maps of the site",
                           description="Manage the site's maps (ROS map_server YAML + image).")
     map_sub = maps.add_subparsers(dest="map_command", required=True)

@@ -23,6 +23,7 @@ import polynav
 from polynav.errors import ConfigError
 from polynav.protocols.yunji import codec, commands, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
+from polynav.protocols.yunji.http import HttpListener
 from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
 from polynav.runtime.robot_runtime import RobotRuntime
 
@@ -46,6 +47,8 @@ class YunjiConfig:
             callback is due on the runtime's (simulated) clock.
         prepare_navigation: start navigation on the current floor's map at start-up when the
             runtime is FREE (a Yunji robot is always ready to move).
+        http_port: also serve the legacy HTTP form on this port (8808 on the robot; 0: any;
+            ``None``: not at all), on the same host.
     """
 
     host: str = "127.0.0.1"
@@ -55,12 +58,15 @@ class YunjiConfig:
     product_id: str = "WATER-POLYNAV-SIM00001"
     prepare_navigation: bool = True
     stream_poll_interval: float = 0.01
+    http_port: int | None = None
 
     def __post_init__(self) -> None:
         if not self.host:
             raise ConfigError("yunji.host", "must not be empty")
         if not 0 <= self.port <= 65535:
             raise ConfigError("yunji.port", f"must be in [0, 65535], got {self.port}")
+        if self.http_port is not None and not 0 <= self.http_port <= 65535:
+            raise ConfigError("yunji.http_port", f"must be in [0, 65535], got {self.http_port}")
         if not 64 <= self.max_command_bytes <= 1_048_576:
             raise ConfigError(
                 "yunji.max_command_bytes", f"must be in [64, 1048576], got {self.max_command_bytes}"
@@ -128,6 +134,12 @@ class YunjiServer:
         self._clients: set[_Client] = set()
         self._tasks: set[asyncio.Task[None]] = set()
         self._pump: asyncio.Task[None] | None = None
+        self._http: HttpListener | None = None
+
+    @property
+    def http_port(self) -> int | None:
+        """The HTTP listener's port, if it serves."""
+        return None if self._http is None else self._http.port
 
     @property
     def port(self) -> int:
@@ -147,6 +159,18 @@ class YunjiServer:
         )
         self._pump = asyncio.ensure_future(self._notify())
         log.info("yunji: listening on %s:%d", self.config.host, self.port)
+        if self.config.http_port is not None:
+            http = HttpListener(
+                self._answer, self.config.host, self.config.http_port,
+                self.config.max_command_bytes,
+            )
+            try:
+                await http.start()
+            except OSError:
+                await self.close()
+                raise
+            self._http = http
+            log.info("yunji: HTTP on %s:%d", self.config.host, http.port)
 
     async def _notify(self) -> None:
         """Broadcast the notifications of the runtime's events until closed."""
@@ -183,6 +207,9 @@ class YunjiServer:
 
     async def close(self) -> None:
         """Stop listening and drop every client."""
+        if self._http is not None:
+            await self._http.close()
+            self._http = None
         if self._server is not None:
             self._server.close()
         if self._pump is not None:
@@ -345,6 +372,10 @@ class YunjiThread:
     @property
     def port(self) -> int:
         return self.server.port
+
+    @property
+    def http_port(self) -> int | None:
+        return self.server.http_port
 
     def stop(self) -> None:
         """Close the server and its clients, then end the thread."""

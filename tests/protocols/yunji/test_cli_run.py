@@ -1,7 +1,9 @@
-"""``polynav run`` serves the Yunji API beside the native one (``--yunji-port``, ``--no-yunji``)."""
+"""``polynav run`` serves the Yunji API beside the native one (``--yunji-port``, ``--no-yunji``,
+``--yunji-http-port``, ``--no-yunji-http``)."""
 
 from __future__ import annotations
 
+import json
 import re
 import signal
 import subprocess
@@ -56,8 +58,8 @@ def _stop(proc: subprocess.Popen[str], lines: list[str]) -> str:
     return out
 
 
-def test_run_serves_yunji_on_the_given_port(tmp_path: Path) -> None:
-    proc = _start(tmp_path, "--yunji-port", "0")
+def test_run_serves_yunji_tcp_and_http_on_the_given_ports(tmp_path: Path) -> None:
+    proc = _start(tmp_path, "--yunji-port", "0", "--yunji-http-port", "0")
     try:
         lines = _startup(proc)
         found = [m for line in lines if (m := re.search(r"Yunji API tcp://[\d.]+:(\d+)", line))]
@@ -68,7 +70,24 @@ def test_run_serves_yunji_on_the_given_port(tmp_path: Path) -> None:
             assert client.request("/api/robot_status")["results"]["current_floor"] == 1
         finally:
             client.close()
+        http = [m for line in lines if (m := re.search(r"Yunji HTTP (http://[\d.]+:\d+)", line))]
+        assert len(http) == 1, lines
+        with urllib.request.urlopen(http[0].group(1) + "/api/robot_info", timeout=30) as reply:
+            assert json.loads(reply.read())["status"] == "OK"
         assert "polynav: stopped" in _stop(proc, lines)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+def test_run_with_no_yunji_http_serves_tcp_only(tmp_path: Path) -> None:
+    proc = _start(tmp_path, "--yunji-port", "0", "--no-yunji-http")
+    try:
+        lines = _startup(proc)
+        assert any("Yunji API tcp://" in line for line in lines), lines
+        assert not any("Yunji HTTP" in line for line in lines)
+        _stop(proc, lines)
     finally:
         if proc.poll() is None:
             proc.kill()
