@@ -22,8 +22,8 @@ from polynav.site import PointKind
 
 log = logging.getLogger(__name__)
 
-BENCH_AREAS = ("planner", "sim")
-_BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py"}
+BENCH_AREAS = ("planner", "sim", "api")
+_BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py", "api": "api.py"}
 
 
 def _benchmarks_dir() -> Path:
@@ -263,7 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
     _data_options(points_rm)
     bench = sub.add_parser(
         "bench",
-        help="run a benchmark (planner, sim); extra arguments go to the benchmark",
+        help="run a benchmark (planner, sim, api); extra arguments go to the benchmark",
         description="Run a benchmark from benchmarks/. Pass --help after the area for its options.",
     )
     bench.add_argument("area", choices=BENCH_AREAS)
