@@ -137,11 +137,13 @@ def _access_point(raw: object, key: str) -> AccessPoint:
     for field, value in (("security", security), ("password", password)):
         if not isinstance(value, str):
             raise WorldFormatError(f"{key}.{field}", f"expected a string, got {value!r}")
+    ssid = _str(doc, "ssid", f"{key}.ssid")
+    x, y = _num(doc, "x", key), _num(doc, "y", key)
     try:
         return AccessPoint(
-            ssid=_str(doc, "ssid", f"{key}.ssid"),
-            x=_num(doc, "x", key),
-            y=_num(doc, "y", key),
+            ssid=ssid,
+            x=x,
+            y=y,
             frequency=frequency,
             security=security,
             password=password,

@@ -42,6 +42,11 @@ def _document() -> dict[str, Any]:
                 {"name": "spot", "x": 2.5, "y": 2.5},
             ],
             "people": [{"waypoints": [[1.5, 2.5], [4.5, 2.5]], "speed": 0.5, "loop": False}],
+            "access_points": [
+                {"ssid": "lab", "x": 1.0, "y": 1.0, "frequency": 5180, "security": "WPA2",
+                 "password": "pw"},
+                {"ssid": "open", "x": 3.0, "y": 1.0},
+            ],
         }],
     }
 
@@ -71,6 +76,12 @@ def test_world_folder_loads_floors_points_lift_and_people(tmp_path: Path) -> Non
     assert floor.people == (
         PersonRoute(waypoints=((1.5, 2.5), (4.5, 2.5)), speed=0.5, radius=0.25, loop=False),
     )
+
+
+def test_access_points_are_read_with_their_defaults(tmp_path: Path) -> None:
+    floor = read_world(_write(tmp_path / "tiny", _document())).floors[0]
+    assert [(a.ssid, a.frequency, a.security, a.password) for a in floor.access_points] == [
+        ("lab", 5180, "WPA2", "pw"), ("open", 2412, "", "")]
 
 
 def test_load_world_takes_a_folder_path(tmp_path: Path) -> None:
@@ -124,6 +135,11 @@ def _break(doc: dict[str, Any], path: str, value: object) -> dict[str, Any]:
         ("floors.0.lift.width", 0.0, "floors[0].lift.width"),
         ("floors.0.people.0.speed", -1.0, "floors[0].people[0].speed"),
         ("floors.0.people.0.waypoints", [[1.0, 2.0, 3.0]], "floors[0].people[0].waypoints[0]"),
+        ("floors.0.access_points.0.frequency", 900, "floors[0].access_points[0].frequency"),
+        ("floors.0.access_points.0.frequency", "2.4G", "floors[0].access_points[0].frequency"),
+        ("floors.0.access_points.0.password", "", "floors[0].access_points[0].password"),
+        ("floors.0.access_points.1.ssid", "", "floors[0].access_points[1].ssid"),
+        ("floors.0.access_points.1.security", 3, "floors[0].access_points[1].security"),
         ("floors", [], "floors"),
     ],
 )
