@@ -9,6 +9,7 @@ run sees the same simulated history whatever the machine's speed.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import socket
 import threading
@@ -119,10 +120,12 @@ def runtime(world: World, store: SiteStore) -> RobotRuntime:
     return RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
 
 
-@pytest.fixture
-def harness(runtime: RobotRuntime) -> Iterator[Harness]:
+@contextlib.contextmanager
+def serving(runtime: RobotRuntime, config: YunjiConfig | None = None) -> Iterator[Harness]:
+    """A Yunji server for ``runtime`` on its own loop thread (port 0 unless ``config`` says),
+    the runtime advanced out of BUSY; clients, server and loop closed at the end."""
     loop = LoopThread()
-    server = loop.run(serve(runtime, YunjiConfig(port=0)))
+    server = loop.run(serve(runtime, config or YunjiConfig(port=0)))
     runtime.advance(0.5)  # out of BUSY: navigating and localized on floor1
     h = Harness(runtime, server, loop)
     try:
@@ -132,6 +135,12 @@ def harness(runtime: RobotRuntime) -> Iterator[Harness]:
             c.close()
         loop.run(server.close())
         loop.close()
+
+
+@pytest.fixture
+def harness(runtime: RobotRuntime) -> Iterator[Harness]:
+    with serving(runtime) as h:
+        yield h
 
 
 @pytest.fixture

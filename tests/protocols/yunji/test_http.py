@@ -16,21 +16,15 @@ from typing import Any
 
 import pytest
 
-from polynav.protocols.yunji import YunjiConfig, serve
+from polynav.protocols.yunji import YunjiConfig
 from polynav.runtime.robot_runtime import RobotRuntime
-from tests.protocols.yunji.conftest import Harness, LoopThread
+from tests.protocols.yunji.conftest import Harness, serving
 
 
 @pytest.fixture
 def web(runtime: RobotRuntime) -> Iterator[Harness]:
-    loop = LoopThread()
-    server = loop.run(serve(runtime, YunjiConfig(port=0, http_port=0)))
-    runtime.advance(0.5)
-    try:
-        yield Harness(runtime, server, loop)
-    finally:
-        loop.run(server.close())
-        loop.close()
+    with serving(runtime, YunjiConfig(port=0, http_port=0)) as h:
+        yield h
 
 
 def _get(h: Harness, target: str) -> tuple[int, str, dict[str, Any]]:

@@ -56,6 +56,14 @@ def _codes_until(client: Client, last: str) -> list[tuple[str, dict[str, Any]]]:
             return out
 
 
+def _all_invalid(client: Client, cases: dict[str, str]) -> None:
+    """Each command is INVALID_REQUEST with a message naming its field."""
+    for command, field in cases.items():
+        reply = client.request(command)
+        assert reply["status"] == "INVALID_REQUEST", (command, reply)
+        assert reply["error_message"].startswith(f"{field}: "), reply
+
+
 def _codes(notes: list[tuple[str, dict[str, Any]]]) -> list[str]:
     return [code for code, _ in notes]
 
@@ -122,10 +130,7 @@ def test_cruise_bad_requests_are_invalid(harness: Harness, client: Client) -> No
         "/api/move?markers=lobby,front_desk&distance_tolerance=0.3": "distance_tolerance",
         "/api/move?markers=lobby,front_desk&max_continuous_retries=-1": "max_continuous_retries",
     }
-    for command, field in cases.items():
-        reply = client.request(command)
-        assert reply["status"] == "INVALID_REQUEST", (command, reply)
-        assert reply["error_message"].startswith(field), reply
+    _all_invalid(client, cases)
     reply = client.request("/api/move?markers=lobby,nowhere")
     assert (reply["status"], reply["error_message"]) == ("INVALID_REQUEST", "Marker Not Found")
     assert _status(client)["move_status"] == "idle"  # nothing started
@@ -302,10 +307,7 @@ def test_bad_move_options_are_invalid(harness: Harness, client: Client) -> None:
         "/api/move?marker=lobby&max_continuous_retries=1.5": "max_continuous_retries",
         "/api/move?marker=lobby&yaw_goal_reverse_allowed=yes": "yaw_goal_reverse_allowed",
     }
-    for command, field in cases.items():
-        reply = client.request(command)
-        assert reply["status"] == "INVALID_REQUEST", (command, reply)
-        assert reply["error_message"].startswith(field), reply
+    _all_invalid(client, cases)
 
 
 COVERED: dict[str, str] = {

@@ -13,11 +13,10 @@ from typing import Any
 import pytest
 
 from polynav.geometry import Pose2D
-from polynav.protocols.yunji import YunjiConfig, serve
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
-from tests.protocols.yunji.conftest import Client, Harness, LoopThread
+from tests.protocols.yunji.conftest import Client, Harness, serving
 
 
 def _ok(client: Client, command: str) -> Any:
@@ -139,17 +138,8 @@ def test_lift_status_outside_a_lift_ride_is_the_timeout_error(client: Client) ->
 @pytest.fixture
 def with_people(world: World, store: SiteStore) -> Iterator[Harness]:
     runtime = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=True, seed=3))
-    loop = LoopThread()
-    server = loop.run(serve(runtime, YunjiConfig(port=0)))
-    runtime.advance(0.5)
-    h = Harness(runtime, server, loop)
-    try:
+    with serving(runtime) as h:
         yield h
-    finally:
-        for c in h.clients:
-            c.close()
-        loop.run(server.close())
-        loop.close()
 
 
 def test_human_detection_streams_the_people_the_lidar_sees_in_the_robot_frame(
