@@ -627,7 +627,10 @@ class RobotRuntime:
         now = self.now()
         while self._timers and self._timers[0][0] <= now + _EPS:
             _, _, fn = heapq.heappop(self._timers)
-            fn()
+            try:
+                fn()
+            except PolynavError:  # a follow-up that cannot happen must not stop the robot
+                log.error("a scheduled step failed", exc_info=True)
         self._motion.brake_if_expired(now)  # the dead-man
         if now >= self._next_control - _EPS:
             self._control(now)
