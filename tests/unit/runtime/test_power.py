@@ -57,3 +57,20 @@ def test_a_service_restart_reloads_navigation_at_once(runtime: RobotRuntime) -> 
     kinds = [e.kind for e in sub.get_nowait()]
     assert kinds[0] == "software_shutdown_notice"
     assert runtime.mode is Mode.NAVIGATING and runtime.map_name == "floor1"
+
+
+def test_timers_run_in_order_on_simulated_time_and_a_failing_one_is_contained(
+    runtime: RobotRuntime,
+) -> None:
+    ran: list[str] = []
+
+    def fail() -> None:
+        ran.append("fail")
+        raise Conflict("cannot")
+
+    runtime.run_between_ticks(lambda: runtime.schedule(2.0, lambda: ran.append("late")))
+    runtime.run_between_ticks(lambda: runtime.schedule(1.0, fail))
+    runtime.advance(1.5)
+    assert ran == ["fail"]
+    runtime.advance(1.0)
+    assert ran == ["fail", "late"]
