@@ -20,7 +20,7 @@ import threading
 from dataclasses import dataclass
 
 import polynav
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, PolynavError
 from polynav.protocols.yunji import codec, commands, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.http import HttpListener
@@ -305,6 +305,8 @@ class YunjiServer:
             if now + 1e-9 >= due:
                 try:
                     results = await asyncio.to_thread(streams.stream_results, self._ctx, topic)
+                except PolynavError as exc:  # the robot cannot tell now (powered off): skip
+                    log.debug("yunji: no %s callback: %s", topic, exc)
                 except Exception:  # the stream's broad except: log, keep streaming
                     log.error("yunji: %s stream failed", topic, exc_info=True)
                 else:

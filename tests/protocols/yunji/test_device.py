@@ -288,3 +288,18 @@ COVERED: dict[str, str] = {
     "notify 10 02005": "test_a_robot_pushed_by_hand_sends_02005",
     "notify 10 03001": "test_an_object_in_the_lidar_slot_sends_03001_once",
 }
+
+
+def test_streams_that_need_the_robot_pause_while_it_is_off(
+    harness: Harness, client: Client
+) -> None:
+    _ok(client, "/api/request_data?topic=human_detection&frequency=5")
+    harness.runtime.advance(0.5)
+    assert client.push("callback", "human_detection")["results"] == {}
+    _ok(client, "/api/shutdown")
+    harness.runtime.advance(10.5)
+    _ok(client, "/api/robot_status")  # what was sent before the cut is read by now
+    client.pushed.clear()
+    harness.runtime.advance(2.0)
+    _ok(client, "/api/robot_status")  # still answering: the status is the last one known
+    assert not [p for p in client.pushed if p.get("topic") == "human_detection"]
