@@ -72,13 +72,14 @@ from polynav.runtime.event_bus import EventBus
 from polynav.runtime.local_move import free_distance_in_scan, free_distance_on_costmap
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.navigation_events import AttemptBook
+from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.site import Point, PointKind
-from polynav.tasks.patrol import Patrol, PatrolPlan, PatrolState
+from polynav.tasks.patrol import PatrolPlan
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -212,9 +213,12 @@ class RobotRuntime:
         self._timers: list[tuple[float, int, Callable[[], None]]] = []
         self._timer_seq = itertools.count()
         # The current or last patrol (a task over several goals), if any.
-        self._patrol: Patrol | None = None
-        self._patrol_seq = 0
-        self._patrol_options = GoalOptions()
+        self._patrols = PatrolRunner(
+            lambda point, options: self._start_goal(point, None, None, options),
+            self._cancel_goal,
+            self._publish,
+            self.now,
+        )
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
@@ -405,8 +409,8 @@ class RobotRuntime:
             raise InvalidRequest("pose", "coordinates must be finite")
 
         def run() -> int:
-            self._end_patrol(canceled=True)
-            self._patrol = None  # the last task is this goal now
+            self._patrols.end()
+            self._patrols.forget()  # the last task is this goal now
             return self._start_goal(point, pose, map_name, options)
 
         return self._call(run)
@@ -434,16 +438,7 @@ class RobotRuntime:
             assert self._map_name is not None
             for name in plan.points:
                 self.store.point(self._map_name, name)  # NotFound before anything changes
-            self._end_patrol(canceled=True)
-            self._patrol_seq += 1
-            patrol = Patrol(self._patrol_seq, plan)
-            self._patrol = patrol
-            self._patrol_options = replace(
-                options or GoalOptions(), pass_tolerance=plan.tolerance
-            )
-            self._patrol_event(events.PatrolStarted, patrol)
-            self._start_goal(patrol.point, None, None, self._patrol_options)
-            return patrol.patrol_id
+            return self._patrols.start(plan, options)
 
         return self._call(run)
 
@@ -474,9 +469,7 @@ class RobotRuntime:
             if self._motion.local_move_active:
                 self._motion.end_local_move()
                 return
-            patrol = self._patrol
-            if patrol is not None and patrol.running:
-                self._end_patrol(canceled=True)
+            if self._patrols.end():
                 return
             if not self._cancel_goal():
                 raise Conflict("no goal or local move to cancel")
@@ -648,7 +641,7 @@ class RobotRuntime:
             stack.software_estop = self._software_estop
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
-            self._advance_patrol()
+            self._patrols.follow(stack.navigator.attempt)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()
         if override is not None:
@@ -728,7 +721,7 @@ class RobotRuntime:
                     "point", f"map {name!r} has no initial point: give the initial point or pose"
                 )
         place(self._sim, floor, initial)  # may raise before anything changed
-        self._end_patrol(canceled=True)
+        self._patrols.end()
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)
@@ -751,7 +744,7 @@ class RobotRuntime:
         if self._mode is Mode.FREE:
             return
         self._set_mode(Mode.BUSY)
-        self._end_patrol(canceled=True)
+        self._patrols.end()
         self._cancel_goal()
         self._halt_motion()
         self._stack = None
@@ -833,45 +826,6 @@ class RobotRuntime:
             self._attempts.pending_point = None
         return self._attempts.runtime_id(nav_id)
 
-    # -- patrols -------------------------------------------------------------------------------
-
-    def _patrol_event(self, cls: type[events.PatrolEvent], patrol: Patrol) -> None:
-        plan = patrol.plan
-        self._publish(cls(self.now(), patrol.patrol_id, plan.points, plan.count, plan.tolerance))
-
-    def _advance_patrol(self) -> None:
-        """Start the next leg when the current one ended (between ticks, right after it)."""
-        patrol = self._patrol
-        if patrol is None or not patrol.running or self._stack is None:
-            return
-        attempt = self._stack.navigator.attempt
-        if attempt is None or not attempt.state.finished:
-            return
-        if attempt.state is NavigationState.CANCELED:
-            self._end_patrol(canceled=True)
-            return
-        point = patrol.leg_ended(attempt.state is NavigationState.SUCCEEDED)
-        if point is not None:
-            try:
-                self._start_goal(point, None, None, self._patrol_options)
-                return
-            except PolynavError as exc:  # the point was deleted meanwhile: the patrol ends
-                log.warning("patrol %d: cannot start the leg to %r: %s",
-                            patrol.patrol_id, point, exc)
-                patrol.leg_ended(False)
-                patrol.state = PatrolState.FAILED
-        self._patrol_event(
-            events.PatrolFinished if patrol.state is PatrolState.SUCCEEDED else events.PatrolFailed,
-            patrol,
-        )
-
-    def _end_patrol(self, *, canceled: bool) -> None:
-        """A running patrol ends (canceled, or replaced by another goal)."""
-        patrol = self._patrol
-        if patrol is not None and canceled and patrol.cancel():
-            self._cancel_goal()
-            self._patrol_event(events.PatrolCanceled, patrol)
-
     def _cancel_goal(self) -> bool:
         if self._stack is None:
             return False
@@ -944,7 +898,7 @@ class RobotRuntime:
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
             retries=attempt.retries if attempt is not None else 0,
             phase=attempt.phase.value if attempt is not None else None,
-            patrol_state=self._patrol.state.value if self._patrol is not None else None,
+            patrol_state=self._patrols.state,
         )
 
 
