@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 
 from polynav.errors import InvalidRequest
-from polynav.protocols.yunji.commands import (
+from polynav.protocols.yunji.context import (
     Context,
     Handler,
     Params,

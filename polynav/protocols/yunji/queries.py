@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from polynav.geometry import Pose2D
 from polynav.planning.errors import PlanningError
-from polynav.protocols.yunji.commands import (
+from polynav.protocols.yunji.context import (
     Context,
     Handler,
     Params,

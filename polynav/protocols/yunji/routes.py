@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-from polynav.protocols.yunji import commands, device, queries, streams
-from polynav.protocols.yunji.commands import Handler
+from polynav.protocols.yunji import device, maps, markers, moves, queries, robot, streams
+from polynav.protocols.yunji.context import Handler
 
 HANDLERS: dict[str, Handler] = {
-    **commands.HANDLERS,
+    **robot.HANDLERS,
+    **moves.HANDLERS,
+    **markers.HANDLERS,
+    **maps.HANDLERS,
     **streams.HANDLERS,
     **device.HANDLERS,
     **queries.HANDLERS,

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import polynav
 from polynav.errors import ConfigError, PolynavError
-from polynav.protocols.yunji import codec, commands, errors, routes, streams
+from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.http import HttpListener
 from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
@@ -127,7 +127,7 @@ class YunjiServer:
 
     def __init__(self, runtime: RobotRuntime, config: YunjiConfig) -> None:
         self.config = config
-        self._ctx = commands.Context(
+        self._ctx = context.Context(
             runtime=runtime, product_id=config.product_id, version=polynav.__version__
         )
         self._server: asyncio.Server | None = None
@@ -153,7 +153,7 @@ class YunjiServer:
 
     async def start(self) -> None:
         if self.config.prepare_navigation:
-            await asyncio.to_thread(commands.prepare, self._ctx.runtime)
+            await asyncio.to_thread(context.prepare, self._ctx.runtime)
         self._server = await asyncio.start_server(
             self._handle, self.config.host, self.config.port, limit=_READ_SIZE
         )

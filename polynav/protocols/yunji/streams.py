@@ -9,14 +9,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from polynav.errors import InvalidRequest
-from polynav.protocols.yunji.commands import (
-    Context,
-    Params,
-    optional_float,
-    required,
-    robot_status,
-)
+from polynav.protocols.yunji.context import Context, Params, optional_float, required
 from polynav.protocols.yunji.messages import Reply, StreamRequest
+from polynav.protocols.yunji.robot import robot_status
 
 STREAM_MAX_RATE = 20.0
 

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import pytest
 
 from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
-from polynav.protocols.yunji import YunjiConfig, commands, errors, routes, serve
+from polynav.protocols.yunji import YunjiConfig, context, errors, routes, serve
 from polynav.protocols.yunji.messages import Reply, Status
 from polynav.protocols.yunji.server import YunjiServer
 from tests.protocols.yunji.conftest import Client, Harness
@@ -65,7 +65,7 @@ def test_200_clients_connecting_and_dropping_leave_the_server_serving(harness: H
 def test_a_handler_crash_is_unknown_error_and_the_connection_stays(
     harness: Harness, client: Client, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    def broken(ctx: commands.Context, params: commands.Params) -> Reply:
+    def broken(ctx: context.Context, params: context.Params) -> Reply:
         raise RuntimeError("boom")
 
     monkeypatch.setitem(routes.HANDLERS, "/api/robot_info", broken)
