@@ -87,6 +87,8 @@ class NavigationOut(BaseModel):
     goal: GoalOut | None
     reason: str | None
     distance_remaining: float | None
+    phase: Literal["leave_charger", "navigate", "dock"] | None
+    retries: int
 
 
 class StatusOut(BaseModel):

@@ -91,6 +91,8 @@ class StatusSnapshot:
                 "distance_remaining": (
                     None if self.distance_remaining is None else float(self.distance_remaining)
                 ),
+                "phase": self.phase,
+                "retries": int(self.retries),
             },
             "stamp": float(self.stamp),
         }

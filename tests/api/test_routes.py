@@ -25,7 +25,8 @@ def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
     assert set(body) == {"mode", "map", "floor", "pose", "velocity", "battery", "estop",
                          "localization", "navigation", "stamp"}
     assert set(body["pose"]) == {"x", "y", "theta"}
-    assert set(body["navigation"]) == {"state", "goal", "reason", "distance_remaining"}
+    assert set(body["navigation"]) == {
+        "state", "goal", "reason", "distance_remaining", "phase", "retries"}
     assert body["mode"] == "free"
     assert body["navigation"]["state"] == "idle"
 

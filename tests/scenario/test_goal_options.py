@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from polynav.api.schemas import StatusOut
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, angle_diff
 from polynav.nav.attempt import GoalOptions
@@ -67,6 +68,8 @@ def test_a_charger_point_is_docked_onto_and_charging_starts(runtime: RobotRuntim
     runtime.go_to(point="charger")
     assert runtime.advance_until(lambda: runtime.status().phase == "dock", 120.0)
     assert runtime.status().navigation_state == "running"  # docking is part of the move
+    shown = StatusOut.model_validate(runtime.status().to_dict())  # as GET /api/status shows it
+    assert (shown.navigation.phase, shown.navigation.state) == ("dock", "running")
     assert _run(runtime) == "succeeded"
     runtime.advance(0.5)
     assert runtime.status().charging

@@ -27,7 +27,7 @@ def test_to_dict_has_exactly_the_contract_keys() -> None:
     assert set(body["estop"]) == {"hardware", "software"}  # type: ignore[arg-type]
     assert set(body["localization"]) == {"state", "quality"}  # type: ignore[arg-type]
     assert set(body["navigation"]) == {  # type: ignore[arg-type]
-        "state", "goal", "reason", "distance_remaining"}
+        "state", "goal", "reason", "distance_remaining", "phase", "retries"}
 
 
 def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
@@ -42,11 +42,13 @@ def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
         "localization": {"state": "tracking", "quality": 0.75},
         "navigation": {"state": "running",
                        "goal": {"x": 5.5, "y": 12.5, "theta": 0.0, "point": "lobby"},
-                       "reason": None, "distance_remaining": 4.5},
+                       "reason": None, "distance_remaining": 4.5, "phase": None,
+                       "retries": 0},
         "stamp": 12.5,
     }
 
 
 def test_goal_is_null_without_an_attempt() -> None:
     nav = _snapshot(navigation_state="idle").to_dict()["navigation"]
-    assert nav == {"state": "idle", "goal": None, "reason": None, "distance_remaining": None}
+    assert nav == {"state": "idle", "goal": None, "reason": None, "distance_remaining": None,
+                   "phase": None, "retries": 0}
