@@ -21,12 +21,13 @@ GOAL_TIMEOUT = 60.0  # [s wall]: at --speed 20 a demo-floor goal takes a few sec
 
 
 class PolynavProcess:
-    """``polynav run --speed 20 --port 0 --data DIR``; the port is read from its banner."""
+    """``polynav run --speed 20 --port 0 --data DIR`` (every server on a free port); the native
+    API's port is read from its banner."""
 
     def __init__(self, data: Path) -> None:
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "polynav", "run", "--speed", "20", "--port", "0",
-             "--data", str(data), "--no-people"],
+             "--yunji-port", "0", "--yunji-http-port", "0", "--data", str(data), "--no-people"],
             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
             env={**os.environ, "PYTHONUNBUFFERED": "1"},
         )
