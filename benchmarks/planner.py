@@ -7,10 +7,10 @@ map, with costs equal to the MovingAI optimal lengths):
   on the binary grid; our cost is checked against column 9 wherever that is a real optimum
   (placeholder 0.0 lines are timed but not checked);
 * **nav2**: the three 2000 x 2000 maps of Nav2's planner benchmark, with its start/goal protocol
-  (``shared/data/README.md``: Python ``random`` seeded once with 33, row then column uniform in
-  ``[100, N - 100]``, costmap cost below 210, goal more than 3 m away, 100 pairs per map that our
-  planner solves) on a costmap with Nav2's inflation (robot radius 0.22 m, inflation radius
-  0.7 m, cost scaling 3.0), and the planner's default cost weight.
+  (Nav2's ``tools/planner_benchmarking/metrics.py``: Python ``random`` seeded once with 33, row
+  then column uniform in ``[100, N - 100]``, costmap cost below 210, goal more than 3 m away,
+  100 pairs per map that our planner solves) on a costmap with Nav2's inflation (robot radius
+  0.22 m, inflation radius 0.7 m, cost scaling 3.0), and the planner's default cost weight.
 
 The three planners get equivalent inputs: ours the uint8 costs; pyastar2d float32 weights
 ``1 + w c / 252`` (1 on MovingAI) with ``inf`` for cells at or above INSCRIBED, called through its
@@ -55,8 +55,8 @@ from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.planning.grid_search import step_multipliers
 
 REPO = Path(__file__).resolve().parent.parent
-DEFAULT_MAPS = REPO.parent / "shared" / "data" / "movingai"
-DEFAULT_NAV2 = REPO.parent / "shared" / "data" / "nav2" / "planner_benchmark"
+DEFAULT_MAPS = REPO / "data" / "movingai"
+DEFAULT_NAV2 = REPO / "data" / "nav2" / "planner_benchmark"
 NAV2_MAPS = ("100by100_10", "100by100_15", "100by100_20")
 NAV2_SEED = 33
 NAV2_PAIRS = 100
@@ -183,16 +183,26 @@ def _weights(values: npt.NDArray[np.uint8], cost_weight: float) -> npt.NDArray[n
     return np.asarray(table[values])
 
 
+def missing_data(maps: Path, nav2: Path | None) -> str | None:
+    """Why the benchmark cannot run on these folders, or None: a benchmark with no queries
+    would print a table of dashes and prove nothing."""
+    pairs = [s for s in maps.glob("*.scen") if s.with_suffix(".map").is_file()]
+    if not pairs:
+        return (f"no MovingAI .scen/.map pairs in {maps} (the repository ships them in "
+                f"{DEFAULT_MAPS.relative_to(REPO)}; --maps DIR names another folder)")
+    if nav2 is not None and not any((nav2 / f"{n}.yaml").is_file() for n in NAV2_MAPS):
+        return (f"none of the Nav2 maps {', '.join(NAV2_MAPS)} in {nav2} (shipped in "
+                f"{DEFAULT_NAV2.relative_to(REPO)}; --nav2-dir DIR, or --no-nav2)")
+    return None
+
+
 def run_movingai(
     folder: Path, *, limit: int | None, skimage_per_map: int, rivals: Rivals
 ) -> SetResult:
     total = SetResult()
     table = step_multipliers(cost_weight=0.0)
     planner = AStar()
-    scen_files = sorted(folder.glob("*.scen"))
-    if not scen_files:
-        print(f"no .scen files in {folder}", file=sys.stderr)
-    for scen in scen_files:
+    for scen in sorted(folder.glob("*.scen")):
         map_file = scen.with_suffix(".map")
         if not map_file.is_file():
             print(f"{scen.name}: no {map_file.name} beside it, skipped", file=sys.stderr)
@@ -373,6 +383,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.limit is not None and args.limit < 1:
         parser.error("--limit must be >= 1")
+    missing = missing_data(args.maps, None if args.no_nav2 else args.nav2_dir)
+    if missing:
+        print(f"polynav bench planner: {missing}", file=sys.stderr)
+        return 2
 
     began = time.perf_counter()
     registry.warm_up()  # compile before timing: start-up is not the steady state
@@ -393,6 +407,10 @@ def main(argv: list[str] | None = None) -> int:
         overall.add(nav2)
     overall.times = {p: overall.times.get(p, []) for p in PLANNERS}
     figures = summary(overall)
+    if not figures["queries"]:
+        print("polynav bench planner: no query ran (every scenario file was empty?)",
+              file=sys.stderr)
+        return 2
     print()
     for name, s in sets.items():
         _print_set(name, s)

@@ -1,4 +1,9 @@
-"""Shared fixtures: where the project's shared data lives."""
+"""Shared fixtures: where the project's data lives.
+
+The maps, scenarios and endpoint lists the tests read are shipped in the repository's ``data/``
+(``data/README.md``: sources, licences, checksums), so a clone with nothing beside it runs every
+test.
+"""
 
 from __future__ import annotations
 
@@ -7,12 +12,9 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parent.parent
-SHARED = REPO.parent / "shared"
+DATA = REPO / "data"
 
 
 @pytest.fixture(scope="session")
-def shared_data() -> Path:
-    data = SHARED / "data"
-    if not data.is_dir():
-        pytest.skip("shared/data is not beside the checkout")
-    return data
+def data_dir() -> Path:
+    return DATA

@@ -10,7 +10,7 @@ the *first* text line, which is what the scenario coordinates (x = column, y = r
 :func:`load_map` turns the same grid into a polynav :class:`~polynav.maps.map.Map`, whose row
 ``iy = 0`` is the *bottom* line (ROS), so ``iy = H - 1 - row``.
 
-The files in the wild have quirks (``shared/data/README.md``): only ``.`` is free; a header height
+The files in the wild have quirks (``data/README.md``): only ``.`` is free; a header height
 can be wrong, so rows are counted, not trusted; the last line may lack its newline; column 2 of a
 scenario may be an absolute path from someone's machine; and toy files carry 0.0 placeholders
 instead of optimal lengths (see :attr:`Scenario.has_reference_length`).

@@ -1,8 +1,8 @@
 """ROS ``map_server`` map files: a YAML of metadata beside a PGM or PNG picture of the grid.
 
 A map made by any ROS tool loads here unchanged, and a saved polynav map opens in any ROS tool.
-Semantics follow ``nav2_map_server`` ``map_io.cpp`` as written down in shared/data/README.md
-("ROS map_server yaml fields"):
+Semantics follow ``nav2_map_server`` ``map_io.cpp`` (the project's notes on it: "ROS
+map_server yaml fields" in the workspace's ``shared/data/README.md``):
 
 * the grey value ``v`` (0..255; colour is reduced by Pillow's ITU-R 601-2 luma) becomes an
   occupancy probability ``p = (255 - v) / 255``, or ``p = v / 255`` with ``negate``;

@@ -10,15 +10,15 @@ from polynav.maps.map import FREE, OCCUPIED
 from polynav.maps.movingai import Scenario, load_grid, load_map, load_scenarios
 
 
-def _movingai(shared_data: Path) -> Path:
-    return shared_data / "movingai"
+def _movingai(data_dir: Path) -> Path:
+    return data_dir / "movingai"
 
 
-def test_load_grid_keeps_movingai_orientation_and_only_dot_is_free(shared_data: Path) -> None:
-    grid = load_grid(_movingai(shared_data) / "tunnel.map")
+def test_load_grid_keeps_movingai_orientation_and_only_dot_is_free(data_dir: Path) -> None:
+    grid = load_grid(_movingai(data_dir) / "tunnel.map")
     # tunnel.map rows, first line first: ".@@.", "....", ".@@.", ".@@.", ".@@.", "...."
     # (checked against the file below so a wrong orientation fails loudly).
-    text = (_movingai(shared_data) / "tunnel.map").read_text().splitlines()[4:]
+    text = (_movingai(data_dir) / "tunnel.map").read_text().splitlines()[4:]
     expected = np.array([[c != "." for c in row] for row in text])
     assert grid.dtype == np.bool_
     assert grid.shape == (6, 4)
@@ -26,9 +26,9 @@ def test_load_grid_keeps_movingai_orientation_and_only_dot_is_free(shared_data: 
     assert not grid[1].any()
 
 
-def test_load_grid_treats_trees_as_blocked(shared_data: Path) -> None:
-    grid = load_grid(_movingai(shared_data) / "brc202d.map")
-    text = (_movingai(shared_data) / "brc202d.map").read_text()
+def test_load_grid_treats_trees_as_blocked(data_dir: Path) -> None:
+    grid = load_grid(_movingai(data_dir) / "brc202d.map")
+    text = (_movingai(data_dir) / "brc202d.map").read_text()
     assert "T" in text
     rows = text.splitlines()[4:]
     row, col = next((r, line.index("T")) for r, line in enumerate(rows) if "T" in line)
@@ -39,14 +39,14 @@ def test_load_grid_treats_trees_as_blocked(shared_data: Path) -> None:
 
 @pytest.mark.parametrize(("name", "rows"), [("tree", 5), ("tree2", 12)])
 def test_load_grid_counts_rows_present_when_header_height_is_wrong(
-    shared_data: Path, name: str, rows: int
+    data_dir: Path, name: str, rows: int
 ) -> None:
-    grid = load_grid(_movingai(shared_data) / f"{name}.map")
+    grid = load_grid(_movingai(data_dir) / f"{name}.map")
     assert grid.shape[0] == rows
 
 
-def test_load_grid_reads_a_last_row_without_trailing_newline(shared_data: Path) -> None:
-    path = _movingai(shared_data) / "corners.map"
+def test_load_grid_reads_a_last_row_without_trailing_newline(data_dir: Path) -> None:
+    path = _movingai(data_dir) / "corners.map"
     assert not path.read_bytes().endswith(b"\n")
     grid = load_grid(path)
     last = path.read_text().splitlines()[-1]
@@ -54,8 +54,8 @@ def test_load_grid_reads_a_last_row_without_trailing_newline(shared_data: Path) 
     assert grid[-1].tolist() == [c != "." for c in last]
 
 
-def test_load_map_flips_rows_so_the_first_line_is_the_top(shared_data: Path) -> None:
-    path = _movingai(shared_data) / "room-32-32-4.map"
+def test_load_map_flips_rows_so_the_first_line_is_the_top(data_dir: Path) -> None:
+    path = _movingai(data_dir) / "room-32-32-4.map"
     blocked = load_grid(path)
     grid = load_map(path, resolution=0.5)
     assert grid.info.resolution == 0.5
@@ -67,13 +67,13 @@ def test_load_map_flips_rows_so_the_first_line_is_the_top(shared_data: Path) -> 
     assert set(np.unique(grid.data).tolist()) == {FREE, OCCUPIED}
 
 
-def test_load_map_rejects_a_non_positive_resolution(shared_data: Path) -> None:
+def test_load_map_rejects_a_non_positive_resolution(data_dir: Path) -> None:
     with pytest.raises(MapFormatError):
-        load_map(_movingai(shared_data) / "tunnel.map", resolution=0.0)
+        load_map(_movingai(data_dir) / "tunnel.map", resolution=0.0)
 
 
-def test_load_scenarios_reads_all_nine_columns(shared_data: Path) -> None:
-    scenarios = load_scenarios(_movingai(shared_data) / "brc202d.scen")
+def test_load_scenarios_reads_all_nine_columns(data_dir: Path) -> None:
+    scenarios = load_scenarios(_movingai(data_dir) / "brc202d.scen")
     assert len(scenarios) == 2530
     assert scenarios[0] == Scenario(
         bucket=64,
@@ -90,9 +90,9 @@ def test_load_scenarios_reads_all_nine_columns(shared_data: Path) -> None:
 
 
 def test_load_scenarios_keeps_only_the_base_name_of_an_absolute_map_path(
-    shared_data: Path,
+    data_dir: Path,
 ) -> None:
-    scenarios = load_scenarios(_movingai(shared_data) / "warehouse-20-40-10-2-2.scen")
+    scenarios = load_scenarios(_movingai(data_dir) / "warehouse-20-40-10-2-2.scen")
     assert len(scenarios) == 10000
     assert {s.map_name for s in scenarios} == {"warehouse-20-40-10-2-2.map"}
     assert [s.bucket for s in scenarios[:3]] == [0, 1, 2]
@@ -101,20 +101,20 @@ def test_load_scenarios_keeps_only_the_base_name_of_an_absolute_map_path(
 
 
 def test_placeholder_lengths_are_not_reference_lengths_but_start_equals_goal_is(
-    shared_data: Path,
+    data_dir: Path,
 ) -> None:
-    toy = load_scenarios(_movingai(shared_data) / "tree2.scen")
+    toy = load_scenarios(_movingai(data_dir) / "tree2.scen")
     assert len(toy) == 17
     assert {s.map_name for s in toy} == {"tree.map"}  # a quirk: coordinates fit tree2.map
     assert not any(s.has_reference_length for s in toy)
-    maze = load_scenarios(_movingai(shared_data) / "maze-32-32-4.scen")
+    maze = load_scenarios(_movingai(data_dir) / "maze-32-32-4.scen")
     same = [s for s in maze if (s.start_x, s.start_y) == (s.goal_x, s.goal_y)]
     assert len(same) == 1
     assert same[0].optimal_length == 0.0 and same[0].has_reference_length
 
 
-def test_every_scenario_file_fits_the_map_file_of_the_same_name(shared_data: Path) -> None:
-    folder = _movingai(shared_data)
+def test_every_scenario_file_fits_the_map_file_of_the_same_name(data_dir: Path) -> None:
+    folder = _movingai(data_dir)
     scen_files = sorted(folder.glob("*.scen"))
     assert len(scen_files) == 20
     for scen in scen_files:

@@ -68,20 +68,20 @@ def _assert_same_map(a: Map, b: Map) -> None:
 # --- round trips on the shared ROS maps ------------------------------------------------------
 
 
-def test_every_shared_map_is_listed(shared_data: Path) -> None:
+def test_every_shared_map_is_listed(data_dir: Path) -> None:
     found = sorted(
-        str(p.relative_to(shared_data))
+        str(p.relative_to(data_dir))
         for folder in ("nav2/maps", "nav2/planner_benchmark")
-        for p in (shared_data / folder).glob("*.yaml")
+        for p in (data_dir / folder).glob("*.yaml")
     )
     assert found == sorted(SHARED_MAPS)
 
 
 @pytest.mark.parametrize("name", SHARED_MAPS)
 def test_shared_map_round_trips_through_save_and_load(
-    shared_data: Path, tmp_path: Path, name: str
+    data_dir: Path, tmp_path: Path, name: str
 ) -> None:
-    source = shared_data / name
+    source = data_dir / name
     original = load_map(source)
     mode = yaml.safe_load(source.read_text()).get("mode", "trinary")
     variants = sorted({("png", mode), ("pgm", mode), ("png", "scale"), ("pgm", "raw")})
@@ -92,16 +92,16 @@ def test_shared_map_round_trips_through_save_and_load(
         _assert_same_map(load_map(target), original)
 
 
-def test_shared_trinary_map_loads_its_known_size_and_values(shared_data: Path) -> None:
-    grid = load_map(shared_data / "nav2/maps/warehouse.yaml")
+def test_shared_trinary_map_loads_its_known_size_and_values(data_dir: Path) -> None:
+    grid = load_map(data_dir / "nav2/maps/warehouse.yaml")
     assert grid.info == MapInfo(
         resolution=0.03, width=1006, height=1674, origin=Pose2D(-15.1, -25.0, 0.0)
     )
     assert set(np.unique(grid.data).tolist()) == {-1, 0, 100}
 
 
-def test_negated_benchmark_map_reads_white_as_occupied(shared_data: Path) -> None:
-    source = shared_data / "nav2/planner_benchmark/100by100_10.yaml"
+def test_negated_benchmark_map_reads_white_as_occupied(data_dir: Path) -> None:
+    source = data_dir / "nav2/planner_benchmark/100by100_10.yaml"
     grid = load_map(source)
     with Image.open(source.with_suffix(".png")) as img:
         pixels = np.asarray(img)

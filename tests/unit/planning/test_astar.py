@@ -267,19 +267,19 @@ def test_buffers_are_reused_across_queries_and_grid_sizes() -> None:
         )
 
 
-def _movingai_pairs(shared_data: Path) -> list[Path]:
-    scens = sorted((shared_data / "movingai").glob("*.scen"))
+def _movingai_pairs(data_dir: Path) -> list[Path]:
+    scens = sorted((data_dir / "movingai").glob("*.scen"))
     assert scens, "no MovingAI scenario files"
     return scens
 
 
 def test_costs_equal_movingai_optimal_lengths_on_a_sample_of_every_map(
-    shared_data: Path,
+    data_dir: Path,
 ) -> None:
     rng = np.random.default_rng(2024)
     planner = AStar()
     checked = 0
-    for scen in _movingai_pairs(shared_data):
+    for scen in _movingai_pairs(data_dir):
         blocked = load_grid(scen.with_suffix(".map"))
         values = np.where(blocked, costs.LETHAL, costs.FREE).astype(np.uint8)
         scenarios = [s for s in load_scenarios(scen) if s.has_reference_length]
@@ -308,9 +308,9 @@ def test_costs_equal_movingai_optimal_lengths_on_a_sample_of_every_map(
     ],
 )
 def test_costs_equal_movingai_optimal_lengths_on_every_line_of_small_maps(
-    shared_data: Path, name: str
+    data_dir: Path, name: str
 ) -> None:
-    folder = shared_data / "movingai"
+    folder = data_dir / "movingai"
     blocked = load_grid(folder / f"{name}.map")
     values = np.where(blocked, costs.LETHAL, costs.FREE).astype(np.uint8)
     planner = AStar()
@@ -334,8 +334,8 @@ def test_costs_equal_movingai_optimal_lengths_on_every_line_of_small_maps(
             assert round(found.cost) in (1, 2, 3) and found.cost <= 3.0
 
 
-def test_warehouse_scenarios_without_lengths_match_dijkstra(shared_data: Path) -> None:
-    folder = shared_data / "movingai"
+def test_warehouse_scenarios_without_lengths_match_dijkstra(data_dir: Path) -> None:
+    folder = data_dir / "movingai"
     blocked = load_grid(folder / "warehouse-20-40-10-2-2.map")
     values = np.where(blocked, costs.LETHAL, costs.FREE).astype(np.uint8)
     scenarios = load_scenarios(folder / "warehouse-20-40-10-2-2.scen")

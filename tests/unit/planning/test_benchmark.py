@@ -24,13 +24,13 @@ def _load_benchmark() -> ModuleType:
 
 
 def test_planner_benchmark_emits_its_figures_as_one_json_line(
-    shared_data: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    data_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     pytest.importorskip("pyastar2d")
     pytest.importorskip("skimage")
     for name in ("maze-32-32-4", "room-32-32-4"):
         for suffix in (".map", ".scen"):
-            shutil.copy(shared_data / "movingai" / f"{name}{suffix}", tmp_path)
+            shutil.copy(data_dir / "movingai" / f"{name}{suffix}", tmp_path)
     bench = _load_benchmark()
     code = bench.main(["--maps", str(tmp_path), "--limit", "2", "--no-nav2", "--json"])
     assert code == 0
@@ -47,3 +47,21 @@ def test_planner_benchmark_emits_its_figures_as_one_json_line(
     assert figures["sets"]["movingai"]["queries"] == 4
     assert figures["skimage_queries"] == 4
     assert isinstance(figures["machine"], str)
+
+
+def test_planner_benchmark_fails_clearly_without_maps(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bench = _load_benchmark()
+    assert bench.main(["--maps", str(tmp_path / "nonexistent"), "--no-nav2"]) == 2
+    err = capsys.readouterr().err
+    assert "no MovingAI .scen/.map pairs" in err and "nonexistent" in err
+
+
+def test_planner_benchmark_fails_clearly_without_nav2_maps(
+    data_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bench = _load_benchmark()
+    code = bench.main(["--maps", str(data_dir / "movingai"), "--nav2-dir", str(tmp_path)])
+    assert code == 2
+    assert "none of the Nav2 maps" in capsys.readouterr().err
