@@ -1,10 +1,13 @@
 """The Yunji TCP server: accept, read, decode, dispatch, write (STYLE R4: transport only).
 
-Each client has a reader task and a writer task joined by a bounded queue of outgoing packets:
-a client that stops reading fills its queue and is disconnected, so it can never hold up the
-others (or the runtime). Requests of one client are answered in order; each runs its handler on
-a worker thread (runtime commands wait for the runtime's loop). The one broad ``except`` per
-request logs with ``exc_info`` and answers ``UNKNOWN_ERROR``, keeping the connection.
+Each client has a reader task and a writer task joined by an ``Outbox``
+(:mod:`polynav.protocols.outbox`): a command's reply is written before the notifications it
+causes, stream callbacks are coalesced to the newest per topic when the client lags, and a
+client that stops reading lets notifications pile up to ``queue_size`` and is then
+disconnected, so it can never hold up the others (or the runtime). Requests of one client are
+answered in order; each runs its handler on a worker thread (runtime commands wait for the
+runtime's loop). The one broad ``except`` per request logs with ``exc_info`` and answers
+``UNKNOWN_ERROR``, keeping the connection.
 
 Framing (see :mod:`polynav.protocols.yunji.codec`): a read that leaves an undelimited command in
 the buffer completes it (bare commands, one per ``send()``) until the client has sent a newline
@@ -21,6 +24,7 @@ from dataclasses import dataclass
 
 import polynav
 from polynav.errors import ConfigError, PolynavError
+from polynav.protocols.outbox import Outbox, OutboxClosed
 from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.http import HttpListener
@@ -41,7 +45,8 @@ class YunjiConfig:
         port: TCP port, 31001 as on the Yunji chassis; 0 lets the OS choose (tests).
         max_command_bytes: the longest command; longer without a delimiter closes the
             connection.
-        queue_size: outgoing packets queued per client before it is dropped as not reading.
+        queue_size: replies and notifications queued unsent per client before it is dropped as
+            not reading (callbacks are coalesced per topic and do not count).
         product_id: what ``/api/robot_info`` reports.
         stream_poll_interval: how often [s wall] a ``request_data`` stream looks whether a
             callback is due on the runtime's (simulated) clock.
@@ -81,23 +86,34 @@ class YunjiConfig:
 
 
 class _Client:
-    """One connection: its outgoing queue and writer task."""
+    """One connection: its outbox (replies first, bounded) and writer task."""
 
     def __init__(self, writer: asyncio.StreamWriter, queue_size: int) -> None:
         self.writer = writer
-        self.queue: asyncio.Queue[bytes] = asyncio.Queue(maxsize=queue_size)
+        self.outbox: Outbox[bytes] = Outbox(limit=queue_size)
         self.closed = False
         self.peer = writer.get_extra_info("peername")
         self.streams: dict[str, asyncio.Task[None]] = {}
 
-    def send(self, packet: bytes) -> None:
-        """Queue ``packet``; a full queue means the client does not read: drop it."""
-        if self.closed:
-            return
-        try:
-            self.queue.put_nowait(packet)
-        except asyncio.QueueFull:
-            log.warning("yunji: client %s does not read, disconnecting", self.peer)
+    def begin_command(self) -> None:
+        self.outbox.begin_command()
+
+    def reply(self, packet: bytes) -> None:
+        self.outbox.reply(packet)
+        self._check()
+
+    def notify(self, packet: bytes) -> None:
+        self.outbox.event(packet)
+        self._check()
+
+    def callback(self, topic: str, packet: bytes) -> None:
+        self.outbox.status(packet, key=topic)
+
+    def _check(self) -> None:
+        """An outbox closed for not reading: drop the connection and its unsent data."""
+        if self.outbox.closed and not self.closed:
+            log.warning("yunji: client %s: %s, disconnecting", self.peer,
+                        self.outbox.closed_reason)
             self.close(abort=True)
 
     def close(self, *, abort: bool = False) -> None:
@@ -105,6 +121,7 @@ class _Client:
         would otherwise hold the connection open until its buffered data drained)."""
         if not self.closed:
             self.closed = True
+            self.outbox.close("connection closed")
             if abort:
                 self.writer.transport.abort()
             else:
@@ -112,10 +129,12 @@ class _Client:
 
     async def write_loop(self) -> None:
         try:
-            while not self.closed:
-                packet = await self.queue.get()
+            while True:
+                packet = await self.outbox.get()
                 self.writer.write(packet)
                 await self.writer.drain()
+        except OutboxClosed:
+            pass
         except (ConnectionError, OSError) as exc:
             log.info("yunji: client %s write failed: %s", self.peer, exc)
         finally:
@@ -201,9 +220,10 @@ class YunjiServer:
             runtime.bus.unsubscribe(subscription)
 
     def broadcast(self, packet: bytes) -> None:
-        """Send ``packet`` (a notification) to every connected client."""
+        """Send ``packet`` (a notification) to every connected client, after the reply of any
+        command that client has in flight."""
         for client in list(self._clients):
-            client.send(packet)
+            client.notify(packet)
 
     async def close(self) -> None:
         """Stop listening and drop every client."""
@@ -271,7 +291,7 @@ class YunjiServer:
                     return
                 except codec.MalformedCommand as exc:
                     buf = buf[exc.used :]
-                    client.send(
+                    client.reply(
                         codec.encode_reply(
                             exc.path, exc.uuid, Status.INVALID_REQUEST.value, str(exc)
                         )
@@ -280,8 +300,9 @@ class YunjiServer:
                 buf = buf[used:]
                 if command is None:
                     break
+                client.begin_command()
                 packet, reply = await self._answer(command)
-                client.send(packet)
+                client.reply(packet)
                 if reply.stream is not None:
                     self._subscribe(client, reply.stream)
 
@@ -310,7 +331,7 @@ class YunjiServer:
                 except Exception:  # the stream's broad except: log, keep streaming
                     log.error("yunji: %s stream failed", topic, exc_info=True)
                 else:
-                    client.send(codec.encode_callback(topic, results))
+                    client.callback(topic, codec.encode_callback(topic, results))
                 due = max(due + period, now)
             await asyncio.sleep(self.config.stream_poll_interval)
 
