@@ -22,6 +22,12 @@ Why it cannot tear (DESIGN §6):
 
 Thread safety: one connection (``check_same_thread=False``) guarded by a lock, so the API may
 call from any thread; each call holds the lock for its whole transaction.
+
+Hot reads come from memory (docs/decisions.md, "Hot paths"): floors, map records, the points
+of a map and point counts are cached after the first read, and the cache is dropped by every
+write through this store and whenever SQLite's ``data_version`` shows a commit by another
+connection (``polynav points add`` on the same directory while a server runs). Checking
+``data_version`` reads only the WAL index in shared memory, never the database file.
 """
 
 from __future__ import annotations
@@ -33,7 +39,7 @@ import math
 import re
 import sqlite3
 import threading
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from types import TracebackType
 from typing import TYPE_CHECKING, Any
@@ -83,6 +89,8 @@ class SiteStore:
         self._maps_dir = data_dir / MAPS_DIR
         self._conn: sqlite3.Connection | None = conn
         self._lock = threading.RLock()
+        self._cache: dict[tuple[Any, ...], Any] = {}
+        self._data_version: int | None = None
 
     # ---------------------------------------------------------------- life cycle
 
@@ -148,11 +156,14 @@ class SiteStore:
 
     def floors(self) -> list[FloorRecord]:
         """All floors, lowest level first."""
+        return list(self._cached(("floors",), self._load_floors))
+
+    def _load_floors(self) -> tuple[FloorRecord, ...]:
         with self._read() as conn:
             rows = conn.execute(
                 "SELECT name, level, map_name FROM floors ORDER BY level, name"
             ).fetchall()
-        return [FloorRecord(r[0], int(r[1]), r[2]) for r in rows]
+        return tuple(FloorRecord(r[0], int(r[1]), r[2]) for r in rows)
 
     def floor(self, name: str) -> FloorRecord:
         """The floor called ``name``.
@@ -160,13 +171,10 @@ class SiteStore:
         Raises:
             NotFound: no such floor.
         """
-        with self._read() as conn:
-            row = conn.execute(
-                "SELECT name, level, map_name FROM floors WHERE name = ?", (name,)
-            ).fetchone()
-        if row is None:
-            raise NotFound("floor", name)
-        return FloorRecord(row[0], int(row[1]), row[2])
+        for record in self._cached(("floors",), self._load_floors):
+            if record.name == name:
+                return record
+        raise NotFound("floor", name)
 
     def save_floor(self, record: FloorRecord) -> FloorRecord:
         """Add a floor or change one (same name), and attach its map to it.
@@ -205,9 +213,12 @@ class SiteStore:
 
     def maps(self) -> list[MapRecord]:
         """All maps, by name."""
+        return list(self._cached(("maps",), self._load_maps))
+
+    def _load_maps(self) -> tuple[MapRecord, ...]:
         with self._read() as conn:
             rows = conn.execute(f"SELECT {_MAP_COLUMNS} FROM maps ORDER BY name").fetchall()
-        return [_map_record(r) for r in rows]
+        return tuple(_map_record(r) for r in rows)
 
     def map_record(self, name: str) -> MapRecord:
         """What the store knows of map ``name``, without loading its picture.
@@ -215,12 +226,10 @@ class SiteStore:
         Raises:
             NotFound: no such map.
         """
-        with self._read() as conn:
-            row = conn.execute(f"SELECT {_MAP_COLUMNS} FROM maps WHERE name = ?", (name,))
-            found = row.fetchone()
-        if found is None:
-            raise NotFound("map", name)
-        return _map_record(found)
+        for record in self._cached(("maps",), self._load_maps):
+            if record.name == name:
+                return record
+        raise NotFound("map", name)
 
     def load_map(self, name: str) -> Map:
         """The occupancy grid of map ``name``, exactly as it was saved.
@@ -352,6 +361,28 @@ class SiteStore:
         Raises:
             NotFound: ``map_name`` or ``floor`` does not exist.
         """
+        return list(
+            self._cached(("points", map_name, floor), lambda: self._load_points(map_name, floor))
+        )
+
+    def count_points(self, *, map_name: str) -> int:
+        """How many points map ``map_name`` has (counted by the database, then cached).
+
+        Raises:
+            NotFound: no such map.
+        """
+
+        def load() -> int:
+            with self._read() as conn:
+                self._require_map(conn, map_name)
+                row = conn.execute(
+                    "SELECT COUNT(*) FROM points WHERE map_name = ?", (map_name,)
+                ).fetchone()
+            return int(row[0])
+
+        return int(self._cached(("count_points", map_name), load))
+
+    def _load_points(self, map_name: str | None, floor: str | None) -> tuple[Point, ...]:
         sql = f"SELECT {_POINT_COLUMNS} FROM points p JOIN maps m ON m.name = p.map_name"
         where: list[str] = []
         args: list[str] = []
@@ -367,7 +398,7 @@ class SiteStore:
             if where:
                 sql += " WHERE " + " AND ".join(where)
             rows = conn.execute(sql + " ORDER BY p.map_name, p.rowid", args).fetchall()
-        return [_point(r) for r in rows]
+        return tuple(_point(r) for r in rows)
 
     def point(self, map_name: str, name: str) -> Point:
         """The point ``name`` of map ``map_name``.
@@ -598,6 +629,26 @@ class SiteStore:
         with self._transaction("BEGIN IMMEDIATE") as conn:
             yield conn
 
+    def _cached(self, key: tuple[Any, ...], load: Callable[[], Any]) -> Any:
+        """``load()``'s value, kept until this store writes or another connection commits.
+
+        Values must be immutable (tuples of frozen records): every caller shares them.
+        """
+        with self._lock:
+            conn = self._conn
+            if conn is None:
+                raise StorageError("the site store is closed")
+            try:
+                version = int(conn.execute("PRAGMA data_version").fetchone()[0])
+            except sqlite3.Error as exc:
+                raise StorageError(f"site database unavailable: {exc}") from exc
+            if version != self._data_version:
+                self._cache.clear()
+                self._data_version = version
+            if key not in self._cache:
+                self._cache[key] = load()
+            return self._cache[key]
+
     @contextlib.contextmanager
     def _transaction(self, begin: str) -> Iterator[sqlite3.Connection]:
         with self._lock:
@@ -608,6 +659,8 @@ class SiteStore:
                 conn.execute(begin)
             except sqlite3.Error as exc:
                 raise StorageError(f"site database unavailable: {exc}") from exc
+            if begin != "BEGIN":
+                self._cache.clear()  # a write: whatever it changes, nothing cached survives it
             try:
                 yield conn
                 conn.execute("COMMIT")

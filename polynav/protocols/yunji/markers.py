@@ -124,7 +124,7 @@ def markers_delete(ctx: Context, params: Params) -> Reply:
 
 def markers_count(ctx: Context, params: Params) -> Reply:
     """§3.5.4: markers of the current map."""
-    return Reply(results={"count": len(ctx.store.points(map_name=current_map(ctx)))})
+    return Reply(results={"count": ctx.store.count_points(map_name=current_map(ctx))})
 
 
 def markers_query_brief(ctx: Context, params: Params) -> Reply:
