@@ -12,7 +12,6 @@ import logging
 import math
 import os
 import signal
-import socket
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -62,6 +61,7 @@ def _run(args: argparse.Namespace) -> int:
     import uvicorn
 
     from polynav.api import ApiConfig, create_app
+    from polynav.listen import tcp_listener
     from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
     from polynav.store.site_store import SiteStore
     from polynav.worlds import load_world
@@ -92,7 +92,7 @@ def _run(args: argparse.Namespace) -> int:
         )
         app = create_app(runtime, api_config)
         try:
-            sock = socket.create_server((api_config.host, api_config.port))
+            sock = tcp_listener(api_config.host, api_config.port)
         except OSError as exc:
             print(f"polynav run: cannot listen on {api_config.host}:{api_config.port}: {exc}",
                   file=sys.stderr)

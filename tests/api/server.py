@@ -2,20 +2,20 @@
 
 from __future__ import annotations
 
-import socket
 import threading
 import time
 
 import uvicorn
 from fastapi import FastAPI
 
+from polynav.listen import tcp_listener
+
 
 class ServerThread:
     """Serve ``app`` until :meth:`stop`; ``url`` is ``http://127.0.0.1:<port>``."""
 
     def __init__(self, app: FastAPI) -> None:
-        self._sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        self._sock.bind(("127.0.0.1", 0))
+        self._sock = tcp_listener("127.0.0.1", 0)  # as `polynav run` makes it
         self.port = self._sock.getsockname()[1]
         self.url = f"http://127.0.0.1:{self.port}"
         config = uvicorn.Config(

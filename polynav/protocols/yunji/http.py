@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import socket
 from collections.abc import Awaitable, Callable
 
 import uvicorn
@@ -22,6 +23,7 @@ from starlette.requests import Request
 from starlette.responses import Response
 from starlette.routing import Route
 
+from polynav.listen import tcp_listener
 from polynav.protocols.yunji import codec
 from polynav.protocols.yunji.messages import Reply, Status
 
@@ -77,6 +79,7 @@ class HttpListener:
         )
         self._server = uvicorn.Server(config)
         self._task: asyncio.Task[None] | None = None
+        self._sock: socket.socket | None = None
 
     @property
     def port(self) -> int:
@@ -85,7 +88,9 @@ class HttpListener:
 
     async def start(self) -> None:
         """Bind and serve; raises ``OSError`` when the port cannot be bound."""
-        self._task = asyncio.ensure_future(self._server.serve())
+        config = self._server.config
+        self._sock = tcp_listener(config.host, config.port)
+        self._task = asyncio.ensure_future(self._server.serve(sockets=[self._sock]))
         while not self._server.started:
             if self._task.done():
                 with contextlib.suppress(SystemExit):  # uvicorn exits when it cannot bind
@@ -101,3 +106,6 @@ class HttpListener:
         with contextlib.suppress(asyncio.CancelledError, SystemExit):
             await self._task
         self._task = None
+        if self._sock is not None:
+            self._sock.close()
+            self._sock = None

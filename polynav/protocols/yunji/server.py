@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import polynav
 from polynav.errors import ConfigError, PolynavError
+from polynav.listen import tcp_listener
 from polynav.protocols.outbox import Outbox, OutboxClosed
 from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
@@ -174,7 +175,7 @@ class YunjiServer:
         if self.config.prepare_navigation:
             await asyncio.to_thread(context.prepare, self._ctx.runtime)
         self._server = await asyncio.start_server(
-            self._handle, self.config.host, self.config.port, limit=_READ_SIZE
+            self._handle, sock=tcp_listener(self.config.host, self.config.port), limit=_READ_SIZE
         )
         self._pump = asyncio.ensure_future(self._notify())
         log.info("yunji: listening on %s:%d", self.config.host, self.port)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import socket
 from collections.abc import Callable
 
 import pytest
@@ -11,7 +12,9 @@ from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
 from polynav.protocols.yunji import YunjiConfig, context, errors, routes, serve
 from polynav.protocols.yunji.messages import Reply, Status
 from polynav.protocols.yunji.server import YunjiServer
-from tests.protocols.yunji.conftest import Client, Harness
+from polynav.runtime.robot_runtime import RobotRuntime
+from tests.helpers.sockets import server_end_nodelay
+from tests.protocols.yunji.conftest import Client, Harness, serving
 
 MEGABYTE_PACKET = b"{" + b" " * 1_048_574 + b"\n"
 
@@ -88,3 +91,15 @@ def test_a_handler_crash_is_unknown_error_and_the_connection_stays(
 )
 def test_status_for_follows_the_mro(exc: BaseException, expected: tuple[Status, str]) -> None:
     assert errors.status_for(exc) == expected
+
+
+def test_accepted_tcp_and_http_connections_have_nodelay(runtime: RobotRuntime) -> None:
+    with serving(runtime, YunjiConfig(port=0, http_port=0)) as h:
+        tcp = h.client()
+        assert tcp.request("/api/robot_info")["status"] == "OK"
+        assert server_end_nodelay(tcp.sock) == 1
+        assert h.server.http_port is not None
+        with socket.create_connection(("127.0.0.1", h.server.http_port)) as raw:
+            raw.sendall(b"GET /api/robot_info HTTP/1.1\r\nHost: x\r\n\r\n")
+            assert raw.recv(12).startswith(b"HTTP/1.1")
+            assert server_end_nodelay(raw) == 1
