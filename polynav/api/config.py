@@ -21,6 +21,8 @@ class ApiConfig:
         ws_max_rate: the highest rate a client may ask for [Hz], so a client cannot flood itself.
         ws_poll_interval: how often a WebSocket task looks at the snapshot and the event queue
             [s wall]; small enough to follow the fastest simulated rate, large enough to stay idle.
+        ws_queue_size: events a WebSocket client may fall behind before it is closed as too slow
+            (status messages are coalesced and do not count).
     """
 
     host: str = "127.0.0.1"
@@ -28,6 +30,7 @@ class ApiConfig:
     ws_default_rate: float = 5.0
     ws_max_rate: float = 50.0
     ws_poll_interval: float = 0.005
+    ws_queue_size: int = 1000
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -40,6 +43,10 @@ class ApiConfig:
             raise ConfigError(
                 "api.ws_default_rate",
                 f"must be in (0, ws_max_rate={self.ws_max_rate}], got {self.ws_default_rate}",
+            )
+        if not 1 <= self.ws_queue_size <= 1_000_000:
+            raise ConfigError(
+                "api.ws_queue_size", f"must be in [1, 1000000], got {self.ws_queue_size}"
             )
         if not 0.0 < self.ws_poll_interval <= 1.0:
             raise ConfigError(

@@ -3,19 +3,26 @@
 Messages are ``{"type": "status", "data": <GET /api/status body>}`` and
 ``{"type": "event", "data": {"kind": ..., "stamp": ..., ...}}``. The rate is counted on the
 robot's SIMULATED clock (the snapshot's ``stamp``), so at ``--speed 20`` a 5 Hz stream is 100
-messages per wall second and a client sees the same stream at every speed. Each client has its
-own event subscription: a slow client loses its oldest events (counted), never slows the robot.
+messages per wall second and a client sees the same stream at every speed.
+
+A slow client never slows the robot, and costs a bounded amount: each client writes through an
+:class:`~polynav.protocols.outbox.Outbox` whose unsent status messages are coalesced to the newest;
+events are never dropped silently: a client that falls ``ws_queue_size`` events behind is closed
+with code 1008 and the reason, and can reconnect.
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import json
 import logging
 from typing import Any
 
 from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
 
 from polynav.api.errors import error_body
+from polynav.protocols.outbox import Outbox, OutboxClosed
 
 log = logging.getLogger(__name__)
 
@@ -64,6 +71,21 @@ async def _watch_disconnect(websocket: WebSocket, closed: asyncio.Event) -> None
     closed.set()
 
 
+CLOSE_TOO_SLOW = 1008  # policy violation: the client does not read fast enough
+_CLOSE_TIMEOUT = 1.0  # [s wall] for the close frame to a client that may not read at all
+
+
+def _text(message: dict[str, Any]) -> str:
+    # As Starlette's send_json writes it.
+    return json.dumps(message, separators=(",", ":"), ensure_ascii=False)
+
+
+async def _write(websocket: WebSocket, outbox: Outbox[str]) -> None:
+    with contextlib.suppress(OutboxClosed):
+        while True:
+            await websocket.send_text(await outbox.get())
+
+
 @router.websocket("/ws")
 async def stream(
     websocket: WebSocket,
@@ -81,28 +103,37 @@ async def stream(
         await websocket.close(code=1008)
         return
     runtime = state.runtime
-    subscription = runtime.bus.subscribe()
+    subscription = runtime.bus.subscribe(maxlen=config.ws_queue_size)
+    outbox: Outbox[str] = Outbox(limit=config.ws_queue_size)
     pacer = StatusPacer(hz)
     closed = asyncio.Event()
     watcher = asyncio.create_task(_watch_disconnect(websocket, closed))
+    writer = asyncio.create_task(_write(websocket, outbox))
     last_stamp: float | None = None
     try:
-        while not closed.is_set():
+        while not closed.is_set() and not outbox.closed and not writer.done():
             for event in subscription.get_nowait():
-                await websocket.send_json(event_message(event))
+                outbox.event(_text(event_message(event)))
+            if subscription.dropped:
+                outbox.close(f"not reading: {subscription.dropped} events could not be queued")
+                break
             snapshot = runtime.status()
             if snapshot.stamp != last_stamp and pacer.due(snapshot.stamp):
                 last_stamp = snapshot.stamp
-                await websocket.send_json({"type": "status", "data": snapshot.to_dict()})
-            try:
+                outbox.status(_text({"type": "status", "data": snapshot.to_dict()}), "status")
+            with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(closed.wait(), timeout=config.ws_poll_interval)
-            except asyncio.TimeoutError:
-                pass
+        if outbox.closed and not closed.is_set():
+            reason = str(outbox.closed_reason)
+            log.warning("websocket client too slow, closing: %s", reason)
+            writer.cancel()
+            with contextlib.suppress(asyncio.TimeoutError, WebSocketDisconnect, RuntimeError):
+                await asyncio.wait_for(
+                    websocket.close(code=CLOSE_TOO_SLOW, reason=reason[:120]), _CLOSE_TIMEOUT
+                )
     except (WebSocketDisconnect, RuntimeError) as exc:
         log.debug("websocket client left: %s", exc)
     finally:
+        writer.cancel()
         watcher.cancel()
         runtime.bus.unsubscribe(subscription)
-        dropped = getattr(subscription, "dropped", 0)
-        if dropped:
-            log.warning("websocket client was too slow: %d events dropped", dropped)
