@@ -127,6 +127,15 @@ class Outbox(Generic[Frame]):
                 raise OutboxClosed(self.closed_reason)
             self._ready.clear()
             await self._ready.wait()
+        return self._pop()
+
+    def get_nowait(self) -> Frame | None:
+        """The next frame to write if one is ready, else ``None``: a server whose transport is
+        not backed up writes at once instead of waking its writer task (one task switch per
+        reply saved; the order is the same, since only the caller and the writer take)."""
+        return self._pop() if self._queue else None
+
+    def _pop(self) -> Frame:
         entry = self._queue.popleft()
         if entry.status_key is not None:
             del self._status[entry.status_key]

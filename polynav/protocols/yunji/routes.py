@@ -14,3 +14,9 @@ HANDLERS: dict[str, Handler] = {
     **device.HANDLERS,
     **queries.HANDLERS,
 }
+
+# Commands that only read the runtime's snapshot and the store's in-memory cache: answered on
+# the server's loop instead of a worker thread (a thread hop costs more than the answer).
+SNAPSHOT_READS: frozenset[str] = frozenset({
+    "/api/robot_status", "/api/robot_info", "/api/software/get_version", "/api/get_params",
+})

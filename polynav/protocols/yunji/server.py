@@ -35,6 +35,7 @@ from polynav.runtime.robot_runtime import RobotRuntime
 log = logging.getLogger(__name__)
 
 _READ_SIZE = 65536
+_DIRECT_WRITE_LIMIT = 65536  # [bytes] buffered in the transport before writes go via the task
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,13 +103,26 @@ class _Client:
     def reply(self, packet: bytes) -> None:
         self.outbox.reply(packet)
         self._check()
+        self._write_now()
 
     def notify(self, packet: bytes) -> None:
         self.outbox.event(packet)
         self._check()
+        self._write_now()
 
     def callback(self, topic: str, packet: bytes) -> None:
         self.outbox.status(packet, key=topic)
+        self._write_now()
+
+    def _write_now(self) -> None:
+        """Write what is ready while the transport is not backed up; the writer task takes
+        over (and waits on ``drain``) once it is."""
+        transport = self.writer.transport
+        while not self.closed and transport.get_write_buffer_size() < _DIRECT_WRITE_LIMIT:
+            packet = self.outbox.get_nowait()
+            if packet is None:
+                return
+            self.writer.write(packet)
 
     def _check(self) -> None:
         """An outbox closed for not reading: drop the connection and its unsent data."""
@@ -342,7 +356,10 @@ class YunjiServer:
             reply = Reply(Status.INVALID_REQUEST, f"unknown command {command.path}")
         else:
             try:
-                reply = await asyncio.to_thread(handler, self._ctx, command.params)
+                if command.path in routes.SNAPSHOT_READS:
+                    reply = handler(self._ctx, command.params)
+                else:
+                    reply = await asyncio.to_thread(handler, self._ctx, command.params)
                 packet = _encode(command, reply)
             except Exception as exc:  # the one broad except per request (STYLE R4)
                 status, message = errors.status_for(exc)
