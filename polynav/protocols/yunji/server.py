@@ -346,7 +346,8 @@ class YunjiServer:
                 except Exception:  # the stream's broad except: log, keep streaming
                     log.error("yunji: %s stream failed", topic, exc_info=True)
                 else:
-                    client.callback(topic, codec.encode_callback(topic, results))
+                    if streams.still_current(self._ctx, topic):
+                        client.callback(topic, codec.encode_callback(topic, results))
                 due = max(due + period, now)
             await asyncio.sleep(self.config.stream_poll_interval)
 

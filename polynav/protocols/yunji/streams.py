@@ -65,9 +65,19 @@ def request_data(ctx: Context, params: Params) -> Reply:
     return Reply(stream=StreamRequest(topic, frequency, switch == "on"))
 
 
+# Topics read from the robot itself (its sensors), silent while it is powered off.
+NEED_POWER = frozenset({"human_detection"})
+
+
 def stream_results(ctx: Context, topic: str) -> object:
     """The ``results`` of one callback of ``topic``."""
     return TOPICS[topic][1](ctx)
+
+
+def still_current(ctx: Context, topic: str) -> bool:
+    """Whether results computed a moment ago may still be sent: a sensor reading taken just
+    before a power cut is not sent after it (the robot is off by then)."""
+    return topic not in NEED_POWER or ctx.runtime.powered
 
 
 HANDLERS = {"/api/request_data": request_data}
