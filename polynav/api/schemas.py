@@ -10,7 +10,15 @@ import logging
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StrictBool, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    StrictBool,
+    model_validator,
+)
 from typing_extensions import TypedDict
 
 from polynav.geometry import Pose2D
@@ -19,10 +27,11 @@ from polynav.site import Point, PointKind
 
 log = logging.getLogger(__name__)
 
-# Integers are stored in SQLite, whose INTEGER is a signed 64-bit value: a larger one would not
-# be a 422 but an OverflowError deep in the store, so the bound is part of the contract.
-INT64_MIN = -(2**63)
-INT64_MAX = 2**63 - 1
+# Integers are stored in SQLite, whose INTEGER is a signed 64-bit value: a larger one was not a
+# 422 but an OverflowError deep in the store. The bound is the I-JSON one (RFC 7493 §2.2), well
+# inside int64: a JSON number above 2**53 may reach a client (or a JSON Schema validator) as a
+# rounded double, and then a value the server refuses could look as if it met the maximum.
+MAX_INTEGER = 2**53 - 1
 MAX_NAME = 200
 MAX_COORDINATE = 1.0e6  # [m] no site is a thousand kilometres wide; keeps poses far from overflow
 MAX_HEADING = 2.0 * math.pi  # [rad] one turn either way; the server wraps into (-pi, pi]
@@ -66,7 +75,18 @@ Coordinate = Annotated[
     float, Field(strict=True, allow_inf_nan=False, ge=-MAX_COORDINATE, le=MAX_COORDINATE)
 ]
 Heading = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-MAX_HEADING, le=MAX_HEADING)]
-Int64 = Annotated[int, Field(strict=True, ge=INT64_MIN, le=INT64_MAX)]
+
+
+def _integral(value: Any) -> Any:
+    # JSON Schema counts 12.0 as an integer; strict mode would not, and would refuse "12" too.
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+Integer = Annotated[
+    int, Field(strict=True, ge=-MAX_INTEGER, le=MAX_INTEGER), BeforeValidator(_integral)
+]
 KindName = Literal[
     "general", "charger", "initial", "front-desk", "lift-outside", "lift-inside", "gate", "custom"
 ]
@@ -225,7 +245,7 @@ class PointIn(_Body):
     y: Coordinate
     theta: Heading = 0.0
     kind: KindName = "general"
-    number: Int64 | None = None
+    number: Integer | None = None
 
     def to_domain(self) -> Point:
         return Point(
@@ -242,7 +262,7 @@ class PointUpdate(_Body):
     y: Coordinate | None = None
     theta: Heading | None = None
     kind: KindName | None = None
-    number: Int64 | None = None
+    number: Integer | None = None
 
     def to_domain(self, old: Point) -> Point:
         pose = old.pose
