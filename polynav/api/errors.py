@@ -143,18 +143,23 @@ async def _validation_error(request: Request, exc: Exception) -> JSONResponse:
     return JSONResponse(error_body("validation_error", validation_message(errors)), status_code=422)
 
 
+_METHODS = ("DELETE", "GET", "HEAD", "OPTIONS", "PATCH", "POST", "PUT")
+
+
 def allowed_methods(request: Request) -> list[str]:
     """Every method some route of the app serves at this request's path, sorted.
 
-    Starlette's own 405 names only the first route that matched the path, but a path such as
-    ``/api/points/{name}`` is served by three routes (GET, PUT, DELETE).
+    Starlette's own 405 names only the methods of the first route that matched the path, but
+    ``/api/points/{name}`` is served by three routes (GET, PUT, DELETE). Each method is tried
+    against the routes as the router itself would, so included routers count too.
     """
-    methods: set[str] = set()
-    for route in request.app.router.routes:
-        match, _ = route.matches(request.scope)
-        if match is not Match.NONE:
-            methods.update(getattr(route, "methods", None) or ())
-    return sorted(methods)
+    routes = request.app.router.routes
+    return [
+        method
+        for method in _METHODS
+        if any(route.matches({**request.scope, "method": method})[0] is Match.FULL
+               for route in routes)
+    ]
 
 
 async def _http_error(request: Request, exc: Exception) -> JSONResponse:
