@@ -20,12 +20,14 @@ log = logging.getLogger(__name__)
 
 def get_runtime(request: Request) -> RobotRuntime:
     """The RobotRuntime this app serves."""
-    return request.app.state.runtime
+    runtime: RobotRuntime = request.app.state.runtime
+    return runtime
 
 
 def get_store(request: Request) -> SiteStore:
     """The SiteStore of that runtime (maps, points, settings on disk)."""
-    return request.app.state.store
+    store: SiteStore = request.app.state.store
+    return store
 
 
 RuntimeDep = Annotated[RobotRuntime, Depends(get_runtime)]

@@ -83,7 +83,7 @@ def _errors(described: dict[int, str]) -> Responses:
 
 # A JSON body: it may not parse (400) or not match its schema (422).
 BODY = _errors({
-    400: "malformed JSON (code `malformed_json`)",
+    400: "the body cannot be parsed (codes `malformed_json`, `bad_request`)",
     422: "the request does not match this document (code `validation_error`)",
 })
 # A named thing in the path or query: unknown (404), or a name the schema refuses (422).

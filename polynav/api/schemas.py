@@ -231,7 +231,7 @@ class PointOut(BaseModel):
             x=point.pose.x,
             y=point.pose.y,
             theta=point.pose.theta,
-            kind=point.kind.value,  # type: ignore[arg-type]
+            kind=point.kind.value,
             number=point.number,
         )
 
