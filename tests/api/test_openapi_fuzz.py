@@ -19,7 +19,7 @@ from typing import cast
 
 import pytest
 import schemathesis
-from hypothesis import HealthCheck, settings
+from hypothesis import settings
 from hypothesis import strategies as st
 from pydantic import TypeAdapter, ValidationError
 from schemathesis import Case
@@ -43,15 +43,17 @@ def _hypothesis_settings(max_examples: int, **more: int) -> settings:
         derandomize=True,  # the same examples on every run and machine
         deadline=None,  # the machine is shared: time is not the property under test
         database=None,
-        suppress_health_check=list(HealthCheck),
         **more,
     )
 
 
 class _Unbound:
-    """Stands in for the runtime and the store until ``bound_app`` binds the app to real ones:
-    pytest collects the operations from the document before any tmp_path exists, and the
-    document does not depend on either (the routes read them from ``app.state`` per request)."""
+    """Stands in for the runtime and the store until the ``site`` fixture binds the app to real
+    ones: pytest collects the operations from the document before any tmp_path exists, and the
+    document does not depend on either (the routes read them from ``app.state`` per request).
+
+    (``schemathesis.pytest.from_fixture`` would load the schema from a fixture instead, but it
+    sets ``Node._nodeid``, which pytest 9.2 no longer has.)"""
 
 
 APP = create_app(
