@@ -8,7 +8,7 @@ from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
 from polynav.api.config import ApiConfig
-from polynav.api.errors import install_error_handlers
+from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import control, maps, navigation, points, settings, status, ws
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
@@ -45,6 +45,7 @@ def create_app(
         description="Drive a polynav robot: status, maps, points, navigation, control, "
         "settings, and a WebSocket of status and events.",
         generate_unique_id_function=_operation_id,
+        responses=FAULT,
     )
     app.state.runtime = runtime
     app.state.store = store if store is not None else runtime.store

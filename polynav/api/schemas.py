@@ -7,18 +7,101 @@ Pydantic lives only here, at the edge (STYLE R6): routes call ``to_domain()`` on
 from __future__ import annotations
 
 import logging
+import math
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    StrictBool,
+    model_validator,
+)
+from typing_extensions import TypedDict
 
 from polynav.geometry import Pose2D
+from polynav.runtime.settings import SETTING_RANGES
 from polynav.site import Point, PointKind
 
 log = logging.getLogger(__name__)
 
-Finite = Annotated[float, Field(allow_inf_nan=False)]
-Name = Annotated[str, Field(min_length=1, max_length=200)]
-KindName = Literal["general", "charger", "initial", "lift-outside", "lift-inside", "gate", "custom"]
+# Integers are stored in SQLite, whose INTEGER is a signed 64-bit value: a larger one was not a
+# 422 but an OverflowError deep in the store. The bound is the I-JSON one (RFC 7493 §2.2), well
+# inside int64: a JSON number above 2**53 may reach a client (or a JSON Schema validator) as a
+# rounded double, and then a value the server refuses could look as if it met the maximum.
+MAX_INTEGER = 2**53 - 1
+MAX_NAME = 200
+MAX_COORDINATE = 1.0e6  # [m] no site is a thousand kilometres wide; keeps poses far from overflow
+MAX_HEADING = 2.0 * math.pi  # [rad] one turn either way; the server wraps into (-pi, pi]
+MAX_LOCAL_ROTATION = 4.0 * math.pi  # [rad] the runtime's bound on a local move
+MAX_LOCAL_DISTANCE = 10.0  # [m] likewise
+
+# A name is what the site store accepts (non-empty, at most 200 characters, no control character,
+# no leading or trailing white space as ``str.strip`` sees it) and what a URL path segment can
+# carry back to us: no "/", and not "." or ".." (clients fold those away). C1 controls and lone
+# surrogates are refused too: they cannot be written to SQLite as UTF-8.
+_CONTROL = "\\u0000-\\u001f\\u007f-\\u009f"
+_SPACE = " \\u00a0\\u1680\\u2000-\\u200a\\u2028\\u2029\\u202f\\u205f\\u3000"
+NAME_PATTERN = f"^[^{_CONTROL}{_SPACE}/](?:[^{_CONTROL}/]*[^{_CONTROL}{_SPACE}/])?$"
+NAME_DESCRIPTION = (
+    f"1 to {MAX_NAME} characters; no control character, no '/', no leading or trailing white "
+    "space; not '.' or '..'"
+)
+_DOT_SEGMENTS = (".", "..")
+
+
+def _not_a_dot_segment(name: str) -> str:
+    if name in _DOT_SEGMENTS:
+        raise ValueError("'.' and '..' are path segments, not names")
+    return name
+
+
+Name = Annotated[
+    str,
+    Field(
+        min_length=1,
+        max_length=MAX_NAME,
+        pattern=NAME_PATTERN,
+        description=NAME_DESCRIPTION,
+        json_schema_extra={"not": {"enum": list(_DOT_SEGMENTS)}},
+    ),
+    AfterValidator(_not_a_dot_segment),
+]
+# Numbers are strict: JSON "1.5" (a string) is not a number, as the document says.
+Finite = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+Coordinate = Annotated[
+    float, Field(strict=True, allow_inf_nan=False, ge=-MAX_COORDINATE, le=MAX_COORDINATE)
+]
+Heading = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-MAX_HEADING, le=MAX_HEADING)]
+
+
+def _integral(value: Any) -> Any:
+    # JSON Schema counts 12.0 as an integer; strict mode would not, and would refuse "12" too.
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+Integer = Annotated[
+    int, Field(strict=True, ge=-MAX_INTEGER, le=MAX_INTEGER), BeforeValidator(_integral)
+]
+KindName = Literal[
+    "general", "charger", "initial", "front-desk", "lift-outside", "lift-inside", "gate", "custom"
+]
+
+
+def _alternatives(*branches: tuple[tuple[str, ...], tuple[str, ...]]) -> dict[str, Any]:
+    """JSON Schema for "one of these field sets": each branch is (fields that must be numbers or
+    strings, fields that must be absent or null). The model validators enforce the same."""
+    any_of = []
+    for present, absent in branches:
+        props: dict[str, Any] = {name: {"not": {"type": "null"}} for name in present}
+        props.update({name: {"type": "null"} for name in absent})
+        any_of.append({"required": list(present), "properties": props} if present
+                      else {"properties": props})
+    return {"anyOf": any_of}
 
 
 class _Body(BaseModel):
@@ -38,9 +121,9 @@ class PoseOut(BaseModel):
 class PoseIn(_Body):
     """A pose in the map frame: position [m], heading [rad]."""
 
-    x: Finite
-    y: Finite
-    theta: Finite = 0.0
+    x: Coordinate
+    y: Coordinate
+    theta: Heading = 0.0
 
     def to_domain(self) -> Pose2D:
         return Pose2D(self.x, self.y, self.theta)
@@ -148,7 +231,7 @@ class PointOut(BaseModel):
             x=point.pose.x,
             y=point.pose.y,
             theta=point.pose.theta,
-            kind=point.kind.value,  # type: ignore[arg-type]
+            kind=point.kind.value,
             number=point.number,
         )
 
@@ -158,11 +241,11 @@ class PointIn(_Body):
 
     name: Name
     map: Name
-    x: Finite
-    y: Finite
-    theta: Finite = 0.0
+    x: Coordinate
+    y: Coordinate
+    theta: Heading = 0.0
     kind: KindName = "general"
-    number: int | None = None
+    number: Integer | None = None
 
     def to_domain(self) -> Point:
         return Point(
@@ -175,11 +258,11 @@ class PointUpdate(_Body):
     """A change of a point: the fields given replace the old ones (``name`` renames it)."""
 
     name: Name | None = None
-    x: Finite | None = None
-    y: Finite | None = None
-    theta: Finite | None = None
+    x: Coordinate | None = None
+    y: Coordinate | None = None
+    theta: Heading | None = None
     kind: KindName | None = None
-    number: int | None = None
+    number: Integer | None = None
 
     def to_domain(self, old: Point) -> Point:
         pose = old.pose
@@ -210,11 +293,16 @@ def _pose_or_none(x: float | None, y: float | None, theta: float | None) -> Pose
 class NavigationStartIn(_Body):
     """Start navigating on a map, localized at a named point, a pose, or where the robot is."""
 
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra=_alternatives(((), ("x", "y", "theta")), (("x", "y"), ("point",))),
+    )
+
     map: Name
     point: Name | None = None
-    x: Finite | None = None
-    y: Finite | None = None
-    theta: Finite | None = None
+    x: Coordinate | None = None
+    y: Coordinate | None = None
+    theta: Heading | None = None
 
     @model_validator(mode="after")
     def _one_origin(self) -> NavigationStartIn:
@@ -230,10 +318,17 @@ class NavigationStartIn(_Body):
 class GoalIn(_Body):
     """A navigation goal: a named point, or a pose (on the current map unless ``map`` is set)."""
 
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra=_alternatives(
+            (("point",), ("x", "y", "theta")), (("x", "y"), ("point",))
+        ),
+    )
+
     point: Name | None = None
-    x: Finite | None = None
-    y: Finite | None = None
-    theta: Finite | None = None
+    x: Coordinate | None = None
+    y: Coordinate | None = None
+    theta: Heading | None = None
     map: Name | None = None
 
     @model_validator(mode="after")
@@ -260,24 +355,63 @@ class TeleopIn(_Body):
     """A velocity command [m/s, rad/s], clamped to the settings; repeat it within the dead-man
     timeout or the base stops."""
 
-    linear: Finite
-    angular: Finite = 0.0
+    linear: Finite = Field(description="[m/s], clamped to max_linear_velocity")
+    angular: Finite = Field(0.0, description="[rad/s], clamped to max_angular_velocity")
 
 
 class EStopIn(_Body):
     """The software emergency stop (the hardware button is separate)."""
 
-    on: bool
+    on: StrictBool
 
 
 class LocalMoveIn(_Body):
     """Rotate by an angle [rad] or drive straight a distance [m] (negative: backwards)."""
 
-    rotate: Finite | None = None
-    distance: Finite | None = None
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra=_alternatives(
+            (("rotate",), ("distance",)), (("distance",), ("rotate",))
+        ),
+    )
+
+    rotate: Annotated[
+        float,
+        Field(strict=True, allow_inf_nan=False, ge=-MAX_LOCAL_ROTATION, le=MAX_LOCAL_ROTATION),
+    ] | None = None
+    distance: Annotated[
+        float,
+        Field(strict=True, allow_inf_nan=False, ge=-MAX_LOCAL_DISTANCE, le=MAX_LOCAL_DISTANCE),
+    ] | None = None
 
     @model_validator(mode="after")
     def _exactly_one(self) -> LocalMoveIn:
         if (self.rotate is None) == (self.distance is None):
             raise ValueError("give exactly one of rotate or distance")
         return self
+
+
+# --- settings ---------------------------------------------------------------------------------
+
+
+def _setting(key: str) -> Any:
+    lo, hi = SETTING_RANGES[key]
+    return Annotated[float, Field(strict=True, allow_inf_nan=False, ge=lo, le=hi)]
+
+
+# Built from the runtime's table so a new setting and its range reach the document by themselves.
+# A TypedDict (not a model) so that a field is either absent or a number, never null.
+SettingsIn = TypedDict(  # type: ignore[misc]
+    "SettingsIn", {key: _setting(key) for key in SETTING_RANGES}, total=False
+)
+SettingsIn.__doc__ = (
+    "Settings to change (SI units), each within its range; all or none apply. A change that "
+    "contradicts the values it is combined with (obstacle_stop_distance above "
+    "obstacle_slowdown_distance, critical_battery_percent above low_battery_percent, the LED "
+    "colour all 0) is refused with 409."
+)
+SettingsIn.__pydantic_config__ = ConfigDict(extra="forbid")  # type: ignore[attr-defined]
+SettingsOut = TypedDict(  # type: ignore[misc]
+    "SettingsOut", {key: _setting(key) for key in SETTING_RANGES}
+)
+SettingsOut.__doc__ = "Every setting with its current value (SI units)."

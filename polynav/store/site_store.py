@@ -66,6 +66,7 @@ DB_FILE = "site.db"
 MAPS_DIR = "maps"
 BUSY_TIMEOUT = 10.0  # [s] how long a write waits for another process's transaction
 _MAX_NAME = 200
+_INT64_MIN, _INT64_MAX = -(2**63), 2**63 - 1
 _SEEDED_KEY = "seeded_from"
 _SERIAL_KEY = "map_file_serial"
 
@@ -848,6 +849,10 @@ def _point_columns(
     custom = point.custom_type
     if custom is not None and (isinstance(custom, bool) or not isinstance(custom, int)):
         raise InvalidRequest("point.custom_type", f"expected an integer or None, got {custom!r}")
+    # SQLite's INTEGER is 64-bit: a larger Python int is an OverflowError in execute().
+    for field, value in (("point.number", number), ("point.custom_type", custom)):
+        if value is not None and not _INT64_MIN <= value <= _INT64_MAX:
+            raise InvalidRequest(field, f"must fit in 64 bits, got {value}")
     if custom is not None and point.kind is not PointKind.CUSTOM:
         raise InvalidRequest("point.custom_type", "only a custom point has a custom type")
     return (point.map_name, point.name, x, y, theta, point.kind.value, number, custom)

@@ -25,8 +25,10 @@ def test_api_config_range_checks_name_the_key(changes: dict[str, object], key: s
 def test_errors_map_along_the_mro() -> None:
     assert status_and_code(NotFound("point", "x")) == (404, "not_found")
     assert status_and_code(Conflict("busy")) == (409, "conflict")
-    assert status_and_code(InvalidRequest("x", "bad")) == (422, "invalid_request")
-    assert status_and_code(WorldFormatError("x", "bad")) == (422, "invalid_request")
+    # The schemas refuse malformed requests (422) before any polynav code runs; an
+    # InvalidRequest from the runtime or the store refuses a well-formed one.
+    assert status_and_code(InvalidRequest("x", "bad")) == (409, "invalid_request")
+    assert status_and_code(WorldFormatError("x", "bad")) == (409, "invalid_request")
     assert status_and_code(StorageError("disk")) == (500, "storage_error")
     assert status_and_code(NoPath("blocked")) == (400, "bad_request")
     assert status_and_code(RuntimeError("bug")) == (500, "internal")

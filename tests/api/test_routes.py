@@ -143,12 +143,13 @@ def test_goal_of_the_wrong_shape_is_422(client: httpx.Client, body: object) -> N
     _error(client.post("/api/navigation/goal", json=body), 422, "validation_error")
 
 
-def test_goal_to_unknown_point_is_404_and_other_map_is_422(client: httpx.Client) -> None:
+def test_goal_to_unknown_point_is_404_and_other_map_is_409(client: httpx.Client) -> None:
     client.post("/api/navigation/start", json={"map": "floor1"})
     message = _error(client.post("/api/navigation/goal", json={"point": "atlantis"}), 404,
                      "not_found")
     assert "atlantis" in message
-    _error(client.post("/api/navigation/goal", json={"x": 1.0, "y": 1.0, "map": "floor2"}), 422,
+    # Well formed, refused by the runtime: a conflict with the current map, not a malformed body.
+    _error(client.post("/api/navigation/goal", json={"x": 1.0, "y": 1.0, "map": "floor2"}), 409,
            "invalid_request")
 
 
@@ -178,11 +179,22 @@ def test_settings_get_and_put(client: httpx.Client) -> None:
 
 @pytest.mark.parametrize("changes", [
     {"max_linear_velocity": 50.0}, {"max_linear_velocity": -1}, {"warp": 9},
-    {"robot_radius": "big"}, {"robot_radius": True},
+    {"robot_radius": "big"}, {"robot_radius": True}, {"robot_radius": None},
 ])
 def test_bad_setting_is_422_and_changes_nothing(client: httpx.Client, changes: object) -> None:
     before = client.get("/api/settings").json()
-    _error(client.put("/api/settings", json=changes), 422, "invalid_request")
+    _error(client.put("/api/settings", json=changes), 422, "validation_error")
+    assert client.get("/api/settings").json() == before
+
+
+@pytest.mark.parametrize("changes", [
+    {"obstacle_stop_distance": 1.8}, {"critical_battery_percent": 30.0}, {"led_green": 0.0},
+])
+def test_setting_that_contradicts_the_others_is_409_and_changes_nothing(
+    client: httpx.Client, changes: object
+) -> None:
+    before = client.get("/api/settings").json()
+    _error(client.put("/api/settings", json=changes), 409, "invalid_request")
     assert client.get("/api/settings").json() == before
 
 

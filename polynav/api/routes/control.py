@@ -7,11 +7,12 @@ import logging
 from fastapi import APIRouter
 
 from polynav.api.deps import RuntimeDep
+from polynav.api.errors import BODY, STATE, responses
 from polynav.api.schemas import EStopIn, LocalMoveIn, Ok, TeleopIn
 
 log = logging.getLogger(__name__)
 
-router = APIRouter(prefix="/api", tags=["control"])
+router = APIRouter(prefix="/api", tags=["control"], responses=responses(BODY, STATE))
 
 
 @router.post("/teleop", operation_id="teleop", response_model=Ok)

@@ -7,7 +7,8 @@ import logging
 from fastapi import APIRouter
 from fastapi.responses import FileResponse
 
-from polynav.api.deps import StoreDep
+from polynav.api.deps import MapNamePath, StoreDep
+from polynav.api.errors import LOOKUP
 from polynav.api.schemas import MapOut
 
 log = logging.getLogger(__name__)
@@ -21,8 +22,8 @@ def list_maps(store: StoreDep) -> list[MapOut]:
     return [MapOut.from_domain(record) for record in store.maps()]
 
 
-@router.get("/{name}", operation_id="get_map", response_model=MapOut)
-def get_map(name: str, store: StoreDep) -> MapOut:
+@router.get("/{name}", operation_id="get_map", response_model=MapOut, responses=LOOKUP)
+def get_map(name: MapNamePath, store: StoreDep) -> MapOut:
     """One map's metadata (404 if unknown)."""
     return MapOut.from_domain(store.map_record(name))
 
@@ -31,8 +32,8 @@ def get_map(name: str, store: StoreDep) -> MapOut:
     "/{name}/image.png",
     operation_id="get_map_image",
     response_class=FileResponse,
-    responses={200: {"content": {"image/png": {}}}},
+    responses={200: {"content": {"image/png": {}}}, **LOOKUP},
 )
-def get_map_image(name: str, store: StoreDep) -> FileResponse:
+def get_map_image(name: MapNamePath, store: StoreDep) -> FileResponse:
     """The map as the ROS PNG (row 0 at the top, as image viewers expect)."""
     return FileResponse(store.map_image_path(name), media_type="image/png")

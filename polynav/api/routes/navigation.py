@@ -7,14 +7,20 @@ import logging
 from fastapi import APIRouter
 
 from polynav.api.deps import RuntimeDep
+from polynav.api.errors import BODY, LOOKUP, STATE, responses
 from polynav.api.schemas import GoalAccepted, GoalIn, NavigationStartIn, Ok, PoseIn
 
 log = logging.getLogger(__name__)
 
-router = APIRouter(prefix="/api/navigation", tags=["navigation"])
+router = APIRouter(prefix="/api/navigation", tags=["navigation"], responses=STATE)
 
 
-@router.post("/start", operation_id="start_navigation", response_model=Ok)
+@router.post(
+    "/start",
+    operation_id="start_navigation",
+    response_model=Ok,
+    responses=responses(BODY, LOOKUP),
+)
 def start_navigation(body: NavigationStartIn, runtime: RuntimeDep) -> Ok:
     """Load a map and navigate on it, localized at ``point``, at the pose, or where the simulated
     robot stands (404 unknown map or point, 409 while mapping)."""
@@ -29,14 +35,22 @@ def stop_navigation(runtime: RuntimeDep) -> Ok:
     return Ok()
 
 
-@router.post("/initial_pose", operation_id="set_initial_pose", response_model=Ok)
+@router.post(
+    "/initial_pose", operation_id="set_initial_pose", response_model=Ok, responses=BODY
+)
 def set_initial_pose(body: PoseIn, runtime: RuntimeDep) -> Ok:
     """Tell the localizer where the robot is (409 unless navigating)."""
     runtime.set_initial_pose(body.to_domain())
     return Ok()
 
 
-@router.post("/goal", operation_id="send_goal", response_model=GoalAccepted, status_code=202)
+@router.post(
+    "/goal",
+    operation_id="send_goal",
+    response_model=GoalAccepted,
+    status_code=202,
+    responses=responses(BODY, LOOKUP),
+)
 def send_goal(body: GoalIn, runtime: RuntimeDep) -> GoalAccepted:
     """Go to a named point or a pose; answers at once with the attempt id, progress comes in
     the status and the events (404 unknown point, 409 unless navigating)."""

@@ -8,17 +8,18 @@ from __future__ import annotations
 
 import logging
 
-from fastapi import APIRouter, Query, Response
+from fastapi import APIRouter, Response
 
-from polynav.api.deps import StoreDep
+from polynav.api.deps import FloorFilter, MapFilter, MapOfPoint, PointNamePath, StoreDep
+from polynav.api.errors import BODY, LOOKUP, STATE, responses
 from polynav.api.schemas import PointIn, PointOut, PointUpdate
 from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-router = APIRouter(prefix="/api/points", tags=["points"])
-
-MapQuery = Query(default=None, description="the point's map, when the name is on several maps")
+# Every route names a map or a point (404, 422); beyond the listing, an ambiguous or a taken name
+# is a 409.
+router = APIRouter(prefix="/api/points", tags=["points"], responses=LOOKUP)
 
 
 def _floors_by_map(store: SiteStore) -> dict[str, str]:
@@ -27,33 +28,42 @@ def _floors_by_map(store: SiteStore) -> dict[str, str]:
 
 @router.get("", operation_id="list_points", response_model=list[PointOut])
 def list_points(
-    store: StoreDep,
-    map: str | None = Query(default=None, description="only this map's points"),  # noqa: A002
-    floor: str | None = Query(default=None, description="only this floor's points"),
+    store: StoreDep, map: MapFilter = None, floor: FloorFilter = None  # noqa: A002
 ) -> list[PointOut]:
-    """The named points, optionally of one map or floor."""
+    """The named points, optionally of one map or floor (404 if that map or floor is unknown)."""
     floors = _floors_by_map(store)
     points = store.points(map_name=map, floor=floor)
     return [PointOut.from_domain(p, floors.get(p.map_name)) for p in points]
 
 
-@router.post("", operation_id="create_point", response_model=PointOut, status_code=201)
+@router.post(
+    "",
+    operation_id="create_point",
+    response_model=PointOut,
+    status_code=201,
+    responses=responses(BODY, STATE),
+)
 def create_point(body: PointIn, store: StoreDep) -> PointOut:
     """Add a point (409 if the map already has one of that name, 404 if the map is unknown)."""
     point = store.add_point(body.to_domain())
     return PointOut.from_domain(point, _floors_by_map(store).get(point.map_name))
 
 
-@router.get("/{name}", operation_id="get_point", response_model=PointOut)
-def get_point(name: str, store: StoreDep, map: str | None = MapQuery) -> PointOut:  # noqa: A002
+@router.get("/{name}", operation_id="get_point", response_model=PointOut, responses=STATE)
+def get_point(name: PointNamePath, store: StoreDep, map: MapOfPoint = None) -> PointOut:  # noqa: A002
     """One point by name."""
     point = store.find_point(name, map_name=map)
     return PointOut.from_domain(point, _floors_by_map(store).get(point.map_name))
 
 
-@router.put("/{name}", operation_id="update_point", response_model=PointOut)
+@router.put(
+    "/{name}",
+    operation_id="update_point",
+    response_model=PointOut,
+    responses=responses(BODY, STATE),
+)
 def update_point(
-    name: str, body: PointUpdate, store: StoreDep, map: str | None = MapQuery  # noqa: A002
+    name: PointNamePath, body: PointUpdate, store: StoreDep, map: MapOfPoint = None  # noqa: A002
 ) -> PointOut:
     """Change a point: the fields given replace the old ones; ``name`` renames it."""
     old = store.find_point(name, map_name=map)
@@ -61,8 +71,10 @@ def update_point(
     return PointOut.from_domain(point, _floors_by_map(store).get(point.map_name))
 
 
-@router.delete("/{name}", operation_id="delete_point", status_code=204)
-def delete_point(name: str, store: StoreDep, map: str | None = MapQuery) -> Response:  # noqa: A002
+@router.delete("/{name}", operation_id="delete_point", status_code=204, responses=STATE)
+def delete_point(
+    name: PointNamePath, store: StoreDep, map: MapOfPoint = None  # noqa: A002
+) -> Response:
     """Delete a point."""
     point = store.find_point(name, map_name=map)
     store.delete_point(point.map_name, point.name)

@@ -10,6 +10,8 @@ from typing import Any
 from fastapi import APIRouter, Body
 
 from polynav.api.deps import RuntimeDep
+from polynav.api.errors import BODY, STATE, responses
+from polynav.api.schemas import SettingsIn, SettingsOut
 
 log = logging.getLogger(__name__)
 
@@ -29,16 +31,20 @@ def _to_json(settings: Any) -> dict[str, Any]:
     return {k: (v.value if isinstance(v, enum.Enum) else v) for k, v in values.items()}
 
 
-@router.get("", operation_id="get_settings", response_model=dict[str, Any])
+@router.get("", operation_id="get_settings", response_model=SettingsOut)
 def get_settings(runtime: RuntimeDep) -> dict[str, Any]:
     """Every setting with its current value (SI units)."""
     return _to_json(runtime.settings())
 
 
-@router.put("", operation_id="update_settings", response_model=dict[str, Any])
-def update_settings(
-    runtime: RuntimeDep, changes: dict[str, Any] = SettingsBody
-) -> dict[str, Any]:
-    """Change some settings; all or none apply (422 for an unknown key, wrong type or a value
-    out of range). Answers with every setting."""
-    return _to_json(runtime.update_settings(changes))
+@router.put(
+    "",
+    operation_id="update_settings",
+    response_model=SettingsOut,
+    responses=responses(BODY, STATE),
+)
+def update_settings(runtime: RuntimeDep, changes: SettingsIn = SettingsBody) -> dict[str, Any]:
+    """Change some settings; all or none apply. 422 for an unknown key, a wrong type or a value
+    out of range (the schema says each range); 409 for values that contradict the settings they
+    are combined with. Answers with every setting."""
+    return _to_json(runtime.update_settings(dict(changes)))
