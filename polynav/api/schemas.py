@@ -180,6 +180,7 @@ class StatusOut(BaseModel):
     mode: Literal["free", "mapping", "navigating", "busy"]
     map: str | None
     floor: str | None
+    floor_level: int | None = Field(description="the floor's level in the site, if it has one")
     pose: PoseOut
     velocity: VelocityOut
     battery: BatteryOut

@@ -50,7 +50,7 @@ from dataclasses import dataclass, replace
 from typing import Protocol, TypeVar
 
 from polynav.clock import Clock
-from polynav.errors import ConfigError, Conflict, InvalidRequest, PolynavError
+from polynav.errors import ConfigError, Conflict, InvalidRequest, NotFound, PolynavError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
@@ -899,7 +899,16 @@ class RobotRuntime:
             retries=attempt.retries if attempt is not None else 0,
             phase=attempt.phase.value if attempt is not None else None,
             patrol_state=self._patrols.state,
+            floor_level=self._floor_level(self._sim.floor),
         )
+
+    def _floor_level(self, floor: str | None) -> int | None:
+        if floor is None:
+            return None
+        try:
+            return self.store.floor(floor).level
+        except NotFound:
+            return None
 
 
 def warm_up() -> None:

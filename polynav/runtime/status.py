@@ -24,7 +24,9 @@ class StatusSnapshot:
     Attributes:
         mode: ``"free"``, ``"mapping"``, ``"navigating"`` or ``"busy"``.
         map: the map navigation runs on, ``None`` while not navigating.
-        floor: the floor the robot is on.
+        floor: the floor the robot is on; ``floor_level`` its level in the site (``None`` when
+            the site has no such floor), read at ``stamp`` like the rest, so that status
+            readers (every dialect shows the level) never reach for the store.
         pose: the localization estimate on ``map`` while navigating; otherwise the robot's pose
             on its floor's map (the simulator's ground truth, or odometry on a real robot).
         linear, angular: measured velocity [m/s, rad/s].
@@ -66,6 +68,7 @@ class StatusSnapshot:
     retries: int = 0
     phase: str | None = None
     patrol_state: str | None = None
+    floor_level: int | None = None
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
@@ -76,6 +79,7 @@ class StatusSnapshot:
             "mode": self.mode,
             "map": self.map,
             "floor": self.floor,
+            "floor_level": self.floor_level,
             "pose": pose_dict(self.pose),
             "velocity": {"linear": float(self.linear), "angular": float(self.angular)},
             "battery": {"percent": float(self.battery_percent), "charging": self.charging},

@@ -13,7 +13,6 @@ from polynav.protocols.yunji.context import (
     Handler,
     Params,
     current_map,
-    floor_level,
     move_status_of,
     parse_float,
     pose_json,
@@ -61,7 +60,7 @@ def robot_status(ctx: Context, params: Params) -> Reply:
             "estop_state": s.estop_software or s.estop_hardware,
             "power_percent": int(round(s.battery_percent)),
             "current_pose": pose_json(s.pose),
-            "current_floor": floor_level(ctx, s.floor),
+            "current_floor": s.floor_level or 0,
             "chargepile_id": chargepile,
             "error_code": "00000000",
         }

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import polynav
 from polynav.errors import ConfigError, PolynavError
 from polynav.listen import tcp_listener
-from polynav.protocols.outbox import Outbox, OutboxClosed
+from polynav.protocols.outbox import Outbox
 from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.http import HttpListener
@@ -96,6 +96,7 @@ class _Client:
         self.closed = False
         self.peer = writer.get_extra_info("peername")
         self.streams: dict[str, asyncio.Task[None]] = {}
+        self._backed_up = asyncio.Event()
 
     def begin_command(self) -> None:
         self.outbox.begin_command()
@@ -115,10 +116,14 @@ class _Client:
         self._write_now()
 
     def _write_now(self) -> None:
-        """Write what is ready while the transport is not backed up; the writer task takes
-        over (and waits on ``drain``) once it is."""
+        """Write what is ready while the transport is not backed up; once it is, wake the
+        writer task, which waits on ``drain`` and goes on. The task sleeps otherwise: waking it
+        for every reply would cost a task switch per command."""
         transport = self.writer.transport
-        while not self.closed and transport.get_write_buffer_size() < _DIRECT_WRITE_LIMIT:
+        while not self.closed:
+            if transport.get_write_buffer_size() >= _DIRECT_WRITE_LIMIT:
+                self._backed_up.set()
+                return
             packet = self.outbox.get_nowait()
             if packet is None:
                 return
@@ -136,6 +141,7 @@ class _Client:
         would otherwise hold the connection open until its buffered data drained)."""
         if not self.closed:
             self.closed = True
+            self._backed_up.set()  # the writer task ends
             self.outbox.close("connection closed")
             if abort:
                 self.writer.transport.abort()
@@ -143,13 +149,13 @@ class _Client:
                 self.writer.close()
 
     async def write_loop(self) -> None:
+        """Drain a backed-up transport, then write what waited meanwhile."""
         try:
-            while True:
-                packet = await self.outbox.get()
-                self.writer.write(packet)
+            while not self.closed:
+                await self._backed_up.wait()
+                self._backed_up.clear()
                 await self.writer.drain()
-        except OutboxClosed:
-            pass
+                self._write_now()
         except (ConnectionError, OSError) as exc:
             log.info("yunji: client %s write failed: %s", self.peer, exc)
         finally:

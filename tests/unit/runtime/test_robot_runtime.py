@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import threading
 from collections.abc import Iterator
@@ -404,10 +406,22 @@ def test_local_move_requests_are_validated(runtime: RobotRuntime) -> None:
 def test_status_snapshot_has_the_contract_keys(runtime: RobotRuntime) -> None:
     runtime.advance(0.2)
     body = runtime.status().to_dict()
-    assert set(body) == {"mode", "map", "floor", "pose", "velocity", "battery", "estop",
-                         "localization", "navigation", "stamp"}
+    assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
+                         "estop", "localization", "navigation", "stamp"}
     assert body["mode"] == "free"
     assert body["stamp"] == pytest.approx(0.2, abs=0.06)
+
+
+def test_the_snapshot_carries_the_floor_level_and_sees_it_change(
+    runtime: RobotRuntime, store: SiteStore
+) -> None:
+    runtime.advance(0.2)
+    status = runtime.status()
+    assert status.floor is not None
+    assert status.floor_level == store.floor(status.floor).level
+    store.save_floor(dataclasses.replace(store.floor(status.floor), level=7))
+    runtime.advance(0.2)
+    assert runtime.status().floor_level == 7
 
 
 def test_loop_thread_reaches_a_goal_at_speed_50(world: World, store: SiteStore) -> None:
