@@ -23,7 +23,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/polynav bench planner
 	$(BIN)/polynav bench sim
-	$(BIN)/polynav bench api --dialect yunji
+	$(BIN)/polynav bench api
 
 clean:
 	rm -rf $(VENV) .pytest_cache

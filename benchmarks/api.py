@@ -1,19 +1,26 @@
-"""Dialect API benchmark: commands per second and latency under many concurrent clients.
+"""API benchmark: polynav's servers beside bare references, under the same client load.
 
-For the Yunji dialect: a polynav runtime (its loop thread running the simulated robot at real
-time) serves the Yunji TCP API on an ephemeral loopback port; a separate client process opens
-``--clients`` connections, each sending ``/api/robot_status`` and waiting for the reply in a loop
-for ``--seconds``. Printed side by side with the same client load against a reference: a bare
-asyncio server in this process that answers every line with a fixed reply of the same size (the
-transport's ceiling on this machine, with no robot behind it).
+polynav runs as ``polynav run`` does (the simulated robot at real time, walkers on, the native
+API under uvicorn, the Yunji TCP server); a separate client process (``api_load.py``) drives:
 
-Run with ``polynav bench api --dialect yunji [--clients 50] [--seconds 5] [--json]``.
+- native keep-alive ``GET /api/status`` as fast as the clients go, and paced at ``--rate``
+  requests/s (open loop: the p99 that DESIGN.md §8 bounds);
+- native ``POST /api/points`` (a new point each time, written to the site store);
+- native WebSocket fan-out: ``--ws-clients`` subscribers to ``/api/ws?rate=15``: messages per
+  second and whether their lag grows over ``--ws-seconds``;
+- Yunji ``/api/robot_status`` on its TCP socket.
+
+The references run after polynav has stopped, with nothing behind them: a bare uvicorn + FastAPI
+app answering the same JSON (a fixed status body, a pydantic-validated point echoed back, a
+status message per 1/15 s per subscriber), and a bare asyncio line server answering replies of
+the same size as Yunji's. Run ``polynav bench api [--only native|yunji ...] [--json]``.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import http.client
 import json
 import platform
 import socket
@@ -22,54 +29,115 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-COMMAND = b"/api/robot_status\n"
+from fastapi import FastAPI, WebSocket, WebSocketDisconnect
+from fastapi.responses import JSONResponse
+from pydantic import BaseModel
+
+LOAD = Path(__file__).resolve().with_name("api_load.py")
+YUNJI_COMMAND = b"/api/robot_status\n"
+WS_RATE = 15.0
 
 
-# -- the client load (runs in its own process: ``python api.py --load PORT CLIENTS SECONDS``) --
-
-
-async def _one_client(port: int, deadline: float, latencies: list[float]) -> None:
-    reader, writer = await asyncio.open_connection("127.0.0.1", port, limit=1 << 20)
-    try:
-        while time.perf_counter() < deadline:
-            start = time.perf_counter()
-            writer.write(COMMAND)
-            await writer.drain()
-            line = await reader.readline()
-            if not line.endswith(b"\n"):
-                raise ConnectionError("the server closed the connection")
-            latencies.append(time.perf_counter() - start)
-    finally:
-        writer.close()
-
-
-async def _load(port: int, clients: int, seconds: float) -> dict[str, Any]:
-    latencies: list[float] = []
-    deadline = time.perf_counter() + seconds
-    began = time.perf_counter()
-    await asyncio.gather(*(_one_client(port, deadline, latencies) for _ in range(clients)))
-    elapsed = time.perf_counter() - began
-    return {"count": len(latencies), "elapsed": elapsed, "latencies": sorted(latencies)}
-
-
-def _run_load(port: int, clients: int, seconds: float) -> dict[str, Any]:
-    """The load from a separate process, so the clients do not share the server's GIL."""
+def _load(kind: str, port: int, clients: int, seconds: float, *extra: str) -> dict[str, Any]:
+    """One client load from its own process, so the clients never share the server's GIL."""
     out = subprocess.run(
-        [sys.executable, str(Path(__file__).resolve()), "--load", str(port), str(clients),
-         str(seconds)],
-        capture_output=True, text=True, check=True, timeout=seconds + 120,
+        [sys.executable, str(LOAD), kind, str(port), str(clients), str(seconds), *extra],
+        capture_output=True, text=True, timeout=seconds + 120,
     )
+    if out.returncode != 0:
+        raise RuntimeError(f"the {kind} load failed: {out.stderr.strip()[-2000:]}")
     result: dict[str, Any] = json.loads(out.stdout)
     return result
 
 
-# -- the servers -------------------------------------------------------------------------------
+def _figures(result: dict[str, Any]) -> dict[str, float]:
+    lat = result["latencies"]
+
+    def pct(q: float) -> float:
+        return 1000.0 * lat[min(len(lat) - 1, int(q * len(lat)))] if lat else 0.0
+
+    return {
+        "per_second": result["count"] / result["elapsed"],
+        "errors": result["errors"],
+        "p50_ms": pct(0.50),
+        "p99_ms": pct(0.99),
+    }
 
 
-class _Reference:
+# -- servers -----------------------------------------------------------------------------------
+
+
+class _Uvicorn:
+    """An ASGI app under uvicorn on a loopback TCP_NODELAY socket, in a thread."""
+
+    def __init__(self, app: Any) -> None:
+        import uvicorn
+
+        from polynav.listen import tcp_listener
+
+        self._sock = tcp_listener("127.0.0.1", 0)
+        self.port = int(self._sock.getsockname()[1])
+        self._server = uvicorn.Server(
+            uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
+        )
+        self._thread = threading.Thread(
+            target=self._server.run, kwargs={"sockets": [self._sock]}, daemon=True
+        )
+        self._thread.start()
+        while not self._server.started:  # uvicorn has no start callback: wait for its flag
+            if not self._thread.is_alive():
+                raise RuntimeError("uvicorn did not start")
+            time.sleep(0.005)
+
+    def close(self) -> None:
+        self._server.should_exit = True
+        self._thread.join(timeout=30.0)
+        self._sock.close()
+
+
+class Point(BaseModel):
+    name: str
+    map: str
+    x: float
+    y: float
+    theta: float = 0.0
+
+
+def _bare_fastapi(status: dict[str, Any]) -> Any:
+    """The reference app: the same routes answering the same JSON, with no robot behind them."""
+    app = FastAPI()
+
+    @app.get("/api/status")
+    def get_status() -> JSONResponse:
+        return JSONResponse(status)
+
+    @app.post("/api/points", status_code=201)
+    def create_point(point: Point) -> dict[str, Any]:
+        return {**point.model_dump(), "kind": "general", "number": None, "floor": "1"}
+
+    @app.websocket("/api/ws")
+    async def stream(websocket: WebSocket, rate: float = WS_RATE) -> None:
+        await websocket.accept()
+        began = time.perf_counter()
+        beat = 0
+        try:
+            while True:
+                beat += 1
+                await asyncio.sleep(max(0.0, began + beat / rate - time.perf_counter()))
+                data = {**status, "stamp": time.perf_counter() - began}
+                await websocket.send_json({"type": "status", "data": data})
+        except (WebSocketDisconnect, RuntimeError):
+            pass
+
+    return app
+
+
+class _BareLineServer:
     """A bare asyncio line server answering a fixed reply, on its own loop thread."""
 
     def __init__(self, reply: bytes) -> None:
@@ -78,9 +146,12 @@ class _Reference:
         self._thread = threading.Thread(target=self._loop.run_forever, daemon=True)
         self._thread.start()
         self._server = asyncio.run_coroutine_threadsafe(self._start(), self._loop).result()
+        self.port = int(self._server.sockets[0].getsockname()[1])
 
     async def _start(self) -> asyncio.Server:
-        return await asyncio.start_server(self._handle, "127.0.0.1", 0)
+        from polynav.listen import tcp_listener
+
+        return await asyncio.start_server(self._handle, sock=tcp_listener("127.0.0.1", 0))
 
     async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         try:
@@ -91,10 +162,6 @@ class _Reference:
             pass
         finally:
             writer.close()
-
-    @property
-    def port(self) -> int:
-        return int(self._server.sockets[0].getsockname()[1])
 
     def close(self) -> None:
         async def stop() -> None:
@@ -107,23 +174,10 @@ class _Reference:
         self._loop.close()
 
 
-def _figures(result: dict[str, Any]) -> dict[str, float]:
-    lat = result["latencies"]
-    if not lat:
-        return {"commands_per_second": 0.0, "p50_ms": 0.0, "p95_ms": 0.0, "p99_ms": 0.0}
-
-    def pct(q: float) -> float:
-        return 1000.0 * lat[min(len(lat) - 1, int(q * len(lat)))]
-
-    return {
-        "commands_per_second": result["count"] / result["elapsed"],
-        "p50_ms": pct(0.50),
-        "p95_ms": pct(0.95),
-        "p99_ms": pct(0.99),
-    }
-
-
-def _yunji(clients: int, seconds: float) -> tuple[dict[str, float], int]:
+@contextmanager
+def _polynav(with_yunji: bool) -> Iterator[tuple[int, int | None]]:
+    """polynav as ``polynav run`` serves it: (native API port, Yunji TCP port or None)."""
+    from polynav.api import ApiConfig, create_app
     from polynav.protocols.yunji import YunjiConfig
     from polynav.protocols.yunji.server import YunjiThread
     from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
@@ -136,55 +190,134 @@ def _yunji(clients: int, seconds: float) -> tuple[dict[str, float], int]:
     ) as store:
         runtime = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=True))
         runtime.start()
-        server = YunjiThread(runtime, YunjiConfig(port=0, queue_size=1024))
+        api = _Uvicorn(create_app(runtime, ApiConfig(port=0)))
+        yunji = YunjiThread(runtime, YunjiConfig(port=0, queue_size=1024)) if with_yunji else None
         try:
-            with socket.create_connection(("127.0.0.1", server.port)) as probe:
-                probe.sendall(COMMAND)
-                with probe.makefile("rb") as replies:
-                    reply_size = len(replies.readline())
-            result = _run_load(server.port, clients, seconds)
+            yield api.port, (yunji.port if yunji is not None else None)
         finally:
-            server.stop()
+            if yunji is not None:
+                yunji.stop()
+            api.close()
             runtime.stop()
-    return _figures(result), reply_size
+
+
+def _get_json(port: int, path: str) -> dict[str, Any]:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    try:
+        connection.request("GET", path)
+        body: dict[str, Any] = json.loads(connection.getresponse().read())
+        return body
+    finally:
+        connection.close()
+
+
+def _yunji_reply_size(port: int) -> int:
+    with socket.create_connection(("127.0.0.1", port)) as probe:
+        probe.sendall(YUNJI_COMMAND)
+        with probe.makefile("rb") as replies:
+            return len(replies.readline())
+
+
+# -- the runs ----------------------------------------------------------------------------------
+
+
+def _native_loads(args: argparse.Namespace) -> list[tuple[str, Callable[[int], dict[str, Any]]]]:
+    http_clients, seconds = args.http_clients, args.seconds
+    return [
+        ("GET /api/status keep-alive",
+         lambda port: _figures(_load("get", port, http_clients, seconds))),
+        (f"GET /api/status at {args.rate:g}/s",
+         lambda port: _figures(_load("paced", port, http_clients, seconds,
+                                     "--rate", str(args.rate)))),
+        ("POST /api/points",
+         lambda port: _figures(_load("post", port, http_clients, seconds))),
+        (f"WS fan-out x{args.ws_clients} at {WS_RATE:g} Hz",
+         lambda port: _load("ws", port, args.ws_clients, args.ws_seconds,
+                            "--path", f"/api/ws?rate={WS_RATE:g}")),
+    ]
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    """Every figure, polynav first (robot running), then the references (nothing running)."""
+    ours: dict[str, Any] = {}
+    theirs: dict[str, Any] = {}
+    native = "native" in args.only
+    yunji = "yunji" in args.only
+    with _polynav(with_yunji=yunji) as (api_port, yunji_port):
+        status = _get_json(api_port, "/api/status")
+        if native:
+            for label, load in _native_loads(args):
+                ours[label] = load(api_port)
+        if yunji_port is not None:
+            reply_size = _yunji_reply_size(yunji_port)
+            ours["yunji robot_status"] = _figures(
+                _load("line", yunji_port, args.clients, args.seconds))
+    if native:
+        reference = _Uvicorn(_bare_fastapi(status))
+        try:
+            for label, load in _native_loads(args):
+                theirs[label] = load(reference.port)
+        finally:
+            reference.close()
+    if yunji:
+        line_server = _BareLineServer(b"x" * (reply_size - 1) + b"\n")
+        try:
+            theirs["yunji robot_status"] = _figures(
+                _load("line", line_server.port, args.clients, args.seconds))
+        finally:
+            line_server.close()
+    return {"polynav": ours, "reference": theirs}
+
+
+def _print(args: argparse.Namespace, figures: dict[str, Any]) -> None:
+    ours, theirs = figures["polynav"], figures["reference"]
+    print(f"polynav bench api: {args.http_clients} HTTP clients, {args.clients} Yunji clients, "
+          f"{args.seconds:g} s per load; WebSocket {args.ws_seconds:g} s; "
+          f"Python {platform.python_version()}")
+    print("references: bare uvicorn + FastAPI (same JSON), bare asyncio line server (same size)")
+    print(f"{'':34s}{'polynav/s':>11s}{'ref/s':>10s}{'ratio':>7s}"
+          f"{'p50 ms':>8s}{'p99 ms':>8s}{'ref p99':>9s}{'errors':>7s}")
+    for label, row in ours.items():
+        ref = theirs[label]
+        if "per_second" not in row:
+            continue
+        ratio = row["per_second"] / ref["per_second"] if ref["per_second"] else 0.0
+        print(f"{label:34s}{row['per_second']:11.0f}{ref['per_second']:10.0f}{ratio:7.2f}"
+              f"{row['p50_ms']:8.2f}{row['p99_ms']:8.2f}{ref['p99_ms']:9.2f}{row['errors']:7d}")
+    for label, row in ours.items():
+        if "subscribers" not in row:
+            continue
+        ref = theirs[label]
+        print(f"{label}: messages/s per subscriber min {row['messages_per_second_min']:.1f} "
+              f"(reference {ref['messages_per_second_min']:.1f}), lag growth "
+              f"{row['lag_growth_ms']:+.1f} ms (reference {ref['lag_growth_ms']:+.1f}), "
+              f"lag spread {row['lag_spread_ms']:.1f} ms (reference {ref['lag_spread_ms']:.1f})")
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="polynav bench api", description=__doc__.splitlines()[0])
-    parser.add_argument("--dialect", choices=("yunji",), default="yunji")
-    parser.add_argument("--clients", type=int, default=50)
-    parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--only", nargs="+", choices=("native", "yunji"),
+                        default=["native", "yunji"], help="which servers (default: all)")
+    parser.add_argument("--clients", type=int, default=50, help="Yunji connections")
+    parser.add_argument("--http-clients", type=int, default=10, help="keep-alive connections")
+    parser.add_argument("--seconds", type=float, default=5.0, help="per load")
+    parser.add_argument("--rate", type=float, default=1000.0, help="paced GETs per second")
+    parser.add_argument("--ws-clients", type=int, default=50)
+    parser.add_argument("--ws-seconds", type=float, default=10.0,
+                        help="WebSocket run (the target is stated over 300)")
     parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
     args = parser.parse_args(argv)
-    if args.clients < 1 or not args.seconds > 0.0:
-        parser.error("--clients must be >= 1 and --seconds > 0")
-
-    ours, reply_size = _yunji(args.clients, args.seconds)
-    reference = _Reference(b"x" * (reply_size - 1) + b"\n")
-    try:
-        ceiling = _figures(_run_load(reference.port, args.clients, args.seconds))
-    finally:
-        reference.close()
-
-    print(f"polynav bench api --dialect {args.dialect}: {args.clients} clients x "
-          f"{args.seconds:g} s of /api/robot_status ({reply_size}-byte replies), "
-          f"Python {platform.python_version()}")
-    print(f"{'':34s}{'commands/s':>12s}{'p50 ms':>10s}{'p95 ms':>10s}{'p99 ms':>10s}")
-    for label, row in (
-        ("polynav yunji (TCP, live robot)", ours),
-        ("reference: bare asyncio server", ceiling),
-    ):
-        print(f"{label:34s}{row['commands_per_second']:12.0f}{row['p50_ms']:10.2f}"
-              f"{row['p95_ms']:10.2f}{row['p99_ms']:10.2f}")
+    if min(args.clients, args.http_clients, args.ws_clients) < 1:
+        parser.error("client counts must be >= 1")
+    if not (args.seconds > 0.0 and args.ws_seconds > 0.0 and args.rate > 0.0):
+        parser.error("--seconds, --ws-seconds and --rate must be > 0")
+    figures = run(args)
+    _print(args, figures)
     if args.json:
-        print(json.dumps({"dialect": args.dialect, "clients": args.clients,
-                          "seconds": args.seconds, "polynav": ours, "reference": ceiling}))
+        print(json.dumps({"clients": args.clients, "http_clients": args.http_clients,
+                          "seconds": args.seconds, "ws_seconds": args.ws_seconds, **figures}))
     return 0
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 5 and sys.argv[1] == "--load":
-        port, clients, seconds = int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
-        print(json.dumps(asyncio.run(_load(port, clients, seconds))))
-        sys.exit(0)
     sys.exit(main())

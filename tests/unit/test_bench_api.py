@@ -8,14 +8,35 @@ import pytest
 
 from polynav.cli import main
 
+LOADS = ("GET /api/status keep-alive", "GET /api/status at 200/s", "POST /api/points",
+         "yunji robot_status")
+FAN_OUT = "WS fan-out x3 at 15 Hz"
 
-def test_bench_api_yunji_prints_rates_and_latencies(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["bench", "api", "--dialect", "yunji", "--clients", "3", "--seconds", "0.3",
-                 "--json"]) == 0
-    lines = capsys.readouterr().out.strip().splitlines()
-    assert "commands/s" in lines[1] and "p99 ms" in lines[1]
-    assert lines[2].startswith("polynav yunji") and lines[3].startswith("reference:")
-    figures = json.loads(lines[-1])
-    for row in (figures["polynav"], figures["reference"]):
-        assert row["commands_per_second"] > 0.0
-        assert 0.0 < row["p50_ms"] <= row["p95_ms"] <= row["p99_ms"]
+
+def test_bench_api_prints_every_figure_beside_its_reference(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["bench", "api", "--clients", "3", "--http-clients", "2", "--seconds", "0.4",
+                 "--rate", "200", "--ws-clients", "3", "--ws-seconds", "1", "--json"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    assert "ratio" in out[2] and "p99 ms" in out[2]
+    figures = json.loads(out[-1])
+    for side in ("polynav", "reference"):
+        rows = figures[side]
+        assert set(rows) == {*LOADS, FAN_OUT}
+        for label in LOADS:
+            row = rows[label]
+            assert row["per_second"] > 0.0 and row["errors"] == 0, (side, label, row)
+            assert 0.0 < row["p50_ms"] <= row["p99_ms"]
+        fan_out = rows[FAN_OUT]
+        assert fan_out["subscribers"] == 3
+        assert fan_out["messages_per_second_min"] > 5.0, (side, fan_out)
+    for label in LOADS:
+        assert any(line.startswith(label) for line in out), label
+
+
+def test_bench_api_refuses_empty_loads(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        main(["bench", "api", "--ws-clients", "0"])
+    assert exit_info.value.code == 2
+    assert "client counts" in capsys.readouterr().err
