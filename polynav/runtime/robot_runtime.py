@@ -134,10 +134,19 @@ class RuntimeConfig:
             raise ConfigError("runtime.status_rate", "must be <= control_rate")
 
 
+class FloorData(Protocol):
+    """A floor as the runtime reads it (:class:`polynav.store.records.FloorRecord`)."""
+
+    @property
+    def level(self) -> int: ...
+
+
 class SiteData(Protocol):
     """What the runtime reads from the site store (:class:`polynav.store.SiteStore`)."""
 
     def floors(self) -> Sequence[object]: ...
+
+    def floor(self, name: str) -> FloorData: ...
 
     def map_record(self, name: str) -> object: ...
 
