@@ -15,9 +15,13 @@ import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from polynav.errors import PolynavError
 from polynav.site import PointKind
+
+if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
+    from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
@@ -140,7 +144,7 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _open_store(args: argparse.Namespace):  # noqa: ANN202 - SiteStore, imported lazily
+def _open_store(args: argparse.Namespace) -> SiteStore:
     from polynav.store.site_store import SiteStore
     from polynav.worlds import load_world
 

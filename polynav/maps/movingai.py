@@ -110,7 +110,8 @@ def load_grid(path: str | os.PathLike[str]) -> npt.NDArray[np.bool_]:
         if len(row) != width:
             raise MapFormatError("map", f"{file}: row {n} has {len(row)} cells, expected {width}")
     chars = np.frombuffer("".join(rows).encode("ascii"), dtype=np.uint8)
-    return (chars != ord(_FREE_CHAR)).reshape(len(rows), width)
+    blocked: npt.NDArray[np.bool_] = (chars != ord(_FREE_CHAR)).reshape(len(rows), width)
+    return blocked
 
 
 def load_map(path: str | os.PathLike[str], resolution: float = 1.0) -> Map:

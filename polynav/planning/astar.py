@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import cast
 
 import numba
 import numpy as np
@@ -276,7 +277,7 @@ def search(
                 else:
                     take = (best_key >> BUCKET_SHIFT) <= bucket
                 if take:
-                    following = best_tie & heap.CELL_MASK
+                    following = int(best_tie & heap.CELL_MASK)
                     break
                 key = best_key
                 tie = best_tie
@@ -490,9 +491,10 @@ class AStar:
         buffers = self._buffers
         stamp = buffers.next_stamp((height, width), parent_dtype=np.int8)
         while True:
+            parents = cast("npt.NDArray[np.int8]", buffers.parent)  # int8 by next_stamp
             status, cost, expansions = search(
                 grid, tables, lo, hi, sx, sy, gx, gy, buffers.g, buffers.state,
-                buffers.parent, buffers.heap, buffers.pool, buffers.next, heads, stamp,
+                parents, buffers.heap, buffers.pool, buffers.next, heads, stamp,
             )
             if status >= 0:
                 break
@@ -501,7 +503,7 @@ class AStar:
         if status == 0:
             log.debug("A*: no path %s -> %s after %d expansions", start, goal, expansions)
             return None
-        cells = trace(buffers.parent, width, sx, sy, gx, gy)
+        cells = trace(parents, width, sx, sy, gx, gy)
         return CellPath(cells=cells, cost=float(cost), expansions=int(expansions))
 
     def closed(self, cells: npt.NDArray[np.int64]) -> npt.NDArray[np.bool_]:

@@ -58,13 +58,15 @@ def _float32_bits(typingctx, value):  # type: ignore[no-untyped-def]
 @numba.njit(cache=True, nogil=True)
 def f_key(f: float) -> int:
     """The heap key of an ``f`` value [cells]: ``f`` rounded to a multiple of ``2**-32``."""
-    return np.int64(f * KEY_SCALE + 0.5)
+    return int(f * KEY_SCALE + 0.5)
 
 
 @numba.njit(cache=True, nogil=True)
 def tie_key(h: float, cell: int) -> int:
     """The tie word: float32 bits of ``h`` above the cell index (smaller ``h`` first)."""
-    return (np.int64(_float32_bits(np.float32(h))) << 32) | cell
+    # numba supplies the intrinsic's typing context: the call takes the value only.
+    bits: int = _float32_bits(np.float32(h))  # type: ignore[call-arg]
+    return int((np.int64(bits) << 32) | cell)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -38,7 +38,7 @@ def _multiplier(
     height, width = costs.shape
     if ix < 0 or iy < 0 or ix >= width or iy >= height:
         return np.inf
-    return table[costs[iy, ix]]
+    return float(table[costs[iy, ix]])
 
 
 @numba.njit(cache=True, nogil=True)

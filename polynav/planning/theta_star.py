@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import cast
 
 import numba
 import numpy as np
@@ -135,7 +136,7 @@ def _verify(
             best_parent = n
     g[u] = best
     parent[u] = best_parent
-    return best
+    return float(best)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -325,8 +326,9 @@ class ThetaStar:
         buffers = self._buffers
         while True:
             stamp = buffers.next_stamp((height, width), parent_dtype=np.int64, stride=4)
+            parents = cast("npt.NDArray[np.int64]", buffers.parent)  # int64 by next_stamp
             status, cost, expansions = search(
-                grid, multipliers, sx, sy, gx, gy, buffers.g, buffers.state, buffers.parent,
+                grid, multipliers, sx, sy, gx, gy, buffers.g, buffers.state, parents,
                 buffers.heap, stamp,
             )
             if status >= 0:
@@ -335,7 +337,7 @@ class ThetaStar:
         if status == 0:
             log.debug("Theta*: no path %s -> %s after %d expansions", start, goal, expansions)
             return None
-        cells = trace(buffers.parent, width, sy * width + sx, gy * width + gx)
+        cells = trace(parents, width, sy * width + sx, gy * width + gx)
         return CellPath(cells=cells, cost=float(cost), expansions=int(expansions))
 
     def closed(self, cells: npt.NDArray[np.int64]) -> npt.NDArray[np.bool_]:

@@ -43,7 +43,8 @@ class LaserScan:
     @property
     def angles(self) -> npt.NDArray[np.float64]:
         """Beam angles [rad] in the sensor frame."""
-        return self.angle_min + self.angle_increment * np.arange(self.ranges.shape[0])
+        steps = np.arange(self.ranges.shape[0], dtype=np.float64)
+        return np.asarray(self.angle_min + self.angle_increment * steps, dtype=np.float64)
 
 
 @dataclass(frozen=True, slots=True)

@@ -14,7 +14,7 @@ import logging
 import math
 import threading
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -240,7 +240,9 @@ def scan_points(scan: LaserScan, pose: Pose2D) -> npt.NDArray[np.float64]:
     return np.column_stack([pose.x + c * sx - s * sy, pose.y + s * sx + c * sy])
 
 
-def _label_near(labels: npt.NDArray[np.int32], info: MapInfo, x: float, y: float) -> int:
+def _label_near(
+    labels: npt.NDArray[np.signedinteger[Any]], info: MapInfo, x: float, y: float
+) -> int:
     """The free-space component at (x, y), or the nearest one within 0.5 m (the robot may stand
     in the inflated margin of a wall)."""
     ix, iy = info.world_to_cell(x, y)

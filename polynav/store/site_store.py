@@ -172,7 +172,8 @@ class SiteStore:
         Raises:
             NotFound: no such floor.
         """
-        for record in self._cached(("floors",), self._load_floors):
+        floors: tuple[FloorRecord, ...] = self._cached(("floors",), self._load_floors)
+        for record in floors:
             if record.name == name:
                 return record
         raise NotFound("floor", name)
@@ -227,7 +228,8 @@ class SiteStore:
         Raises:
             NotFound: no such map.
         """
-        for record in self._cached(("maps",), self._load_maps):
+        maps: tuple[MapRecord, ...] = self._cached(("maps",), self._load_maps)
+        for record in maps:
             if record.name == name:
                 return record
         raise NotFound("map", name)

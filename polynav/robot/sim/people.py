@@ -114,7 +114,7 @@ class Person:
         if lateral >= reach:
             return False
         gap = ahead - math.sqrt(reach * reach - lateral * lateral)
-        return gap - step < self._stop_distance
+        return bool(gap - step < self._stop_distance)
 
 
 def as_circles(people: list[Person]) -> npt.NDArray[np.float64]:
