@@ -18,6 +18,7 @@ run: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/ruff check polynav tests benchmarks tools
+	$(BIN)/mypy polynav
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)

@@ -140,14 +140,15 @@ class ScanMatcher:
             for ox, oy, theta in seeds:
                 xs = np.arange(ox - c, ox + c + 1, dtype=np.int64)
                 ys = np.arange(oy - c, oy + c + 1, dtype=np.int64)
-                thetas = theta + window.theta_step * np.arange(-fine_half, fine_half + 1)
+                steps = np.arange(-fine_half, fine_half + 1, dtype=np.float64)
+                thetas = theta + window.theta_step * steps
                 cand = self._best(px, py, gx, gy, gt, xs, ys, thetas, wx, wt)
                 if cand[0] > best[0]:
                     best = cand
         else:
             xs = np.arange(-half_cells, half_cells + 1, dtype=np.int64)
             n_theta = int(math.ceil(window.theta / window.theta_step - 1e-9))
-            thetas = gt + window.theta_step * np.arange(-n_theta, n_theta + 1)
+            thetas = gt + window.theta_step * np.arange(-n_theta, n_theta + 1, dtype=np.float64)
             best = self._best(px, py, gx, gy, gt, xs, xs, thetas, wx, wt)
         _, bx, by, bt = best
 
@@ -195,7 +196,7 @@ class ScanMatcher:
         n = int(math.ceil(half_cells / c))
         xs = c * np.arange(-n, n + 1, dtype=np.int64)
         n_theta = int(math.ceil(window.theta / window.coarse_theta_step - 1e-9))
-        thetas = gt + window.coarse_theta_step * np.arange(-n_theta, n_theta + 1)
+        thetas = gt + window.coarse_theta_step * np.arange(-n_theta, n_theta + 1, dtype=np.float64)
         volume = np.empty((thetas.shape[0], xs.shape[0], xs.shape[0]), dtype=np.float64)
         _score_volume(self._coarse, gx, gy, px, py, thetas, xs, xs, volume)
         _apply_prior(volume, xs, xs, thetas - gt, wx, wt)
