@@ -35,6 +35,7 @@ class FailureReason(enum.Enum):
     ESTOP = "e-stop"
     UNDOCK_FAILED = "undock failed"
     DOCK_FAILED = "dock failed"
+    BLOCKED_BY_PERSON = "blocked by person"
 
 
 class Phase(enum.Enum):

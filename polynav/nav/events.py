@@ -45,6 +45,14 @@ class NavigationBlocked(NavigationEvent):
 
 
 @dataclass(frozen=True, slots=True)
+class NavigationWaiting(NavigationEvent):
+    """Only people block the way: the robot waits for them to make way ("please make way"),
+    looking for another way meanwhile, until its patience runs out."""
+
+    cause: str = "person"
+
+
+@dataclass(frozen=True, slots=True)
 class NavigationRetry(NavigationEvent):
     """A retry after a failure; ``cause`` says what failed and ``recovery`` what is tried."""
 

@@ -11,7 +11,11 @@ Inside a running attempt the navigator moves between phases:
   new obstacles are routed around before the controller has to stop for them;
 - *blocked*: the controller stopped in front of an obstacle; wait ``blocked_wait`` (a person
   usually walks on), then re-plan;
-- *recover*: a recovery behaviour runs (clear costmap, spin, back up) before the next plan.
+- *recover*: a recovery behaviour runs (clear costmap, spin, back up) before the next plan;
+- *wait*: only people block the way (a person in a door, a group in a corridor): the robot
+  stands, says so once (:class:`~polynav.nav.events.NavigationWaiting`), goes on as soon as the
+  way opens or another way exists, and fails with ``blocked by person`` after the patience.
+  Near people it also slows down (:mod:`~polynav.nav.people`).
 
 An attempt's :class:`~polynav.nav.attempt.GoalOptions` add phases around that (the attempt's
 ``phase``): a robot standing on a charger first backs straight off it (*leave charger*, retried
@@ -50,6 +54,7 @@ from polynav.nav.attempt import (
     NavigationState,
     Phase,
 )
+from polynav.nav.people import PeopleConfig, PeopleView, densify
 from polynav.nav.recoveries import BackUp, ClearCostmap, Recovery, Spin
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
@@ -107,6 +112,7 @@ class _Phase(enum.Enum):
     FOLLOW = "follow"
     BLOCKED = "blocked"
     RECOVER = "recover"
+    WAIT = "wait"
 
 
 class Navigator:
@@ -121,9 +127,11 @@ class Navigator:
         *,
         config: NavigatorConfig | None = None,
         robot_radius: float = 0.25,
+        people: PeopleConfig | None = None,
         on_event: EventSink | None = None,
     ) -> None:
         self.config = config or NavigatorConfig()
+        self.people_config = people or PeopleConfig()
         self._robot_radius = robot_radius
         self._costmap = costmap
         self._planner = planner
@@ -163,6 +171,11 @@ class Navigator:
         self._undock_retries = 0
         self._dock_since = 0.0
         self._contact_since: float | None = None
+        # People seen this period, and the current wait for them to make way.
+        self._people = PeopleView()
+        self._waiting_since: float | None = None
+        self._wait_pose: Pose2D | None = None
+        self._last_wait_plan = 0.0
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -225,6 +238,8 @@ class Navigator:
         self._recovery_index = 0
         self._hold = None
         self._last_pose = None
+        self._waiting_since = None
+        self._wait_pose = None
         self._controller.reset()
         self._controller.set_goal_options(
             yaw_tolerance=options.yaw_tolerance,
@@ -273,13 +288,16 @@ class Navigator:
         estop: bool,
         *,
         charging: bool = False,
+        people: PeopleView | None = None,
     ) -> Twist:
         """Advance the attempt by one control period; returns the velocity to command.
 
-        ``charging``: the charger contacts carry current (docking ends on it).
+        ``charging``: the charger contacts carry current (docking ends on it). ``people``: the
+        people seen now, in the map frame.
         """
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
         self._last_tick = now
+        self._people = people if people is not None else PeopleView()
         if self.state is not NavigationState.RUNNING:
             return Twist()
         pose = estimate.pose
@@ -295,8 +313,14 @@ class Navigator:
             twist = self._tick_recovery(pose, now)
             if twist is not None:
                 return twist
+        if self._phase is _Phase.WAIT:
+            if self._tick_wait(pose, now) or self.state is not NavigationState.RUNNING:
+                return Twist()
         if self._phase is _Phase.BLOCKED:
             if now - self._phase_since < self.config.blocked_wait:
+                return Twist()
+            if self._people_block(pose, self._path):
+                self._wait_for_people(pose, now)
                 return Twist()
             self._retry("blocked", pose, now)
             if self.state is not NavigationState.RUNNING:
@@ -378,6 +402,9 @@ class Navigator:
         log.warning("planning failed: %s", exc)
         cause = self._plan_failure_cause(exc, pose)
         self._emit(events.PlanFailed(now, self._require(), cause=cause))
+        if isinstance(exc, (NoPath, GoalOccupied)) and self._people_block(pose, self._path):
+            self._wait_for_people(pose, now)
+            return
         if isinstance(exc, OutsideMap):
             self._fail(FailureReason.NO_PATH, f"outside the map: {exc}", now)
         elif isinstance(exc, (NoPath, GoalOccupied)):
@@ -436,12 +463,14 @@ class Navigator:
         if command.status is not ControlStatus.ROTATING and not self._progress.check(pose, now):
             self._retry("stuck", pose, now)
             return Twist()
-        if self._failure_pose is not None and (
-            pose.distance_to(self._failure_pose) >= self.config.progress_reset_distance
-        ):
+        reset = self.config.progress_reset_distance
+        if self._failure_pose is not None and pose.distance_to(self._failure_pose) >= reset:
             self._failures = 0
             self._failure_pose = None
-        return command.twist
+        if self._wait_pose is not None and pose.distance_to(self._wait_pose) >= reset:
+            self._waiting_since = None  # past the people: a later wait has its own patience
+            self._wait_pose = None
+        return self._slow_near_people(pose, command.twist)
 
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
         """Count a failure; give up after too many in a row, else recover and re-plan."""
@@ -471,6 +500,68 @@ class Navigator:
             self._recovery = None
             self._enter(_Phase.PLAN, now)
         return twist
+
+    # -- people ------------------------------------------------------------------------------
+
+    def _people_block(self, pose: Pose2D, path: Path | None) -> bool:
+        """Whether people may be what blocks the way: someone close to the robot, or to the
+        path within ``block_lookahead`` of it."""
+        people, cfg = self._people, self.people_config
+        if not people or not cfg.enabled:
+            return False
+        if people.nearest(pose.x, pose.y) <= cfg.block_radius + self._robot_radius:
+            return True
+        if path is None:
+            return False
+        points = densify(np.asarray(path.points, dtype=np.float64), 0.1)
+        ahead = np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y) <= cfg.block_lookahead
+        return people.near_any(points[ahead], cfg.block_radius)
+
+    def _wait_for_people(self, pose: Pose2D, now: float) -> None:
+        if self._waiting_since is None:
+            self._waiting_since = now
+            self._wait_pose = pose
+            log.info("people block the way: waiting up to %g s", self.people_config.patience)
+            self._emit(events.NavigationWaiting(now, self._require(), cause="person"))
+        self._controller.reset()
+        self._last_wait_plan = now
+        self._enter(_Phase.WAIT, now)
+
+    def _tick_wait(self, pose: Pose2D, now: float) -> bool:
+        """One period of waiting for people; ``False`` once the robot may go on."""
+        cfg = self.people_config
+        assert self._waiting_since is not None
+        if now - self._waiting_since >= cfg.patience:
+            self._fail(FailureReason.BLOCKED_BY_PERSON,
+                       f"people blocked the way for {cfg.patience:g} s", now)
+            return True
+        if not self._people_block(pose, self._path):
+            log.info("the way is open: re-planning")
+            self._enter(_Phase.PLAN, now)
+            return False
+        if now - self._last_wait_plan < cfg.wait_replan_period:
+            return True
+        self._last_wait_plan = now
+        try:
+            path = self._plan_path(pose)
+        except PlanningError:
+            return True
+        if self._people_block(pose, path):
+            return True
+        log.info("another way round the people: following it")
+        self._set_path(path, now)
+        self._progress.reset(pose, now)
+        self._enter(_Phase.FOLLOW, now)
+        return False
+
+    def _slow_near_people(self, pose: Pose2D, twist: Twist) -> Twist:
+        cfg = self.people_config
+        if not cfg.enabled or abs(twist.linear) <= cfg.slow_speed:
+            return twist
+        if self._people.nearest(pose.x, pose.y) >= cfg.social_distance:
+            return twist
+        k = cfg.slow_speed / abs(twist.linear)  # same curvature, lower speed
+        return Twist(twist.linear * k, twist.angular * k)
 
     # -- charger phases ----------------------------------------------------------------------
 

@@ -1,9 +1,9 @@
 """One robot's navigation stack: localization, costmap and navigator wired to a Robot.
 
 The stack is what the runtime ticks at the control rate. Each tick it reads the robot's sensors,
-advances localization, marks a new scan into the costmap, lets the navigator decide, and commands
-the base. It never reads the clock itself (``now`` comes from the caller), so it runs the same on
-simulated time and on the wall clock.
+advances localization, marks a new scan and the people the leg tracker sees into the costmap,
+lets the navigator decide, and commands the base. It never reads the clock itself (``now``
+comes from the caller), so it runs the same on simulated time and on the wall clock.
 """
 
 from __future__ import annotations
@@ -17,9 +17,11 @@ from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
 from polynav.maps.costmap import Costmap, CostmapConfig
+from polynav.maps.layers.people import PeopleLayer
 from polynav.maps.map import Map
 from polynav.nav.attempt import GoalOptions
 from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
+from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import Robot
 
@@ -37,6 +39,7 @@ class StackConfig:
     progress: ProgressCheckerConfig = field(default_factory=ProgressCheckerConfig)
     navigator: NavigatorConfig = field(default_factory=NavigatorConfig)
     localization: PoseTrackerConfig = field(default_factory=PoseTrackerConfig)
+    people: PeopleConfig = field(default_factory=PeopleConfig)
 
 
 class NavigationStack:
@@ -55,7 +58,13 @@ class NavigationStack:
         self.map = grid
         self.localizer = PoseTracker(self.config.localization)
         self.localizer.set_map(grid)
-        self.costmap = Costmap.from_map(grid, self.config.costmap)
+        people = self.config.people
+        self._people_layer = PeopleLayer(
+            grid.info, radius=people.social_distance, cost=people.layer_cost
+        )
+        extra = (self._people_layer,) if people.enabled else ()
+        self.costmap = Costmap(grid, self.config.costmap, extra_layers=extra)
+        self.people = PeopleView()
         self.navigator = Navigator(
             self.costmap,
             GridPlanner(self.config.planner),
@@ -63,6 +72,7 @@ class NavigationStack:
             ProgressChecker(self.config.progress),
             config=self.config.navigator,
             robot_radius=self.config.costmap.robot_radius,
+            people=people,
             on_event=on_event,
         )
         self.software_estop = False
@@ -86,13 +96,6 @@ class NavigationStack:
         """Start navigating to ``goal``; returns the attempt id."""
         return self.navigator.start(goal, now, options)
 
-    def set_map(self, grid: Map) -> None:
-        """Switch maps (floor change); localization needs a new initial pose afterwards."""
-        self.map = grid
-        self.localizer.set_map(grid)
-        self.costmap.set_static_map(grid)
-        self._last_scan_stamp = None
-
     def tick(self, now: float) -> Twist:
         """One control period: sense, localize, map obstacles, decide, command."""
         odometry = self.robot.read_odometry()
@@ -100,13 +103,21 @@ class NavigationStack:
         if scan is not None and scan.stamp == self._last_scan_stamp:
             scan = None
         estimate = self.localizer.update(odometry, self.robot.read_imu(), scan, now)
+        people = self.config.people
+        if people.enabled:
+            self.people = PeopleView.from_detections(self.robot.read_people(), estimate.pose)
+            self._people_layer.set_people(
+                self.people.positions(people.horizon, people.prediction_step)
+            )
         if scan is not None:
             self._last_scan_stamp = scan.stamp
-            self.costmap.update_scan(estimate.pose, scan)
+            self.costmap.update_scan(estimate.pose, scan)  # recomposes the people layer too
+        elif people.enabled:
+            self.costmap.update()
         estop = self.software_estop or self.robot.estop_pressed()
         charging = self.robot.read_battery().charging
         self._command = self.navigator.tick(
-            now, estimate, odometry.twist, estop, charging=charging
+            now, estimate, odometry.twist, estop, charging=charging, people=self.people
         )
         if estop:
             self._command = Twist()

@@ -6,6 +6,7 @@ tell them apart. Readings carry the backend's timestamp (simulated seconds in th
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -72,6 +73,18 @@ class BatteryState:
     electronics_current: float = 0.0
 
 
+@dataclass(frozen=True, slots=True)
+class PersonDetection:
+    """A person a leg tracker sees: position [m] and own velocity [m/s] in the robot frame
+    (+x forward, +y left); ``track_id`` stays the same while the person stays in view."""
+
+    track_id: int
+    x: float
+    y: float
+    vx: float
+    vy: float
+
+
 class Robot(Protocol):
     """What polynav needs from a mobile base."""
 
@@ -91,4 +104,8 @@ class Robot(Protocol):
 
     def estop_pressed(self) -> bool:
         """True while the hardware emergency-stop button is pressed."""
+        ...
+
+    def read_people(self) -> Sequence[PersonDetection]:
+        """The people the base's leg tracker sees now; empty for a base without one."""
         ...

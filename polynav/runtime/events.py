@@ -163,6 +163,17 @@ class NavigationBlocked(RuntimeEvent):
 
 
 @dataclass(frozen=True, slots=True)
+class NavigationWaiting(RuntimeEvent):
+    """People block the way: the robot waits for them to make way (each dialect's "please make
+    way"), and re-plans as soon as the way opens or another way exists."""
+
+    kind: ClassVar[str] = "navigation_waiting"
+
+    attempt_id: int
+    cause: str
+
+
+@dataclass(frozen=True, slots=True)
 class AttemptEvent(RuntimeEvent):
     """A step of navigation attempt ``attempt_id`` that carries nothing else."""
 

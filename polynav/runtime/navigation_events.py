@@ -64,6 +64,8 @@ def translate(
         out.append(events.PlanningFailed(stamp, attempt_id, event.cause))
     elif isinstance(event, nav_events.NavigationBlocked):
         out.append(events.NavigationBlocked(stamp, attempt_id))
+    elif isinstance(event, nav_events.NavigationWaiting):
+        out.append(events.NavigationWaiting(stamp, attempt_id, event.cause))
     elif isinstance(event, nav_events.ChargerLeaveRetry):
         out.append(events.ChargerLeaveRetry(stamp, attempt_id, event.retries))
     elif isinstance(event, nav_events.DockingFailed):

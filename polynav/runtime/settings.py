@@ -24,6 +24,8 @@ low_battery_percent         1 .. 90      20 %
 critical_battery_percent    0 .. 50      10 % (at most low_battery_percent)
 led_luminance               0 .. 100     100 % (the light strip's brightness)
 led_red, led_green, led_blue  0 .. 100   0, 100, 0 % (its colour; not all 0)
+social_distance             0.3 .. 3.0   0.8 m (kept from people where there is room)
+people_patience             1 .. 600     60 s (waiting for people to make way, then fail)
 ==========================  ===========  =======
 """
 
@@ -54,6 +56,8 @@ SETTING_RANGES: dict[str, tuple[float, float]] = {
     "led_red": (0.0, 100.0),
     "led_green": (0.0, 100.0),
     "led_blue": (0.0, 100.0),
+    "social_distance": (0.3, 3.0),
+    "people_patience": (1.0, 600.0),
 }
 
 # Obstacles raise costs this far [m] beyond the robot's radius, so paths keep off walls.
@@ -77,6 +81,8 @@ class RobotSettings:
     led_red: float = 0.0
     led_green: float = 100.0
     led_blue: float = 0.0
+    social_distance: float = 0.8
+    people_patience: float = 60.0
 
     def __post_init__(self) -> None:
         try:
@@ -150,7 +156,10 @@ class RobotSettings:
             robot_radius=self.robot_radius,
             inflation_radius=max(cm.inflation_radius, self.robot_radius + _INFLATION_MARGIN),
         )
-        return replace(base, controller=controller, costmap=costmap)
+        people = replace(
+            base.people, social_distance=self.social_distance, patience=self.people_patience
+        )
+        return replace(base, controller=controller, costmap=costmap, people=people)
 
 
 def _unchecked(values: Mapping[str, float]) -> RobotSettings:

@@ -171,6 +171,8 @@ _STEP: dict[type[events.RuntimeEvent], str] = {
     events.DockingStarted: "01020",
     events.DockingSucceeded: "01021",
     events.NavigationBlocked: "01204",
+    # People block the way and the robot waits for them: the same "no local plan" notice.
+    events.NavigationWaiting: "01204",
 }
 _DOCK_CAUSE = {"no_contact": "01025", "timeout": "01027"}
 _PATROL: dict[type[events.RuntimeEvent], str] = {
@@ -227,7 +229,7 @@ class NotificationMapper:
             return self._move_end(event)
         if type(event) in _STEP:
             assert isinstance(event, events.AttemptEvent | events.ChargerLeaveRetry
-                              | events.NavigationBlocked)
+                              | events.NavigationBlocked | events.NavigationWaiting)
             return [notification(_STEP[type(event)], {"target": self._target(event.attempt_id)})]
         if isinstance(event, events.DockingFailed):
             data: dict[str, object] = {"target": self._target(event.attempt_id)}

@@ -18,15 +18,7 @@ import numpy.typing as npt
 
 from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
-
-
-@dataclass(frozen=True, slots=True)
-class PersonDetection:
-    track_id: int
-    x: float
-    y: float
-    vx: float
-    vy: float
+from polynav.robot.interface import PersonDetection
 
 
 @dataclass(slots=True)

@@ -8,10 +8,17 @@ It only forwards: the simulation owns the state. A drive command has no dead-man
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from polynav.geometry import Twist
-from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry
+from polynav.robot.interface import (
+    BatteryState,
+    ImuReading,
+    LaserScan,
+    Odometry,
+    PersonDetection,
+)
 
 if TYPE_CHECKING:
     from polynav.robot.sim.simulation import Simulation
@@ -44,6 +51,9 @@ class SimRobot:
 
     def estop_pressed(self) -> bool:
         return self._sim.estop
+
+    def read_people(self) -> Sequence[PersonDetection]:
+        return self._sim.detect_people()
 
     def dock_contact(self) -> bool:
         """True while the charging contacts touch a charger."""

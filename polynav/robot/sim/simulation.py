@@ -33,7 +33,7 @@ from polynav.clock import ManualClock
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.maps.map import MapInfo
-from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry
+from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
 from polynav.robot.sim.battery import Battery
 from polynav.robot.sim.collision import Collision, Obstacle, person_clearance, wall_clearance
 from polynav.robot.sim.config import SimConfig
@@ -42,7 +42,7 @@ from polynav.robot.sim.imu import Imu
 from polynav.robot.sim.lidar import Lidar
 from polynav.robot.sim.odometry import WheelOdometry
 from polynav.robot.sim.people import Person, as_circles
-from polynav.robot.sim.people_detector import PeopleDetector, PersonDetection
+from polynav.robot.sim.people_detector import PeopleDetector
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind

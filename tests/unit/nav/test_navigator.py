@@ -20,6 +20,7 @@ from polynav.maps import costs
 from polynav.nav import events
 from polynav.nav.attempt import FailureReason, NavigationState
 from polynav.nav.navigator import Navigator, NavigatorConfig
+from polynav.nav.people import PeopleConfig, PeopleView, Person
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError
 from polynav.planning.path import Path
 
@@ -100,12 +101,13 @@ class Harness:
         self.pose = Pose2D()
         self.estop = False
         self.localization = LocalizationState.TRACKING
+        self.people = PeopleView()
         self.twists: list[Twist] = []
 
     def run(self, seconds: float, *, move: bool = False) -> None:
         for _ in range(round(seconds / DT)):
             twist = self.nav.tick(self.now, _estimate(self.pose, self.localization), Twist(),
-                                  self.estop)
+                                  self.estop, people=self.people)
             self.twists.append(twist)
             if move:
                 self.pose = Pose2D(self.pose.x + twist.linear * DT, self.pose.y, self.pose.theta)
@@ -255,3 +257,72 @@ def test_config_rejects_bad_values() -> None:
         NavigatorConfig(max_retries=-1)
     with pytest.raises(ConfigError):
         NavigatorConfig(blocked_wait=0.0)
+
+
+# -- people ----------------------------------------------------------------------------------
+
+
+def test_slows_to_the_slow_speed_within_the_social_distance_only() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.2)
+    assert h.twists[-1].linear == pytest.approx(0.5)
+    h.people = PeopleView((Person(0.0, 0.6),))  # beside the robot, inside 0.8 m
+    h.run(0.2)
+    assert h.twists[-1].linear == pytest.approx(PeopleConfig().slow_speed)
+    h.people = PeopleView((Person(0.0, 2.0),))
+    h.run(0.2)
+    assert h.twists[-1].linear == pytest.approx(0.5)
+
+
+def test_blocked_by_a_person_on_the_path_waits_then_goes_when_they_leave() -> None:
+    controller = ScriptedController([ControlStatus.BLOCKED, ControlStatus.TRACKING])
+    planner = ScriptedPlanner()
+    h = Harness(planner, controller, NavigatorConfig(blocked_wait=0.1, max_retries=0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.people = PeopleView((Person(2.0, 0.1),))  # standing on the way, 2 m ahead
+    h.run(10.0)
+    assert h.nav.state is NavigationState.RUNNING  # no retry counted: max_retries 0 holds
+    assert h.kinds()[:4] == ["NavigationStarted", "PathPlanned", "NavigationBlocked",
+                             "NavigationWaiting"]
+    assert all(t == Twist() for t in h.twists[3:])
+    h.people = PeopleView((Person(2.0, 3.0),))  # walked off the way
+    h.run(1.0, move=True)
+    assert h.kinds().count("NavigationWaiting") == 1
+    assert h.kinds()[-1] == "PathPlanned" and h.twists[-1].linear > 0.0
+
+
+def test_people_who_never_make_way_fail_the_goal_after_the_patience() -> None:
+    controller = ScriptedController([ControlStatus.BLOCKED])
+    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1))
+    h.nav.people_config = PeopleConfig(patience=5.0)
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.people = PeopleView((Person(1.0, 0.0),))
+    h.run(4.9)
+    assert h.nav.state is NavigationState.RUNNING
+    h.run(0.5)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
+    waiting = next(e for e in h.log if isinstance(e, events.NavigationWaiting))
+    assert attempt.ended_at - waiting.stamp == pytest.approx(5.0, abs=DT + 1e-9)
+
+
+def test_no_path_with_a_person_at_the_robot_waits_instead_of_failing() -> None:
+    planner = ScriptedPlanner([NoPath("door"), NoPath("door"), NoPath("door")])
+    h = Harness(planner, ScriptedController())
+    h.people = PeopleView((Person(0.8, 0.0),))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(3.0)
+    assert h.nav.state is NavigationState.RUNNING
+    assert "NavigationWaiting" in h.kinds() and h.costmap.cleared == 0
+    h.people = PeopleView()
+    h.run(0.5, move=True)
+    assert h.kinds()[-1] == "PathPlanned"
+
+
+def test_people_config_rejects_bad_values() -> None:
+    for bad in ({"social_distance": 0.0}, {"patience": -1.0}, {"layer_cost": 253},
+                {"horizon": float("nan")}, {"wait_replan_period": float("inf")}):
+        with pytest.raises(ConfigError):
+            PeopleConfig(**bad)  # type: ignore[arg-type]

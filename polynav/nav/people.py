@@ -1,0 +1,133 @@
+"""People around the robot, in the map frame: where they are, where they will be shortly, and
+whether they are what blocks the way.
+
+A leg tracker reports people in the robot frame (:class:`~polynav.robot.interface.PersonDetection`);
+the navigation stack turns them into a :class:`PeopleView` with the localization estimate each
+control period. The navigator uses it three ways: the costmap's people layer keeps plans a social
+distance from where people are and will be, the robot slows down near people, and a way blocked
+only by people is waited for (patience) instead of being failed as an obstacle would be.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.errors import ConfigError
+from polynav.geometry import Pose2D
+from polynav.robot.interface import PersonDetection
+
+
+@dataclass(frozen=True, slots=True)
+class PeopleConfig:
+    """How navigation treats people [m, s, m/s].
+
+    Attributes:
+        enabled: use the leg tracker at all.
+        social_distance: centre-to-centre distance the robot keeps from people where it can;
+            plans avoid it (the people layer) and the robot slows inside it.
+        slow_speed: the top speed within ``social_distance`` of a person.
+        horizon: how far ahead people's positions are predicted (constant velocity).
+        prediction_step: spacing of the predicted positions.
+        layer_cost: the cost (1..252) of cells within ``social_distance`` of a person now or
+            predicted: high enough that a plan goes round when there is room, not lethal, so
+            a person never makes the goal unreachable on the map alone.
+        block_radius: a person this close to the path ahead, or to the robot, may be what
+            blocks it.
+        block_lookahead: how far along the path ahead people are looked for.
+        patience: how long the robot waits for people to make way before the goal fails with
+            ``blocked by person``.
+        wait_replan_period: while waiting, how often another way is looked for.
+    """
+
+    enabled: bool = True
+    social_distance: float = 0.8
+    slow_speed: float = 0.3
+    horizon: float = 1.0
+    prediction_step: float = 0.5
+    layer_cost: int = 180
+    block_radius: float = 1.0
+    block_lookahead: float = 3.0
+    patience: float = 60.0
+    wait_replan_period: float = 2.0
+
+    def __post_init__(self) -> None:
+        for key in ("social_distance", "slow_speed", "prediction_step", "block_radius",
+                    "block_lookahead", "patience", "wait_replan_period"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(f"nav.people.{key}", f"must be finite and > 0, got {value}")
+        if not (math.isfinite(self.horizon) and self.horizon >= 0.0):
+            raise ConfigError("nav.people.horizon", f"must be finite and >= 0, got {self.horizon}")
+        if not 1 <= self.layer_cost <= 252:
+            raise ConfigError("nav.people.layer_cost", f"must be in 1..252, got {self.layer_cost}")
+
+
+def densify(points: npt.NDArray[np.float64], step: float) -> npt.NDArray[np.float64]:
+    """The polyline ``points`` (N, 2) sampled at most ``step`` apart (any-angle paths have few
+    vertices: a person in the middle of a long segment is far from both of its ends)."""
+    if points.shape[0] < 2:
+        return points
+    seg = np.diff(points, axis=0)
+    counts = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step).astype(np.int64))
+    t = np.concatenate([np.arange(n) / n for n in counts])
+    starts = np.repeat(np.arange(seg.shape[0]), counts)
+    samples = points[starts] + seg[starts] * t[:, None]
+    return np.vstack([samples, points[-1:]])
+
+
+@dataclass(frozen=True, slots=True)
+class Person:
+    """A person in the map frame: position [m], velocity [m/s]."""
+
+    x: float
+    y: float
+    vx: float = 0.0
+    vy: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class PeopleView:
+    """The people seen at one control period, in the map frame."""
+
+    people: tuple[Person, ...] = ()
+
+    @classmethod
+    def from_detections(cls, detections: Sequence[PersonDetection], pose: Pose2D) -> PeopleView:
+        """Detections (robot frame) placed on the map with the robot's estimated ``pose``."""
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        return cls(tuple(
+            Person(pose.x + c * d.x - s * d.y, pose.y + s * d.x + c * d.y,
+                   c * d.vx - s * d.vy, s * d.vx + c * d.vy)
+            for d in detections
+        ))
+
+    def __bool__(self) -> bool:
+        return bool(self.people)
+
+    def positions(self, horizon: float = 0.0, step: float = 0.5) -> list[tuple[float, float]]:
+        """Every person now and at each ``step`` up to ``horizon`` seconds ahead."""
+        times = [0.0]
+        t = step
+        while t <= horizon + 1e-9:
+            times.append(t)
+            t += step
+        return [(p.x + p.vx * t, p.y + p.vy * t) for p in self.people for t in times]
+
+    def nearest(self, x: float, y: float) -> float:
+        """Distance [m] from (x, y) to the nearest person, ``inf`` with nobody around."""
+        return min((math.hypot(p.x - x, p.y - y) for p in self.people), default=math.inf)
+
+    def near_any(self, points: npt.NDArray[np.float64], radius: float) -> bool:
+        """Whether a person stands within ``radius`` of any of ``points`` (shape (N, 2))."""
+        if not self.people or points.shape[0] == 0:
+            return False
+        for p in self.people:
+            d2 = (points[:, 0] - p.x) ** 2 + (points[:, 1] - p.y) ** 2
+            if float(d2.min()) <= radius * radius:
+                return True
+        return False
