@@ -54,7 +54,7 @@ from polynav.nav.attempt import (
     NavigationState,
     Phase,
 )
-from polynav.nav.people import PeopleConfig, PeopleView, densify
+from polynav.nav.people import PeopleConfig, PeopleView, aside_spots, densify
 from polynav.nav.recoveries import BackUp, ClearCostmap, Recovery, Spin
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
@@ -176,6 +176,13 @@ class Navigator:
         self._waiting_since: float | None = None
         self._wait_pose: Pose2D | None = None
         self._last_wait_plan = 0.0
+        self._last_give_way = 0.0
+        self._give_way = BackUp(
+            costmap, distance=self.people_config.give_way_distance, speed=0.15,
+            robot_radius=robot_radius, timeout=8.0,
+        )
+        self._giving_way = False
+        self._aside: Pose2D | None = None  # the spot the robot steps aside to, while it does
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -314,7 +321,10 @@ class Navigator:
             if twist is not None:
                 return twist
         if self._phase is _Phase.WAIT:
-            if self._tick_wait(pose, now) or self.state is not NavigationState.RUNNING:
+            waiting = self._tick_wait(pose, velocity, now, dt)
+            if waiting is not None:
+                return waiting
+            if self.state is not NavigationState.RUNNING:
                 return Twist()
         if self._phase is _Phase.BLOCKED:
             if now - self._phase_since < self.config.blocked_wait:
@@ -521,38 +531,84 @@ class Navigator:
         if self._waiting_since is None:
             self._waiting_since = now
             self._wait_pose = pose
+            self._last_give_way = now  # give way after a while of this wait, however it goes
             log.info("people block the way: waiting up to %g s", self.people_config.patience)
             self._emit(events.NavigationWaiting(now, self._require(), cause="person"))
         self._controller.reset()
         self._last_wait_plan = now
+        self._giving_way = False
+        self._aside = None
         self._enter(_Phase.WAIT, now)
 
-    def _tick_wait(self, pose: Pose2D, now: float) -> bool:
-        """One period of waiting for people; ``False`` once the robot may go on."""
+    def _tick_wait(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist | None:
+        """One period of waiting for people: the velocity to command, or ``None`` once the
+        robot may go on."""
         cfg = self.people_config
         assert self._waiting_since is not None
         if now - self._waiting_since >= cfg.patience:
             self._fail(FailureReason.BLOCKED_BY_PERSON,
                        f"people blocked the way for {cfg.patience:g} s", now)
-            return True
+            return Twist()
+        twist = self._tick_give_way(pose, velocity, now, dt)
+        if twist is not None:
+            return twist
         if not self._people_block(pose, self._path):
             log.info("the way is open: re-planning")
             self._enter(_Phase.PLAN, now)
-            return False
+            return None
+        face_to_face = self._people.nearest(pose.x, pose.y) <= cfg.social_distance + 0.4
+        if face_to_face and now - self._last_give_way >= cfg.give_way_after:
+            # Someone in front who waits for us as we wait for them (a corridor, a door):
+            # step aside off their way, or back up, and leave them room to pass.
+            self._start_give_way(pose, now)
+            return self._tick_give_way(pose, velocity, now, dt) or Twist()
         if now - self._last_wait_plan < cfg.wait_replan_period:
-            return True
+            return Twist()
         self._last_wait_plan = now
         try:
+            # On the live costmap, where the people's legs are obstacles: a path is a way past
+            # them (round them in a corridor, through another door) or a sign they moved.
             path = self._plan_path(pose)
         except PlanningError:
-            return True
-        if self._people_block(pose, path):
-            return True
-        log.info("another way round the people: following it")
+            return Twist()
+        log.info("a way past the people: following it")
         self._set_path(path, now)
         self._progress.reset(pose, now)
         self._enter(_Phase.FOLLOW, now)
-        return False
+        return None
+
+    def _start_give_way(self, pose: Pose2D, now: float) -> None:
+        for spot in aside_spots(self._costmap, pose, self._people, self.people_config):
+            try:
+                path = self._planner.plan(self._costmap, pose, spot)
+            except PlanningError:
+                continue
+            log.info("giving way: stepping aside to (%.2f, %.2f)", spot.x, spot.y)
+            self._aside = spot
+            self._controller.reset()
+            self._controller.set_path(path, spot)
+            return
+        log.info("giving way: backing up %.2f m", self.people_config.give_way_distance)
+        self._giving_way = True
+        self._give_way.start(pose, now)
+
+    def _tick_give_way(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist | None:
+        """The velocity while stepping aside or backing up, ``None`` when not (or done)."""
+        if self._aside is not None:
+            command = self._controller.compute(pose, velocity, self._costmap, dt)
+            if command.status not in (ControlStatus.ARRIVED, ControlStatus.BLOCKED):
+                return self._slow_near_people(pose, command.twist)
+            self._aside = None
+            self._controller.reset()
+            self._last_give_way = now
+            return None
+        if self._giving_way:
+            twist = self._give_way.tick(pose, now)
+            if twist is not None:
+                return twist
+            self._giving_way = False
+            self._last_give_way = now
+        return None
 
     def _slow_near_people(self, pose: Pose2D, twist: Twist) -> Twist:
         cfg = self.people_config

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -20,6 +21,11 @@ import numpy.typing as npt
 from polynav.errors import ConfigError
 from polynav.geometry import Pose2D
 from polynav.robot.interface import PersonDetection
+
+_WAY_AHEAD = 4.0  # [m] how far along their walk (or towards the robot) people are expected
+_SPOT_RINGS = np.arange(0.6, 2.01, 0.2)  # [m] distances of the spots tried to step aside to
+_SPOT_BEARINGS = np.linspace(-math.pi, math.pi, 24, endpoint=False)
+_SPOT_MAX_COST = 128  # a spot well clear of walls, and outside every person's social disc
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +48,8 @@ class PeopleConfig:
         patience: how long the robot waits for people to make way before the goal fails with
             ``blocked by person``.
         wait_replan_period: while waiting, how often another way is looked for.
+        give_way_after: while someone stands face to face with the robot this long, it backs
+            up ``give_way_distance`` to leave them room to pass (they may be waiting for it).
     """
 
     enabled: bool = True
@@ -54,10 +62,13 @@ class PeopleConfig:
     block_lookahead: float = 3.0
     patience: float = 60.0
     wait_replan_period: float = 2.0
+    give_way_after: float = 5.0
+    give_way_distance: float = 0.5
 
     def __post_init__(self) -> None:
         for key in ("social_distance", "slow_speed", "prediction_step", "block_radius",
-                    "block_lookahead", "patience", "wait_replan_period"):
+                    "block_lookahead", "patience", "wait_replan_period", "give_way_after",
+                    "give_way_distance"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(f"nav.people.{key}", f"must be finite and > 0, got {value}")
@@ -131,3 +142,49 @@ class PeopleView:
             if float(d2.min()) <= radius * radius:
                 return True
         return False
+
+
+class CostLookup(Protocol):
+    def cost_at(self, x: float, y: float) -> int: ...
+
+
+def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    dx, dy = bx - ax, by - ay
+    length2 = dx * dx + dy * dy
+    t = 0.0 if length2 == 0.0 else max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / length2))
+    return math.hypot(px - (ax + t * dx), py - (ay + t * dy))
+
+
+def aside_spots(
+    costmap: CostLookup, pose: Pose2D, people: PeopleView, config: PeopleConfig, *, limit: int = 4
+) -> list[Pose2D]:
+    """Spots near the robot off the way of the people in front of it, nearest first.
+
+    A person's way is the segment ahead of them along their walk, or, for someone standing,
+    towards and past the robot (they are likely waiting to come through where it stands). A
+    spot is free on the costmap, outside everyone's social disc, and at least the social
+    distance from every such way; the robot drives there and lets them pass.
+    """
+    ways = []
+    for p in people.people:
+        if math.hypot(p.x - pose.x, p.y - pose.y) > _WAY_AHEAD:
+            continue
+        speed = math.hypot(p.vx, p.vy)
+        if speed > 0.1:
+            ux, uy = p.vx / speed, p.vy / speed
+        else:
+            d = math.hypot(pose.x - p.x, pose.y - p.y) or 1.0
+            ux, uy = (pose.x - p.x) / d, (pose.y - p.y) / d
+        ways.append((p.x, p.y, p.x + _WAY_AHEAD * ux, p.y + _WAY_AHEAD * uy))
+    spots = []
+    for ring in _SPOT_RINGS:
+        for bearing in _SPOT_BEARINGS:
+            x = pose.x + float(ring) * math.cos(pose.theta + float(bearing))
+            y = pose.y + float(ring) * math.sin(pose.theta + float(bearing))
+            if costmap.cost_at(x, y) > _SPOT_MAX_COST:
+                continue
+            if all(_segment_distance(x, y, *way) >= config.social_distance for way in ways):
+                spots.append(Pose2D(x, y, pose.theta))
+        if len(spots) >= limit:
+            break
+    return spots[:limit]

@@ -281,12 +281,15 @@ def test_blocked_by_a_person_on_the_path_waits_then_goes_when_they_leave() -> No
     h = Harness(planner, controller, NavigatorConfig(blocked_wait=0.1, max_retries=0))
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.people = PeopleView((Person(2.0, 0.1),))  # standing on the way, 2 m ahead
+    h.run(DT)  # planned, then blocked by them
+    planner.failures = [NoPath("person")] * 10  # no way past them while they stand there
     h.run(10.0)
     assert h.nav.state is NavigationState.RUNNING  # no retry counted: max_retries 0 holds
     assert h.kinds()[:4] == ["NavigationStarted", "PathPlanned", "NavigationBlocked",
                              "NavigationWaiting"]
     assert all(t == Twist() for t in h.twists[3:])
     h.people = PeopleView((Person(2.0, 3.0),))  # walked off the way
+    planner.failures = []
     h.run(1.0, move=True)
     assert h.kinds().count("NavigationWaiting") == 1
     assert h.kinds()[-1] == "PathPlanned" and h.twists[-1].linear > 0.0
@@ -326,3 +329,19 @@ def test_people_config_rejects_bad_values() -> None:
                 {"horizon": float("nan")}, {"wait_replan_period": float("inf")}):
         with pytest.raises(ConfigError):
             PeopleConfig(**bad)  # type: ignore[arg-type]
+
+
+def test_someone_face_to_face_for_a_while_is_given_way() -> None:
+    controller = ScriptedController([ControlStatus.BLOCKED])
+    planner = ScriptedPlanner()
+    h = Harness(planner, controller, NavigatorConfig(blocked_wait=0.1))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.people = PeopleView((Person(0.9, 0.0),))  # right in front, waiting for us
+    h.run(DT)
+    planner.failures = [NoPath("person")] * 10
+    h.run(PeopleConfig().give_way_after + 0.2)
+    assert all(t == Twist() for t in h.twists[:-5])
+    assert h.twists[-1].linear < 0.0 and h.twists[-1].angular == 0.0  # backing off
+    h.run(5.0, move=True)
+    assert -0.55 <= h.pose.x <= -0.45  # once, by the give-way distance
+    assert h.nav.state is NavigationState.RUNNING

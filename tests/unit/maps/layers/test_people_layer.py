@@ -11,7 +11,7 @@ from polynav.maps import costs
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.layers.people import PeopleLayer
 from polynav.maps.map import Map, MapInfo
-from polynav.nav.people import PeopleView, densify
+from polynav.nav.people import PeopleConfig, PeopleView, Person, aside_spots, densify
 from polynav.robot.interface import PersonDetection
 
 INFO = MapInfo(0.1, 60, 40, Pose2D(0.0, 0.0, 0.0))
@@ -67,3 +67,36 @@ def test_a_long_segment_is_sampled_so_a_person_mid_way_is_near_it() -> None:
     assert not view.near_any(path, 1.0)
     dense = densify(path, 0.1)
     assert dense.shape == (101, 2) and view.near_any(dense, 1.0)
+
+
+class _Room:
+    """A 6 m x 3 m room with its walls (cost_at as a costmap answers it)."""
+
+    def cost_at(self, x: float, y: float) -> int:
+        inside = 0.3 <= x <= 5.7 and 0.3 <= y <= 2.7
+        return costs.FREE if inside else costs.LETHAL
+
+
+def test_aside_spots_are_off_the_way_of_a_person_walking_at_the_robot() -> None:
+    robot = Pose2D(3.0, 1.5, 0.0)
+    walker = PeopleView((Person(4.0, 1.5, -0.8, 0.0),))  # 1 m ahead, coming this way
+    config = PeopleConfig()
+    spots = aside_spots(_Room(), robot, walker, config)
+    assert spots, "the room has space to step aside"
+    for spot in spots:
+        assert abs(spot.y - 1.5) >= config.social_distance - 1e-9  # off their line
+        assert _Room().cost_at(spot.x, spot.y) == costs.FREE
+    distances = [spot.distance_to(robot) for spot in spots]
+    assert distances == sorted(distances) and distances[0] <= 1.0
+
+
+def test_in_a_narrow_corridor_the_only_spots_are_past_the_person() -> None:
+    class Corridor:
+        def cost_at(self, x: float, y: float) -> int:
+            return costs.FREE if abs(y - 1.5) <= 0.4 else costs.LETHAL
+
+    robot = Pose2D(3.0, 1.5, 0.0)
+    walker = PeopleView((Person(4.0, 1.5, -0.8, 0.0),))
+    # None beside their way: only behind them, where the planner finds no way through them.
+    spots = aside_spots(Corridor(), robot, walker, PeopleConfig())
+    assert all(spot.x >= 4.0 + PeopleConfig().social_distance - 1e-9 for spot in spots)
