@@ -54,7 +54,8 @@ from polynav.nav.attempt import (
     NavigationState,
     Phase,
 )
-from polynav.nav.people import PeopleConfig, PeopleView, aside_spots, densify
+from polynav.nav.people import PeopleConfig, PeopleView
+from polynav.nav.people_wait import PeopleWait
 from polynav.nav.recoveries import BackUp, ClearCostmap, Recovery, Spin
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
@@ -131,7 +132,6 @@ class Navigator:
         on_event: EventSink | None = None,
     ) -> None:
         self.config = config or NavigatorConfig()
-        self.people_config = people or PeopleConfig()
         self._robot_radius = robot_radius
         self._costmap = costmap
         self._planner = planner
@@ -172,17 +172,9 @@ class Navigator:
         self._dock_since = 0.0
         self._contact_since: float | None = None
         # People seen this period, and the current wait for them to make way.
-        self._people = PeopleView()
-        self._waiting_since: float | None = None
-        self._wait_pose: Pose2D | None = None
-        self._last_wait_plan = 0.0
-        self._last_give_way = 0.0
-        self._give_way = BackUp(
-            costmap, distance=self.people_config.give_way_distance, speed=0.15,
-            robot_radius=robot_radius, timeout=8.0,
+        self._wait = PeopleWait(
+            people or PeopleConfig(), costmap, planner, controller, robot_radius=robot_radius
         )
-        self._giving_way = False
-        self._aside: Pose2D | None = None  # the spot the robot steps aside to, while it does
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -245,8 +237,7 @@ class Navigator:
         self._recovery_index = 0
         self._hold = None
         self._last_pose = None
-        self._waiting_since = None
-        self._wait_pose = None
+        self._wait.reset()
         self._controller.reset()
         self._controller.set_goal_options(
             yaw_tolerance=options.yaw_tolerance,
@@ -304,7 +295,7 @@ class Navigator:
         """
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
         self._last_tick = now
-        self._people = people if people is not None else PeopleView()
+        self._wait.people = people if people is not None else PeopleView()
         if self.state is not NavigationState.RUNNING:
             return Twist()
         pose = estimate.pose
@@ -321,15 +312,23 @@ class Navigator:
             if twist is not None:
                 return twist
         if self._phase is _Phase.WAIT:
-            waiting = self._tick_wait(pose, velocity, now, dt)
-            if waiting is not None:
-                return waiting
-            if self.state is not NavigationState.RUNNING:
+            step = self._wait.tick(pose, velocity, now, dt, self._path, self._plan_path)
+            if step.expired:
+                self._fail(FailureReason.BLOCKED_BY_PERSON,
+                           f"people blocked the way for {self._wait.config.patience:g} s", now)
                 return Twist()
+            if step.path is not None:
+                self._set_path(step.path, now)
+                self._progress.reset(pose, now)
+                self._enter(_Phase.FOLLOW, now)
+            elif step.go_on:
+                self._enter(_Phase.PLAN, now)
+            else:
+                return step.twist
         if self._phase is _Phase.BLOCKED:
             if now - self._phase_since < self.config.blocked_wait:
                 return Twist()
-            if self._people_block(pose, self._path):
+            if self._wait.blocks(pose, self._path):
                 self._wait_for_people(pose, now)
                 return Twist()
             self._retry("blocked", pose, now)
@@ -412,7 +411,7 @@ class Navigator:
         log.warning("planning failed: %s", exc)
         cause = self._plan_failure_cause(exc, pose)
         self._emit(events.PlanFailed(now, self._require(), cause=cause))
-        if isinstance(exc, (NoPath, GoalOccupied)) and self._people_block(pose, self._path):
+        if isinstance(exc, (NoPath, GoalOccupied)) and self._wait.blocks(pose, self._path):
             self._wait_for_people(pose, now)
             return
         if isinstance(exc, OutsideMap):
@@ -477,10 +476,8 @@ class Navigator:
         if self._failure_pose is not None and pose.distance_to(self._failure_pose) >= reset:
             self._failures = 0
             self._failure_pose = None
-        if self._wait_pose is not None and pose.distance_to(self._wait_pose) >= reset:
-            self._waiting_since = None  # past the people: a later wait has its own patience
-            self._wait_pose = None
-        return self._slow_near_people(pose, command.twist)
+        self._wait.moved(pose, reset)
+        return self._wait.slow(pose, command.twist)
 
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
         """Count a failure; give up after too many in a row, else recover and re-plan."""
@@ -511,113 +508,10 @@ class Navigator:
             self._enter(_Phase.PLAN, now)
         return twist
 
-    # -- people ------------------------------------------------------------------------------
-
-    def _people_block(self, pose: Pose2D, path: Path | None) -> bool:
-        """Whether people may be what blocks the way: someone close to the robot, or to the
-        path within ``block_lookahead`` of it."""
-        people, cfg = self._people, self.people_config
-        if not people or not cfg.enabled:
-            return False
-        if people.nearest(pose.x, pose.y) <= cfg.block_radius + self._robot_radius:
-            return True
-        if path is None:
-            return False
-        points = densify(np.asarray(path.points, dtype=np.float64), 0.1)
-        ahead = np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y) <= cfg.block_lookahead
-        return people.near_any(points[ahead], cfg.block_radius)
-
     def _wait_for_people(self, pose: Pose2D, now: float) -> None:
-        if self._waiting_since is None:
-            self._waiting_since = now
-            self._wait_pose = pose
-            self._last_give_way = now  # give way after a while of this wait, however it goes
-            log.info("people block the way: waiting up to %g s", self.people_config.patience)
+        if self._wait.begin(pose, now):
             self._emit(events.NavigationWaiting(now, self._require(), cause="person"))
-        self._controller.reset()
-        self._last_wait_plan = now
-        self._giving_way = False
-        self._aside = None
         self._enter(_Phase.WAIT, now)
-
-    def _tick_wait(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist | None:
-        """One period of waiting for people: the velocity to command, or ``None`` once the
-        robot may go on."""
-        cfg = self.people_config
-        assert self._waiting_since is not None
-        if now - self._waiting_since >= cfg.patience:
-            self._fail(FailureReason.BLOCKED_BY_PERSON,
-                       f"people blocked the way for {cfg.patience:g} s", now)
-            return Twist()
-        twist = self._tick_give_way(pose, velocity, now, dt)
-        if twist is not None:
-            return twist
-        if not self._people_block(pose, self._path):
-            log.info("the way is open: re-planning")
-            self._enter(_Phase.PLAN, now)
-            return None
-        face_to_face = self._people.nearest(pose.x, pose.y) <= cfg.social_distance + 0.4
-        if face_to_face and now - self._last_give_way >= cfg.give_way_after:
-            # Someone in front who waits for us as we wait for them (a corridor, a door):
-            # step aside off their way, or back up, and leave them room to pass.
-            self._start_give_way(pose, now)
-            return self._tick_give_way(pose, velocity, now, dt) or Twist()
-        if now - self._last_wait_plan < cfg.wait_replan_period:
-            return Twist()
-        self._last_wait_plan = now
-        try:
-            # On the live costmap, where the people's legs are obstacles: a path is a way past
-            # them (round them in a corridor, through another door) or a sign they moved.
-            path = self._plan_path(pose)
-        except PlanningError:
-            return Twist()
-        log.info("a way past the people: following it")
-        self._set_path(path, now)
-        self._progress.reset(pose, now)
-        self._enter(_Phase.FOLLOW, now)
-        return None
-
-    def _start_give_way(self, pose: Pose2D, now: float) -> None:
-        for spot in aside_spots(self._costmap, pose, self._people, self.people_config):
-            try:
-                path = self._planner.plan(self._costmap, pose, spot)
-            except PlanningError:
-                continue
-            log.info("giving way: stepping aside to (%.2f, %.2f)", spot.x, spot.y)
-            self._aside = spot
-            self._controller.reset()
-            self._controller.set_path(path, spot)
-            return
-        log.info("giving way: backing up %.2f m", self.people_config.give_way_distance)
-        self._giving_way = True
-        self._give_way.start(pose, now)
-
-    def _tick_give_way(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist | None:
-        """The velocity while stepping aside or backing up, ``None`` when not (or done)."""
-        if self._aside is not None:
-            command = self._controller.compute(pose, velocity, self._costmap, dt)
-            if command.status not in (ControlStatus.ARRIVED, ControlStatus.BLOCKED):
-                return self._slow_near_people(pose, command.twist)
-            self._aside = None
-            self._controller.reset()
-            self._last_give_way = now
-            return None
-        if self._giving_way:
-            twist = self._give_way.tick(pose, now)
-            if twist is not None:
-                return twist
-            self._giving_way = False
-            self._last_give_way = now
-        return None
-
-    def _slow_near_people(self, pose: Pose2D, twist: Twist) -> Twist:
-        cfg = self.people_config
-        if not cfg.enabled or abs(twist.linear) <= cfg.slow_speed:
-            return twist
-        if self._people.nearest(pose.x, pose.y) >= cfg.social_distance:
-            return twist
-        k = cfg.slow_speed / abs(twist.linear)  # same curvature, lower speed
-        return Twist(twist.linear * k, twist.angular * k)
 
     # -- charger phases ----------------------------------------------------------------------
 

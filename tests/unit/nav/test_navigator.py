@@ -85,7 +85,8 @@ def _estimate(pose: Pose2D, state: LocalizationState = LocalizationState.TRACKIN
 
 class Harness:
     def __init__(self, planner: ScriptedPlanner, controller: ScriptedController,
-                 config: NavigatorConfig | None = None) -> None:
+                 config: NavigatorConfig | None = None,
+                 people: PeopleConfig | None = None) -> None:
         self.costmap = FakeCostmap()
         self.log: list[events.NavigationEvent] = []
         self.nav = Navigator(
@@ -95,6 +96,7 @@ class Harness:
             ProgressChecker(ProgressCheckerConfig(required_movement_radius=0.5,
                                                   movement_time_allowance=2.0)),
             config=config,
+            people=people,
             on_event=self.log.append,
         )
         self.now = 0.0
@@ -297,8 +299,8 @@ def test_blocked_by_a_person_on_the_path_waits_then_goes_when_they_leave() -> No
 
 def test_people_who_never_make_way_fail_the_goal_after_the_patience() -> None:
     controller = ScriptedController([ControlStatus.BLOCKED])
-    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1))
-    h.nav.people_config = PeopleConfig(patience=5.0)
+    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
+                PeopleConfig(patience=5.0))
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.people = PeopleView((Person(1.0, 0.0),))
     h.run(4.9)

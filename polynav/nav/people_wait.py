@@ -1,0 +1,200 @@
+"""Waiting for people to make way: the navigator's *wait* phase.
+
+When only people block the way (a person in a door, someone coming down a narrow corridor), a
+robot that re-plans and recovers as it would for a box gets nowhere, and one that fails at once
+fails where a few seconds of patience would have done. :class:`PeopleWait` runs the wait: it
+stands, looks for a way past the people every ``wait_replan_period`` on the live costmap, goes on
+as soon as the way is open, and after ``give_way_after`` face to face with someone it steps
+aside off their way (or backs up where there is no room) so that they can pass, as a person
+would. The patience runs over the whole episode, which ends once the robot has got
+``reset_distance`` past where it began; when it runs out the goal fails ``blocked by person``.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from polynav.control.interface import Controller, ControlStatus
+from polynav.geometry import Pose2D, Twist
+from polynav.maps.costmap import Costmap
+from polynav.nav.people import PeopleConfig, PeopleView, aside_spots, densify
+from polynav.nav.recoveries import BackUp
+from polynav.planning.errors import PlanningError
+from polynav.planning.interface import GlobalPlanner
+from polynav.planning.path import Path
+
+log = logging.getLogger(__name__)
+
+_FACE_TO_FACE_MARGIN = 0.4  # [m] beyond the social distance: someone this near is face to face
+
+
+@dataclass(frozen=True, slots=True)
+class WaitStep:
+    """What one period of waiting asks of the navigator."""
+
+    twist: Twist = Twist()  # command this and keep waiting
+    path: Path | None = None  # a way past the people: follow it
+    go_on: bool = False  # the way is open: plan again
+    expired: bool = False  # the patience ran out: fail the goal
+
+
+class PeopleWait:
+    """The people seen each period, and the current wait for them (one goal at a time)."""
+
+    def __init__(
+        self,
+        config: PeopleConfig,
+        costmap: Costmap,
+        planner: GlobalPlanner,
+        controller: Controller,
+        *,
+        robot_radius: float,
+    ) -> None:
+        self.config = config
+        self._costmap = costmap
+        self._planner = planner
+        self._controller = controller
+        self._robot_radius = robot_radius
+        self.people = PeopleView()
+        self._since: float | None = None
+        self._where: Pose2D | None = None
+        self._last_plan = 0.0
+        self._last_give_way = 0.0
+        self._back_up = BackUp(
+            costmap, distance=config.give_way_distance, speed=0.15,
+            robot_radius=robot_radius, timeout=8.0,
+        )
+        self._backing_up = False
+        self._aside: Pose2D | None = None
+
+    @property
+    def since(self) -> float | None:
+        """When the current wait began, ``None`` when there is none."""
+        return self._since
+
+    def reset(self) -> None:
+        """A new goal: no wait."""
+        self._since = None
+        self._where = None
+
+    def moved(self, pose: Pose2D, distance: float) -> None:
+        """The robot is following its path: ``distance`` past where it waited, the wait is over
+        and a later one has its own patience."""
+        if self._where is not None and pose.distance_to(self._where) >= distance:
+            self._since = None
+            self._where = None
+
+    def blocks(self, pose: Pose2D, path: Path | None) -> bool:
+        """Whether people may be what blocks the way: someone close to the robot, or to the
+        path within ``block_lookahead`` of it."""
+        people, cfg = self.people, self.config
+        if not people or not cfg.enabled:
+            return False
+        if people.nearest(pose.x, pose.y) <= cfg.block_radius + self._robot_radius:
+            return True
+        if path is None:
+            return False
+        points = densify(np.asarray(path.points, dtype=np.float64), 0.1)
+        ahead = np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y) <= cfg.block_lookahead
+        return people.near_any(points[ahead], cfg.block_radius)
+
+    def begin(self, pose: Pose2D, now: float) -> bool:
+        """Start (or go back to) waiting; ``True`` when this begins a new wait."""
+        new = self._since is None
+        if new:
+            self._since = now
+            self._where = pose
+            self._last_give_way = now  # give way after a while of this wait, however it goes
+            log.info("people block the way: waiting up to %g s", self.config.patience)
+        self._controller.reset()
+        self._last_plan = now
+        self._backing_up = False
+        self._aside = None
+        return new
+
+    def tick(
+        self,
+        pose: Pose2D,
+        velocity: Twist,
+        now: float,
+        dt: float,
+        path: Path | None,
+        plan: Callable[[Pose2D], Path],
+    ) -> WaitStep:
+        """One period of the wait; ``path`` is the way the robot was going, ``plan`` plans to
+        the goal on the live costmap."""
+        cfg = self.config
+        assert self._since is not None, "begin() first"
+        if now - self._since >= cfg.patience:
+            return WaitStep(expired=True)
+        twist = self._tick_give_way(pose, velocity, now, dt)
+        if twist is not None:
+            return WaitStep(twist)
+        if not self.blocks(pose, path):
+            log.info("the way is open: re-planning")
+            return WaitStep(go_on=True)
+        face_to_face = self.people.nearest(pose.x, pose.y) <= (
+            cfg.social_distance + _FACE_TO_FACE_MARGIN
+        )
+        if face_to_face and now - self._last_give_way >= cfg.give_way_after:
+            self._start_give_way(pose, now)
+            return WaitStep(self._tick_give_way(pose, velocity, now, dt) or Twist())
+        if now - self._last_plan < cfg.wait_replan_period:
+            return WaitStep()
+        self._last_plan = now
+        try:
+            # On the live costmap, where the people's legs are obstacles: a path is a way past
+            # them (round them in a corridor, through another door) or a sign they moved.
+            way = plan(pose)
+        except PlanningError:
+            return WaitStep()
+        log.info("a way past the people: following it")
+        return WaitStep(path=way)
+
+    def slow(self, pose: Pose2D, twist: Twist) -> Twist:
+        """``twist`` at no more than the slow speed within the social distance of someone, on
+        the same curvature."""
+        cfg = self.config
+        if not cfg.enabled or abs(twist.linear) <= cfg.slow_speed:
+            return twist
+        if self.people.nearest(pose.x, pose.y) >= cfg.social_distance:
+            return twist
+        k = cfg.slow_speed / abs(twist.linear)
+        return Twist(twist.linear * k, twist.angular * k)
+
+    def _start_give_way(self, pose: Pose2D, now: float) -> None:
+        for spot in aside_spots(self._costmap, pose, self.people, self.config):
+            try:
+                way = self._planner.plan(self._costmap, pose, spot)
+            except PlanningError:
+                continue
+            log.info("giving way: stepping aside to (%.2f, %.2f)", spot.x, spot.y)
+            self._aside = spot
+            self._controller.reset()
+            self._controller.set_path(way, spot)
+            return
+        log.info("giving way: backing up %.2f m", self.config.give_way_distance)
+        self._backing_up = True
+        self._back_up.start(pose, now)
+
+    def _tick_give_way(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist | None:
+        """The velocity while stepping aside or backing up, ``None`` when not (or done)."""
+        if self._aside is not None:
+            command = self._controller.compute(pose, velocity, self._costmap, dt)
+            if command.status not in (ControlStatus.ARRIVED, ControlStatus.BLOCKED):
+                return self.slow(pose, command.twist)
+            self._aside = None
+            self._controller.reset()
+            self._last_give_way = now
+            return None
+        if self._backing_up:
+            twist = self._back_up.tick(pose, now)
+            if twist is not None:
+                return twist
+            self._backing_up = False
+            self._last_give_way = now
+        return None
