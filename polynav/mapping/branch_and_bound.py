@@ -28,13 +28,15 @@ class PrecomputedGrids:
     """The table max-pooled over ``2^h`` blocks for ``h = 0..depth``.
 
     Attributes:
-        grids: (depth + 1, H + 2 pad, W + 2 pad) float32; level ``h`` at ``[h, iy + pad, ix + pad]``
-            holds the max of the table over cells ``[iy, iy + 2^h) x [ix, ix + 2^h)``.
+        grids: (depth + 1, H + 2 pad, W + 2 pad) uint8, the table times 255 rounded *up* (so a
+            bound stays a bound); level ``h`` at ``[h, iy + pad, ix + pad]`` holds the max of the
+            table over cells ``[iy, iy + 2^h) x [ix, ix + 2^h)``. A byte, not a float, because
+            every finished submap keeps ``depth + 1`` of these.
         pad: ``2^depth``, the margin that lets a block start left of or below the table.
         depth: the coarsest level.
     """
 
-    grids: npt.NDArray[np.float32]
+    grids: npt.NDArray[np.uint8]
     pad: int
     depth: int
 
@@ -43,8 +45,8 @@ def precompute(table: npt.NDArray[np.float32], depth: int) -> PrecomputedGrids:
     """Build the max-pooled levels of ``table`` (values in [0, 1], ``[iy, ix]``)."""
     pad = 1 << depth
     h, w = table.shape
-    grids = np.zeros((depth + 1, h + 2 * pad, w + 2 * pad), dtype=np.float32)
-    grids[0, pad:pad + h, pad:pad + w] = table
+    grids = np.zeros((depth + 1, h + 2 * pad, w + 2 * pad), dtype=np.uint8)
+    grids[0, pad:pad + h, pad:pad + w] = np.ceil(np.clip(table, 0.0, 1.0) * 255.0)
     for level in range(depth):
         s = 1 << level
         g = grids[level]
@@ -58,7 +60,7 @@ def precompute(table: npt.NDArray[np.float32], depth: int) -> PrecomputedGrids:
 
 
 @numba.njit(cache=True, nogil=True)
-def _bound(grid: npt.NDArray[np.float32], pad: int, bx: npt.NDArray[np.int64],
+def _bound(grid: npt.NDArray[np.uint8], pad: int, bx: npt.NDArray[np.int64],
            by: npt.NDArray[np.int64], dx: int, dy: int) -> float:
     height, width = grid.shape
     acc = 0.0
@@ -67,11 +69,11 @@ def _bound(grid: npt.NDArray[np.float32], pad: int, bx: npt.NDArray[np.int64],
         iy = by[k] + dy + pad
         if 0 <= ix < width and 0 <= iy < height:
             acc += grid[iy, ix]
-    return acc / bx.shape[0]
+    return acc / (255.0 * bx.shape[0])
 
 
 @numba.njit(cache=True, nogil=True)
-def _search(grids: npt.NDArray[np.float32], pad: int, depth: int,
+def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
             bxs: npt.NDArray[np.int64], bys: npt.NDArray[np.int64], window: int,
             min_score: float) -> tuple[float, int, int, int]:
     n_rot = bxs.shape[0]

@@ -37,6 +37,10 @@ class SlamConfig:
         match_window_xy: half-width of the scan-to-submap translation search [m].
         match_window_theta: half-width of its heading search [rad].
         match_theta_step: its fine heading step [rad].
+        match_prior_xy: standard deviation of the Gaussian prior around the odometry prediction
+            that weighs the match score [m]: it keeps a featureless direction (along a
+            corridor) where odometry put it instead of letting it slide to any equal fit.
+        match_prior_theta: the same on heading [rad].
         match_min_score: a match scoring below this (mean endpoint likelihood) is not trusted:
             the node keeps its odometry prediction.
         loop_window_xy: half-width of the loop-closure translation search [m].
@@ -47,6 +51,8 @@ class SlamConfig:
         loop_min_score: a loop closure is accepted at this mean endpoint likelihood or above.
         loop_max_distance: only finished submaps whose anchor is this close to the node's
             estimate are searched [m].
+        loop_max_per_node: stop searching from a node after this many loop closures (the
+            nearest submaps first).
         loop_node_stride: search for loop closures from every this-many-th node.
         optimize_every: optimise the pose graph after this many new nodes when a loop closure
             was added since the last optimisation.
@@ -67,7 +73,7 @@ class SlamConfig:
     match_points: int = 200
     node_min_translation: float = 0.1
     node_min_rotation: float = math.radians(5.0)
-    scans_per_submap: int = 20
+    scans_per_submap: int = 10
     hit_probability: float = 0.7
     miss_probability: float = 0.4
     occupied_probability: float = 0.6
@@ -76,13 +82,16 @@ class SlamConfig:
     match_window_xy: float = 0.5
     match_window_theta: float = math.radians(20.0)
     match_theta_step: float = math.radians(0.5)
-    match_min_score: float = 0.2
+    match_prior_xy: float = 0.25
+    match_prior_theta: float = 0.35
+    match_min_score: float = 0.1
     loop_window_xy: float = 4.0
     loop_window_theta: float = math.radians(30.0)
     loop_theta_step: float = math.radians(0.5)
     loop_depth: int = 6
     loop_min_score: float = 0.6
     loop_max_distance: float = 15.0
+    loop_max_per_node: int = 2
     loop_node_stride: int = 2
     optimize_every: int = 20
     odom_sigma_xy: float = 0.1
