@@ -44,6 +44,7 @@ from polynav.localization.scan_matcher import ScanMatcher, SearchWindow, scan_po
 from polynav.localization.scan_matcher import warm_up as warm_up_matcher
 from polynav.mapping import branch_and_bound
 from polynav.mapping.config import SlamConfig
+from polynav.mapping.logs import SensorLog
 from polynav.mapping.occupancy import LogOddsGrid, log_odds
 from polynav.mapping.occupancy import warm_up as warm_up_grid
 from polynav.mapping.pose_graph import PoseGraph
@@ -335,6 +336,16 @@ class Slam:
                                                            max_nfev=max_nfev)
         self._since_optimize = 0
         self._new_loops = 0
+
+
+def replay(log: SensorLog, config: SlamConfig | None = None) -> Slam:
+    """Run the SLAM over every scan of a log, then :meth:`Slam.finish` it."""
+    slam = Slam(config)
+    for scan in log.scans:
+        slam.add_scan(scan.odom, scan.ranges, scan.angles, scan.stamp,
+                      sensor_pose=scan.sensor_pose)
+    slam.finish()
+    return slam
 
 
 def warm_up() -> None:
