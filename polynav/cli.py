@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from polynav.errors import PolynavError
+from polynav.mapping import cli as mapping_cli
 from polynav.site import PointKind
 
 if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
@@ -25,8 +26,8 @@ if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
 
 log = logging.getLogger(__name__)
 
-BENCH_AREAS = ("planner", "sim", "api")
-_BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py", "api": "api.py"}
+BENCH_AREAS = ("planner", "sim", "api", "slam")
+_BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py"}
 
 
 def _benchmarks_dir() -> Path:
@@ -265,9 +266,10 @@ def build_parser() -> argparse.ArgumentParser:
     points_rm.add_argument("name")
     points_rm.add_argument("--map", help="the point's map, when the name is on several maps")
     _data_options(points_rm)
+    mapping_cli.add_parser(sub)
     bench = sub.add_parser(
         "bench",
-        help="run a benchmark (planner, sim, api); extra arguments go to the benchmark",
+        help="run a benchmark (planner, sim, api, slam); extra arguments go to the benchmark",
         description="Run a benchmark from benchmarks/. Pass --help after the area for its options.",
     )
     bench.add_argument("area", choices=BENCH_AREAS)
@@ -291,6 +293,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _map_command(args)
         if args.command == "points":
             return _points_command(args)
+        if args.command == "slam":
+            return mapping_cli.main(args)
     except PolynavError as exc:
         print(f"polynav {args.command}: {exc}", file=sys.stderr)
         return 1
