@@ -69,7 +69,7 @@ def _bound(grid: npt.NDArray[np.uint8], pad: int, bx: npt.NDArray[np.int64],
         iy = by[k] + dy + pad
         if 0 <= ix < width and 0 <= iy < height:
             acc += grid[iy, ix]
-    return acc / (255.0 * bx.shape[0])
+    return float(acc / (255.0 * bx.shape[0]))
 
 
 @numba.njit(cache=True, nogil=True)

@@ -27,7 +27,7 @@ log = logging.getLogger(__name__)
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:  # type: ignore[type-arg]
     """Add ``slam run`` and ``slam eval`` to the command line's sub-commands."""
-    parser = subparsers.add_parser(
+    parser: argparse.ArgumentParser = subparsers.add_parser(
         "slam", help="run the SLAM on a recorded log, or score a trajectory",
         description="Offline 2-D lidar SLAM on CARMEN, Intel JSON and Mines logs, and the "
         "Kümmerle et al. relation error.",

@@ -348,7 +348,8 @@ def parse_mines(lines: Iterable[str]) -> SensorLog:
         ranges.append(r)
     if not stamps:
         raise EmptyLogError(f"no scans in the Mines log ({skipped} corrupt lines)")
-    angles = -0.5 * MINES_FOV + (MINES_FOV / (MINES_BEAMS - 1)) * np.arange(MINES_BEAMS)
+    angles = -0.5 * MINES_FOV + (MINES_FOV / (MINES_BEAMS - 1)) * np.arange(
+        MINES_BEAMS, dtype=np.float64)
     wheel = np.radians(np.asarray(ticks) * (180.0 / MINES_TICKS_PER_CYCLE)) * MINES_WHEEL_RADIUS
     pose = Pose2D()
     scans = []

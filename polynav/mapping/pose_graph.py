@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -75,7 +76,7 @@ class PoseGraph:
             outlier_sigmas=outlier_sigmas,
             max_nfev=max_nfev,
         )
-        self.poses = [tuple(p) for p in poses.tolist()]  # type: ignore[misc]
+        self.poses = [tuple(p) for p in poses.tolist()]
         dropped = np.flatnonzero(~active).tolist()
         # A rejected edge leaves the graph for good, so later solves do not weigh it again.
         for name in ("edges_i", "edges_j", "measurements", "sigmas", "robust"):
@@ -170,7 +171,7 @@ def _solve(
     z: npt.NDArray[np.float64],
     sigma: npt.NDArray[np.float64],
     *,
-    loss: str,
+    loss: Literal["linear", "huber"],
     huber_scale: float,
     max_nfev: int,
 ) -> npt.NDArray[np.float64]:
