@@ -48,3 +48,7 @@ class NotFound(PolynavError, KeyError):
 
 class Conflict(PolynavError):
     """The command is valid but not in the robot's current state (wrong mode, already running)."""
+
+
+class NotLocalized(Conflict):
+    """The robot's pose could not be told from its scan (no match on the map, or several)."""

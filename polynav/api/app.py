@@ -9,13 +9,22 @@ from fastapi.routing import APIRoute
 
 from polynav.api.config import ApiConfig
 from polynav.api.errors import FAULT, install_error_handlers
-from polynav.api.routes import control, maps, navigation, points, settings, status, ws
+from polynav.api.routes import (
+    control,
+    localization,
+    maps,
+    navigation,
+    points,
+    settings,
+    status,
+    ws,
+)
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-ROUTERS = (status, maps, points, navigation, control, settings, ws)
+ROUTERS = (status, maps, points, navigation, localization, control, settings, ws)
 
 
 def _operation_id(route: APIRoute) -> str:

@@ -30,6 +30,7 @@ from polynav.errors import (
     Conflict,
     InvalidRequest,
     NotFound,
+    NotLocalized,
     PolynavError,
     StorageError,
 )
@@ -38,6 +39,7 @@ log = logging.getLogger(__name__)
 
 ERROR_TABLE: dict[type[BaseException], tuple[int, str]] = {
     NotFound: (404, "not_found"),
+    NotLocalized: (409, "not_localized"),
     Conflict: (409, "conflict"),
     # Raised by the runtime or the store once the schema let the request in: refused, not malformed.
     InvalidRequest: (409, "invalid_request"),
@@ -93,7 +95,8 @@ LOOKUP = _errors({
 })
 # A runtime command: refused in the robot's current state (409).
 STATE = _errors({
-    409: "refused in the robot's current state (codes `conflict`, `invalid_request`)",
+    409: "refused in the robot's current state (codes `conflict`, `invalid_request`, "
+         "`not_localized`)",
 })
 # Any operation: a fault of the server (the disk, a bug), logged; never caused by the input.
 FAULT = _errors({500: "a fault of the server (codes `internal`, `storage_error`)"})

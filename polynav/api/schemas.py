@@ -190,6 +190,15 @@ class StatusOut(BaseModel):
     stamp: float
 
 
+class RelocalizedOut(BaseModel):
+    """Where relocalization found the robot, and how well its scan fits there."""
+
+    x: float
+    y: float
+    theta: float
+    score: float = Field(ge=0.0, le=1.0, description="mean likelihood of the scan's endpoints")
+
+
 # --- maps and points --------------------------------------------------------------------------
 
 

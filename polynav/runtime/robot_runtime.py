@@ -54,6 +54,7 @@ from polynav.errors import ConfigError, Conflict, InvalidRequest, NotFound, Poly
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
+from polynav.mapping.relocalization import Relocalization
 from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
@@ -73,6 +74,7 @@ from polynav.runtime.local_move import free_distance_in_scan, free_distance_on_c
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
+from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.site_queries import SiteQueries
@@ -202,6 +204,7 @@ class RobotRuntime:
             self._robot.read_battery(), self._settings.low_battery_percent
         )
         self._localization = LocalizationWatcher()
+        self._recovery = LostRecovery(self._restart_localization)
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
         # Timing.
@@ -381,6 +384,22 @@ class RobotRuntime:
             self._check_localization(now)
 
         self._call(run)
+
+    def relocalize(self) -> Relocalization:
+        """Find the robot on the current map from its scan alone, with no prior, and restart
+        localization there (it also runs by itself while localization is LOST).
+
+        Raises:
+            Conflict: not NAVIGATING.
+            NotLocalized: the scan matches nowhere well enough, or several places alike.
+        """
+
+        def run() -> Relocalization:
+            self._require_navigating()
+            assert self._grid is not None
+            return self._recovery.relocalize(self._grid, self._robot.read_scan())
+
+        return self._call(run)
 
     def go_to(
         self,
@@ -661,6 +680,9 @@ class RobotRuntime:
         else:
             commanded = stack.command
         self._check_localization(now)
+        if stack is not None and self._grid is not None:  # LOST is published, then searched
+            lost = stack.estimate.state is LocalizationState.LOST
+            self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
         self._check_battery(now)
         self.device.tick(now, commanded)
         self._refresh()
@@ -791,6 +813,14 @@ class RobotRuntime:
     def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
         for runtime_event in self._attempts.record(event):
             self._publish(runtime_event)
+
+    def _restart_localization(self, pose: Pose2D) -> None:
+        """Restart tracking at ``pose`` (a relocalization's answer; the robot is not moved)."""
+        assert self._stack is not None
+        now = self.now()
+        self._stack.initialize(pose, now)
+        self._publish(events.PoseInitialized(now, pose))
+        self._check_localization(now)
 
     def _goal_active(self) -> bool:
         return self._stack is not None and self._stack.navigator.state in (

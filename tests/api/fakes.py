@@ -10,8 +10,9 @@ from __future__ import annotations
 import threading
 from collections.abc import Mapping
 
-from polynav.errors import Conflict, InvalidRequest
+from polynav.errors import Conflict, InvalidRequest, NotLocalized
 from polynav.geometry import Pose2D
+from polynav.mapping.relocalization import Relocalization
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.settings import RobotSettings
@@ -36,6 +37,7 @@ class FakeRuntime:
         self.goal: Pose2D | None = None
         self.goal_point: str | None = None
         self.local_moves: list[tuple[float | None, float | None]] = []
+        self.lost_in_a_hall = False
 
     # -- helpers
     def _publish(self, event: events.RuntimeEvent) -> None:
@@ -97,6 +99,14 @@ class FakeRuntime:
         if self.mode != "navigating":
             raise Conflict("not navigating")
         self.pose = pose
+
+    def relocalize(self) -> Relocalization:
+        """Found where the fake robot is, unless ``lost_in_a_hall`` (then ambiguous)."""
+        if self.mode != "navigating":
+            raise Conflict("not navigating")
+        if self.lost_in_a_hall:
+            raise NotLocalized("relocalization failed: ambiguous")
+        return Relocalization(self.pose, 0.93, 0.41)
 
     def go_to(
         self, *, point: str | None = None, pose: Pose2D | None = None,
