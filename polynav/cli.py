@@ -67,7 +67,8 @@ def _run(args: argparse.Namespace) -> int:
 
     from polynav.api import ApiConfig, create_app
     from polynav.listen import tcp_listener
-    from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+    from polynav.runtime.config import RuntimeConfig
+    from polynav.runtime.robot_runtime import RobotRuntime
     from polynav.store.site_store import SiteStore
     from polynav.worlds import load_world
 

@@ -34,23 +34,25 @@ The runtime coordinates; the parts do one job each: :mod:`~polynav.runtime.loop`
 thread, its pacing and the command queue), :mod:`~polynav.runtime.navigation_events` (attempt
 ids and navigator events as runtime events), :mod:`~polynav.runtime.watchers` (e-stop, charge,
 low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (teleop and local
-moves) and :mod:`~polynav.runtime.sim_placement` (floors and placing the simulated robot).
+moves), :mod:`~polynav.runtime.sim_placement` (floors and placing the simulated robot) and
+:mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
+parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
+:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves), over the shared
+:mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes and settings.
 """
 
 from __future__ import annotations
 
-import enum
 import heapq
 import itertools
 import logging
-import math
 import threading
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
-from typing import Protocol, TypeVar
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+from typing import TypeVar
 
 from polynav.clock import Clock
-from polynav.errors import ConfigError, Conflict, InvalidRequest, NotFound, PolynavError
+from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
@@ -59,7 +61,6 @@ from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
-from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
@@ -67,11 +68,13 @@ from polynav.robot.interface import Robot
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
+from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
-from polynav.runtime.local_move import free_distance_in_scan, free_distance_on_costmap
+from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.relocalization import LostRecovery
@@ -80,8 +83,6 @@ from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
-from polynav.site import Point, PointKind
-from polynav.tasks.patrol import PatrolPlan
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -89,85 +90,9 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 _EPS = 1e-9
-_MAX_LOCAL_ROTATION = 4.0 * math.pi
-_MAX_LOCAL_DISTANCE = 10.0
-UNDOCK_DISTANCE = 0.5
-"""How far [m] a robot backs straight off its charger before it plans (clear of the dock)."""
 
 
-class Mode(enum.Enum):
-    FREE = "free"
-    MAPPING = "mapping"
-    NAVIGATING = "navigating"
-    BUSY = "busy"
-
-
-@dataclass(frozen=True, slots=True)
-class RuntimeConfig:
-    """How the runtime runs.
-
-    Attributes:
-        control_rate: navigation stack ticks per simulated second [Hz].
-        status_rate: the default rate [Hz] adapters stream status at; at most ``control_rate``
-            (the snapshot itself is refreshed every control tick and after every command).
-        speed: simulated seconds per wall second when the loop thread paces itself.
-        teleop_timeout: a teleop command holds this long [s] (the dead-man).
-        seed: seeds the simulator's noise.
-        people: whether the simulated world's people walk.
-        max_lag: when the loop falls behind its pace by more than this [s of wall time] (a
-            slow machine, a speed beyond what it can compute, a debugger), it gives up catching
-            up rather than race; simulated time then runs as fast as it can.
-    """
-
-    control_rate: float = 20.0
-    status_rate: float = 10.0
-    speed: float = 1.0
-    teleop_timeout: float = 0.5
-    seed: int = 0
-    people: bool = True
-    max_lag: float = 0.5
-
-    def __post_init__(self) -> None:
-        for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
-            value = getattr(self, key)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"runtime.{key}", f"must be finite and > 0, got {value}")
-        if self.status_rate > self.control_rate:
-            raise ConfigError("runtime.status_rate", "must be <= control_rate")
-
-
-class FloorData(Protocol):
-    """A floor as the runtime reads it (:class:`polynav.store.records.FloorRecord`)."""
-
-    @property
-    def level(self) -> int: ...
-
-
-class SiteData(Protocol):
-    """What the runtime reads from the site store (:class:`polynav.store.SiteStore`)."""
-
-    def floors(self) -> Sequence[object]: ...
-
-    def floor(self, name: str) -> FloorData: ...
-
-    def map_record(self, name: str) -> object: ...
-
-    def load_map(self, name: str) -> Map: ...
-
-    def points(
-        self, *, map_name: str | None = None, floor: str | None = None
-    ) -> Sequence[Point]: ...
-
-    def point(self, map_name: str, name: str) -> Point: ...
-
-    def keepouts(self, map_name: str) -> Sequence[Keepout]: ...
-
-    def settings(self) -> dict[str, object]: ...
-
-    def update_settings(self, changes: Mapping[str, object]) -> dict[str, object]: ...
-
-
-class RobotRuntime:
+class RobotRuntime(GoalCommands, MotionCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -401,177 +326,6 @@ class RobotRuntime:
 
         return self._call(run)
 
-    def go_to(
-        self,
-        *,
-        point: str | None = None,
-        pose: Pose2D | None = None,
-        map_name: str | None = None,
-        options: GoalOptions | None = None,
-    ) -> int:
-        """Start a goal to a point of the current map, or to a pose on it; a goal already
-        running is canceled first.
-
-        A robot on a charger backs off it first; a charger point is docked onto (its pose is
-        the docked pose, its heading the docking direction).
-
-        Args:
-            point: the goal point's name.
-            pose: the goal pose (map frame).
-            map_name: the map ``point`` or ``pose`` is on; only the current map is reachable
-                until multi-map routing exists.
-            options: tolerances and retries for this goal (see
-                :class:`~polynav.nav.attempt.GoalOptions`).
-
-        Returns:
-            The attempt id.
-
-        Raises:
-            InvalidRequest: neither or both of ``point`` and ``pose``; another map.
-            Conflict: not NAVIGATING.
-            NotFound: no such point on the map.
-        """
-        if (point is None) == (pose is None):
-            raise InvalidRequest("point", "give exactly one of point and pose")
-        if pose is not None and not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
-            raise InvalidRequest("pose", "coordinates must be finite")
-
-        def run() -> int:
-            self._patrols.end()
-            self._patrols.forget()  # the last task is this goal now
-            return self._start_goal(point, pose, map_name, options)
-
-        return self._call(run)
-
-    def patrol(self, plan: PatrolPlan, options: GoalOptions | None = None) -> int:
-        """Patrol ``plan``'s points of the current map, one goal per point, ``plan.count``
-        rounds; a running goal or patrol is canceled first.
-
-        Each point is passed within ``plan.tolerance`` [m] (a charger point is docked onto), a
-        failed leg is skipped, and :meth:`cancel` ends the whole patrol. ``options`` apply to
-        every leg (retries). Events: ``patrol_started``, the legs' navigation events, then
-        ``patrol_finished``, ``patrol_failed`` (the last leg failed) or ``patrol_canceled``.
-
-        Returns:
-            The patrol id.
-
-        Raises:
-            InvalidRequest: fewer than 2 points, a bad count or tolerance.
-            NotFound: a point not on the current map.
-            Conflict: not NAVIGATING.
-        """
-
-        def run() -> int:
-            self._require_navigating()
-            assert self._map_name is not None
-            for name in plan.points:
-                self.store.point(self._map_name, name)  # NotFound before anything changes
-            return self._patrols.start(plan, options)
-
-        return self._call(run)
-
-    def pause(self) -> None:
-        """Stop and keep the goal. Raises Conflict when no goal runs."""
-
-        def run() -> None:
-            stack = self._require_navigating()
-            if not stack.navigator.pause(self.now()):
-                raise Conflict("no running goal to pause")
-
-        self._call(run)
-
-    def resume(self) -> None:
-        """Continue a paused goal. Raises Conflict when no goal is paused."""
-
-        def run() -> None:
-            stack = self._require_navigating()
-            if not stack.navigator.resume(self.now()):
-                raise Conflict("no paused goal to resume")
-
-        self._call(run)
-
-    def cancel(self) -> None:
-        """Cancel the running or paused goal, or a local move. Raises Conflict if neither."""
-
-        def run() -> None:
-            if self._motion.local_move_active:
-                self._motion.end_local_move()
-                return
-            if self._patrols.end():
-                return
-            if not self._cancel_goal():
-                raise Conflict("no goal or local move to cancel")
-
-        self._call(run)
-
-    def teleop(self, linear: float, angular: float) -> None:
-        """Drive at ``linear`` [m/s], ``angular`` [rad/s] (clamped to the settings) for
-        ``teleop_timeout`` seconds; repeat the command to keep moving (dead-man).
-
-        A local move in progress ends. A goal is not overridden silently: cancel it first.
-
-        Raises:
-            InvalidRequest: a value that is not finite.
-            Conflict: a goal is running or paused; an e-stop is active; BUSY.
-        """
-        for key, value in (("linear", linear), ("angular", angular)):
-            if isinstance(value, bool) or not math.isfinite(value):
-                raise InvalidRequest(key, f"must be a finite number, got {value!r}")
-
-        def run() -> None:
-            self._check_free_to_move("teleop")
-            s = self._settings
-            twist = Twist(
-                max(-s.max_linear_velocity, min(s.max_linear_velocity, float(linear))),
-                max(-s.max_angular_velocity, min(s.max_angular_velocity, float(angular))),
-            )
-            self._motion.teleop(twist, self.now())
-
-        self._call(run)
-
-    def set_software_estop(self, on: bool) -> None:
-        """Switch the software e-stop (distinct from the hardware button): the base brakes,
-        teleop and local moves end, a goal is held until it is switched off."""
-
-        def run() -> None:
-            self._software_estop = bool(on)
-            if self._stack is not None:
-                self._stack.software_estop = self._software_estop
-            if on:
-                self._halt_motion()
-            self._check_estop(self.now())
-
-        self._call(run)
-
-    def local_move(self, *, rotate: float | None = None, distance: float | None = None) -> None:
-        """Turn on the spot by ``rotate`` [rad] or drive straight ``distance`` [m] (negative:
-        backwards), checked against obstacles (the costmap while NAVIGATING, else the scan);
-        ends by itself, or blocked, or on :meth:`cancel`.
-
-        Raises:
-            InvalidRequest: neither or both; not finite; more than 4π rad or 10 m.
-            Conflict: a goal is running or paused; an e-stop is active; BUSY.
-        """
-        if (rotate is None) == (distance is None):
-            raise InvalidRequest("rotate", "give exactly one of rotate and distance")
-        if rotate is not None and not (
-            math.isfinite(rotate) and abs(rotate) <= _MAX_LOCAL_ROTATION
-        ):
-            raise InvalidRequest("rotate", f"must be finite and within ±4π, got {rotate}")
-        if distance is not None and not (
-            math.isfinite(distance) and abs(distance) <= _MAX_LOCAL_DISTANCE
-        ):
-            raise InvalidRequest("distance", f"must be finite and within ±10 m, got {distance}")
-
-        def run() -> None:
-            self._check_free_to_move("local move")
-            self._motion.start_local_move(
-                rotate=rotate, distance=distance, settings=self._settings
-            )
-            log.info("local move: rotate %s rad, distance %s m", rotate, distance)
-
-        self._call(run)
-
     def update_settings(self, changes: Mapping[str, object]) -> RobotSettings:
         """Validate, persist and apply ``changes``; returns the new settings.
 
@@ -686,23 +440,6 @@ class RobotRuntime:
         self._check_battery(now)
         self.device.tick(now, commanded)
         self._refresh()
-
-    def _free_ahead(self, direction: float, remaining: float) -> float:
-        s = self._settings
-        stack = self._stack
-        if stack is not None:
-            return free_distance_on_costmap(
-                stack.costmap,
-                stack.estimate.pose,
-                direction=direction,
-                robot_radius=s.robot_radius,
-                horizon=remaining + s.obstacle_stop_distance,
-                step=0.5 * stack.costmap.info.resolution,
-            )
-        scan = self._robot.read_scan()
-        if scan is None:
-            return math.inf
-        return free_distance_in_scan(scan, direction=direction, robot_radius=s.robot_radius)
 
     # -- state checks that publish events ----------------------------------------------------
 
@@ -821,70 +558,6 @@ class RobotRuntime:
         self._stack.initialize(pose, now)
         self._publish(events.PoseInitialized(now, pose))
         self._check_localization(now)
-
-    def _goal_active(self) -> bool:
-        return self._stack is not None and self._stack.navigator.state in (
-            NavigationState.RUNNING,
-            NavigationState.PAUSED,
-        )
-
-    def _start_goal(
-        self,
-        point: str | None,
-        pose: Pose2D | None,
-        map_name: str | None,
-        options: GoalOptions | None,
-    ) -> int:
-        stack = self._require_navigating()
-        assert self._map_name is not None
-        target_map = map_name or self._map_name
-        goal_options = options or GoalOptions()
-        if point is not None:
-            record = self.store.point(target_map, point)
-            goal = record.pose
-            if record.kind is PointKind.CHARGER:
-                goal_options = replace(goal_options, dock=True, pass_tolerance=None)
-        else:
-            assert pose is not None
-            goal = pose
-        if goal_options.undock_distance is None and self._robot.read_battery().charging:
-            goal_options = replace(goal_options, undock_distance=UNDOCK_DISTANCE)
-        if target_map != self._map_name:
-            raise InvalidRequest(
-                "map", f"{target_map!r} is not the current map {self._map_name!r}: "
-                       "goals on other maps need multi-map routing (not yet available)"
-            )
-        self._motion.yield_control()
-        if self._settings_dirty:
-            self._cancel_goal()
-            stack = self._rebuild_stack()
-        self._attempts.pending_point = point
-        try:
-            nav_id = stack.go_to(goal, self.now(), goal_options)
-        finally:
-            self._attempts.pending_point = None
-        return self._attempts.runtime_id(nav_id)
-
-    def _cancel_goal(self) -> bool:
-        if self._stack is None:
-            return False
-        return self._stack.navigator.cancel(self.now())
-
-    def _require_navigating(self) -> NavigationStack:
-        if self._mode is not Mode.NAVIGATING or self._stack is None:
-            raise Conflict(f"not navigating (mode {self._mode.value}): start navigation first")
-        return self._stack
-
-    def _check_free_to_move(self, what: str) -> None:
-        if self._mode is Mode.BUSY:
-            raise Conflict(f"the robot is busy: no {what}")
-        if self._goal_active():
-            raise Conflict(f"a goal is active: cancel it before {what}")
-        if self._estop.hardware or self._software_estop:
-            raise Conflict(f"the e-stop is active: no {what}")
-
-    def _halt_motion(self) -> None:
-        self._motion.halt()
 
     def _set_mode(self, mode: Mode) -> None:
         old = self._mode

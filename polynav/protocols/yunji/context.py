@@ -28,7 +28,8 @@ from dataclasses import dataclass, field
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D
 from polynav.protocols.yunji.messages import MoveStatus, Reply
-from polynav.runtime.robot_runtime import Mode, RobotRuntime
+from polynav.runtime.config import Mode
+from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.runtime.status import StatusSnapshot
 from polynav.store.site_store import SiteStore
 

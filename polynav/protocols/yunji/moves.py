@@ -28,7 +28,7 @@ from polynav.protocols.yunji.context import (
     required_bool,
 )
 from polynav.protocols.yunji.messages import MoveStatus, Reply
-from polynav.runtime.robot_runtime import Mode
+from polynav.runtime.config import Mode
 from polynav.tasks.patrol import FOREVER, PatrolPlan
 
 # Joystick limits (§3.6): values beyond them are clamped, not refused.

@@ -1,0 +1,86 @@
+"""The runtime's modes, its configuration, and what it reads from the site."""
+
+from __future__ import annotations
+
+import enum
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+from polynav.errors import ConfigError
+from polynav.maps.keepout import Keepout
+from polynav.maps.map import Map
+from polynav.site import Point
+
+
+class Mode(enum.Enum):
+    FREE = "free"
+    MAPPING = "mapping"
+    NAVIGATING = "navigating"
+    BUSY = "busy"
+
+
+@dataclass(frozen=True, slots=True)
+class RuntimeConfig:
+    """How the runtime runs.
+
+    Attributes:
+        control_rate: navigation stack ticks per simulated second [Hz].
+        status_rate: the default rate [Hz] adapters stream status at; at most ``control_rate``
+            (the snapshot itself is refreshed every control tick and after every command).
+        speed: simulated seconds per wall second when the loop thread paces itself.
+        teleop_timeout: a teleop command holds this long [s] (the dead-man).
+        seed: seeds the simulator's noise.
+        people: whether the simulated world's people walk.
+        max_lag: when the loop falls behind its pace by more than this [s of wall time] (a
+            slow machine, a speed beyond what it can compute, a debugger), it gives up catching
+            up rather than race; simulated time then runs as fast as it can.
+    """
+
+    control_rate: float = 20.0
+    status_rate: float = 10.0
+    speed: float = 1.0
+    teleop_timeout: float = 0.5
+    seed: int = 0
+    people: bool = True
+    max_lag: float = 0.5
+
+    def __post_init__(self) -> None:
+        for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(f"runtime.{key}", f"must be finite and > 0, got {value}")
+        if self.status_rate > self.control_rate:
+            raise ConfigError("runtime.status_rate", "must be <= control_rate")
+
+
+class FloorData(Protocol):
+    """A floor as the runtime reads it (:class:`polynav.store.records.FloorRecord`)."""
+
+    @property
+    def level(self) -> int: ...
+
+
+class SiteData(Protocol):
+    """What the runtime reads from the site store (:class:`polynav.store.SiteStore`)."""
+
+    def floors(self) -> Sequence[object]: ...
+
+    def floor(self, name: str) -> FloorData: ...
+
+    def map_record(self, name: str) -> object: ...
+
+    def load_map(self, name: str) -> Map: ...
+
+    def points(
+        self, *, map_name: str | None = None, floor: str | None = None
+    ) -> Sequence[Point]: ...
+
+    def point(self, map_name: str, name: str) -> Point: ...
+
+    def keepouts(self, map_name: str) -> Sequence[Keepout]: ...
+
+    def settings(self) -> dict[str, object]: ...
+
+    def update_settings(self, changes: Mapping[str, object]) -> dict[str, object]: ...

@@ -1,0 +1,86 @@
+"""The seam between the runtime's parts by subject.
+
+:class:`~polynav.runtime.robot_runtime.RobotRuntime` is one class to its callers, written in a
+few modules (:mod:`~polynav.runtime.goal_commands`, :mod:`~polynav.runtime.motion_commands`) so
+that no file carries every subject. :class:`RuntimeParts` is their common base: it declares the
+state they share and the runtime's own methods they call, so that the type checker holds each
+part to what it may touch; :class:`RobotRuntime` supplies them.
+"""
+
+from __future__ import annotations
+
+import abc
+from collections.abc import Callable
+from typing import TypeVar
+
+from polynav.geometry import Pose2D
+from polynav.nav.attempt import GoalOptions
+from polynav.nav.stack import NavigationStack
+from polynav.robot.interface import Robot
+from polynav.runtime.config import Mode, SiteData
+from polynav.runtime.direct_motion import DirectMotion
+from polynav.runtime.navigation_events import AttemptBook
+from polynav.runtime.patrols import PatrolRunner
+from polynav.runtime.settings import RobotSettings
+from polynav.runtime.watchers import EStopWatcher
+
+T = TypeVar("T")
+
+
+class RuntimeParts(abc.ABC):
+    """State and methods the parts share (set and defined by the runtime)."""
+
+    store: SiteData
+    _robot: Robot
+    _mode: Mode
+    _stack: NavigationStack | None
+    _map_name: str | None
+    _settings: RobotSettings
+    _settings_dirty: bool
+    _software_estop: bool
+    _estop: EStopWatcher
+    _motion: DirectMotion
+    _attempts: AttemptBook
+    _patrols: PatrolRunner
+
+    @abc.abstractmethod
+    def now(self) -> float:
+        """The runtime's clock [s]."""
+
+    @abc.abstractmethod
+    def _call(self, fn: Callable[[], T]) -> T:
+        """Run ``fn`` between ticks."""
+
+    @abc.abstractmethod
+    def _rebuild_stack(self) -> NavigationStack:
+        """A navigation stack with the current settings."""
+
+    @abc.abstractmethod
+    def _check_estop(self, now: float) -> bool:
+        """Publish an e-stop change; whether an e-stop is active."""
+
+    @abc.abstractmethod
+    def _start_goal(
+        self,
+        point: str | None,
+        pose: Pose2D | None,
+        map_name: str | None,
+        options: GoalOptions | None,
+    ) -> int:
+        """Start a goal (goal commands)."""
+
+    @abc.abstractmethod
+    def _cancel_goal(self) -> bool:
+        """Cancel the goal, if any (goal commands)."""
+
+    @abc.abstractmethod
+    def _goal_active(self) -> bool:
+        """Whether a goal runs or is paused (goal commands)."""
+
+    @abc.abstractmethod
+    def _require_navigating(self) -> NavigationStack:
+        """The stack, or Conflict unless NAVIGATING (goal commands)."""
+
+    @abc.abstractmethod
+    def _halt_motion(self) -> None:
+        """End teleop and local moves (motion commands)."""
