@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 from polynav.errors import PolynavError
 from polynav.mapping import cli as mapping_cli
 from polynav.site import PointKind
+from polynav.worlds import cli as world_cli
 
 if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
     from polynav.store.site_store import SiteStore
@@ -268,6 +269,7 @@ def build_parser() -> argparse.ArgumentParser:
     points_rm.add_argument("--map", help="the point's map, when the name is on several maps")
     _data_options(points_rm)
     mapping_cli.add_parser(sub)
+    world_cli.add_parser(sub)
     bench = sub.add_parser(
         "bench",
         help="run a benchmark (planner, sim, api, slam); extra arguments go to the benchmark",
@@ -296,6 +298,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _points_command(args)
         if args.command == "slam":
             return mapping_cli.main(args)
+        if args.command == "world":
+            return world_cli.main(args)
     except PolynavError as exc:
         print(f"polynav {args.command}: {exc}", file=sys.stderr)
         return 1
