@@ -24,6 +24,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/polynav bench planner
 	$(BIN)/polynav bench sim
+	$(BIN)/polynav bench nav
 	$(BIN)/polynav bench api
 
 clean:

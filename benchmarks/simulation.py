@@ -4,7 +4,8 @@ Drives simulated sensors, localization, costmap, planner and controller on simul
 reports how fast that runs against real time (DESIGN §8: >= 20x for one robot on one core), how
 many goals were reached, the mean localization error against ground truth, and collisions.
 
-Run with ``polynav bench sim [--json] [--seed N] [--floors NAME ...] [--people]``.
+Walkers walk unless ``--no-people``. Run with ``polynav bench sim [--json] [--seed N] [--seeds N]
+[--world DIR] [--floors NAME ...] [--no-people]``.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import platform
 import subprocess
 import time
 from pathlib import Path
+from typing import Any
 
 from polynav.nav.attempt import NavigationState
 from polynav.runtime.sim_driver import simulate
@@ -38,36 +40,28 @@ def _commit() -> str | None:
     return out.stdout.strip() or None
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="polynav bench sim", description=__doc__.splitlines()[0])
-    parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--world", default="demo")
-    parser.add_argument("--floors", nargs="*", help="floor names (default: all)")
-    parser.add_argument("--people", action="store_true", help="let the walkers walk")
-    parser.add_argument("--timeout", type=float, default=180.0, help="sim seconds per goal")
-    args = parser.parse_args(argv)
-
-    world = load_world(args.world)
-    floors = args.floors or [f.name for f in world.floors]
+def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
+             timeout: float) -> dict[str, Any]:
+    """Every named point of every floor, in turn, with one seed; its figures."""
+    world = load_world(world_name)
     goals = succeeded = collisions = 0
     error_sum = 0.0
     error_samples = 0
     sim_seconds = wall_seconds = 0.0
-    for floor_name in floors:
+    failed: list[str] = []
+    for floor_name in floors or [f.name for f in world.floors]:
         floor = world.floor(floor_name)
         start = next(
             (p.pose for p in floor.points if p.kind.value == "initial"), floor.points[0].pose
         )
-        driver = simulate(world, seed=args.seed, floor=floor_name, pose=start,
-                          people=args.people)
+        driver = simulate(world, seed=seed, floor=floor_name, pose=start, people=people)
         # Warm the kernels and the tracker before timing: start-up is not the steady state.
         driver.run(1.0)
         sim_start, wall_start = driver.now, time.perf_counter()
         for point in floor.points:
             goals += 1
             driver.stack.go_to(point.pose, driver.now)
-            end = driver.now + args.timeout
+            end = driver.now + timeout
             while not driver.stack.navigator.state.finished and driver.now < end:
                 driver.step()
                 est, true = driver.stack.estimate.pose, driver.sim.true_pose
@@ -77,22 +71,64 @@ def main(argv: list[str] | None = None) -> int:
             succeeded += ok
             attempt = driver.stack.navigator.attempt
             reason = attempt.reason.value if attempt and attempt.reason else ""
+            if not ok:
+                failed.append(f"{floor_name}/{point.name} ({reason or 'timeout'})")
             print(f"{floor_name:>8} {point.name:<18} {'ok' if ok else 'FAILED ' + reason:<24} "
                   f"t={driver.now:7.1f}s err={driver.sim.true_pose.distance_to(point.pose):.3f}m")
         sim_seconds += driver.now - sim_start
         wall_seconds += time.perf_counter() - wall_start
         collisions += len(driver.sim.collisions)
+    return {
+        "seed": seed,
+        "goals": goals,
+        "succeeded": succeeded,
+        "failed": failed,
+        "collisions": collisions,
+        "real_time_factor": sim_seconds / wall_seconds if wall_seconds > 0 else math.inf,
+        "mean_localization_error_m": error_sum / error_samples if error_samples else 0.0,
+        "sim_seconds": sim_seconds,
+    }
 
-    rtf = sim_seconds / wall_seconds if wall_seconds > 0 else math.inf
-    mean_error = error_sum / error_samples if error_samples else 0.0
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="polynav bench sim", description=__doc__.splitlines()[0])
+    parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    parser.add_argument("--seed", type=int, default=0, help="the first seed")
+    parser.add_argument("--seeds", type=int, default=1, help="how many seeds, from --seed on")
+    parser.add_argument("--world", default="demo")
+    parser.add_argument("--floors", nargs="*", help="floor names (default: all)")
+    parser.add_argument("--no-people", action="store_true", help="keep the walkers still")
+    parser.add_argument("--timeout", type=float, default=180.0, help="sim seconds per goal")
+    args = parser.parse_args(argv)
+    if args.seeds < 1:
+        parser.error("--seeds must be >= 1")
+
+    runs = []
+    for seed in range(args.seed, args.seed + args.seeds):
+        print(f"-- seed {seed}{'' if args.no_people else ', walkers on'}")
+        run = run_seed(args.world, args.floors, seed, not args.no_people, args.timeout)
+        runs.append(run)
+        print(f"seed {seed}: goals {run['goals']}, succeeded {run['succeeded']}, "
+              f"collisions {run['collisions']}, real-time factor {run['real_time_factor']:.1f}x")
+    goals = sum(r["goals"] for r in runs)
+    succeeded = sum(r["succeeded"] for r in runs)
+    collisions = sum(r["collisions"] for r in runs)
+    sim_seconds = sum(r["sim_seconds"] for r in runs)
+    rtf = min(r["real_time_factor"] for r in runs)
+    mean_error = sum(r["mean_localization_error_m"] for r in runs) / len(runs)
     print(f"goals {goals}, succeeded {succeeded}, collisions {collisions}")
-    print(f"simulated {sim_seconds:.1f} s in {wall_seconds:.1f} s: real-time factor {rtf:.1f}x "
+    print(f"simulated {sim_seconds:.1f} s; slowest real-time factor {rtf:.1f}x "
           f"(budget {BUDGET_REAL_TIME_FACTOR:.0f}x)")
     print(f"mean localization error {mean_error * 100:.1f} cm")
     if args.json:
         print(json.dumps({
+            "world": args.world,
+            "people": not args.no_people,
+            "seeds": [r["seed"] for r in runs],
             "goals": goals,
             "succeeded": succeeded,
+            "success_rate": round(succeeded / goals, 4) if goals else 0.0,
+            "failed": [f"seed {r['seed']}: {f}" for r in runs for f in r["failed"]],
             "collisions": collisions,
             "real_time_factor": round(rtf, 2),
             "mean_localization_error_m": round(mean_error, 4),

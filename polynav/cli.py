@@ -27,8 +27,11 @@ if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
 
 log = logging.getLogger(__name__)
 
-BENCH_AREAS = ("planner", "sim", "api", "slam")
-_BENCH_FILES = {"planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py"}
+BENCH_AREAS = ("planner", "sim", "api", "slam", "nav")
+_BENCH_FILES = {
+    "planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py",
+    "nav": "nav.py",
+}
 
 
 def _benchmarks_dir() -> Path:
@@ -272,7 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
     world_cli.add_parser(sub)
     bench = sub.add_parser(
         "bench",
-        help="run a benchmark (planner, sim, api, slam); extra arguments go to the benchmark",
+        help="run a benchmark (planner, sim, api, slam, nav); extra arguments go to the benchmark",
         description="Run a benchmark from benchmarks/. Pass --help after the area for its options.",
     )
     bench.add_argument("area", choices=BENCH_AREAS)

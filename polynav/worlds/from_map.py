@@ -27,8 +27,11 @@ import yaml
 from scipy import ndimage
 
 from polynav.errors import InvalidRequest
+from polynav.geometry import Pose2D
 from polynav.maps import movingai, ros_map
 from polynav.maps.map import FREE, OCCUPIED, Map, MapInfo
+from polynav.site import Point, PointKind
+from polynav.worlds.world import PersonRoute, World, WorldFloor
 from polynav.worlds.world_file import WORLD_FILE
 
 log = logging.getLogger(__name__)
@@ -119,11 +122,18 @@ def load_plan(path: str | Path, options: FromMapOptions) -> Map:
     return Map(MapInfo(resolution, width, height), np.ascontiguousarray(data))
 
 
-def plan_world(name: str, grid: Map, options: FromMapOptions) -> PlannedWorld:
+def plan_world(
+    name: str, grid: Map, options: FromMapOptions, *, allow_fewer: bool = False
+) -> PlannedWorld:
     """Place the start, the points and the walkers on ``grid``.
 
+    Args:
+        allow_fewer: on a plan too small for ``points`` points, place as many as fit (at
+            least one) instead of refusing (benchmarks over maps of every size).
+
     Raises:
-        InvalidRequest: no free space the robot fits in; fewer places than ``points``.
+        InvalidRequest: no free space the robot fits in; fewer places than ``points`` (and
+            ``allow_fewer`` not set, or not even one).
     """
     info = grid.info
     rng = np.random.default_rng(options.seed)
@@ -152,7 +162,7 @@ def plan_world(name: str, grid: Map, options: FromMapOptions) -> PlannedWorld:
             chosen.append((x, y))
             if len(chosen) == wanted:
                 break
-    if len(chosen) < wanted:
+    if len(chosen) < wanted and not (allow_fewer and len(chosen) >= 2):
         raise InvalidRequest(
             "points", f"only {len(chosen) - 1} points fit {options.point_spacing:g} m apart "
             f"in the robot's reach; asked for {options.points}"
@@ -160,6 +170,20 @@ def plan_world(name: str, grid: Map, options: FromMapOptions) -> PlannedWorld:
     poses = tuple((x, y, float(rng.uniform(-math.pi, math.pi))) for x, y in chosen)
     walkers = _walker_routes(info, clearance, region, cells, rng, options)
     return PlannedWorld(name, grid, poses[0], poses[1:], walkers)
+
+
+def to_world(planned: PlannedWorld, options: FromMapOptions) -> World:
+    """The planned world in memory, as :func:`~polynav.worlds.load_world` would read it."""
+    sx, sy, st = planned.start
+    points = [Point("initial", "floor1", Pose2D(sx, sy, st), PointKind.INITIAL)]
+    points += [
+        Point(f"p{k:02d}", "floor1", Pose2D(x, y, theta), PointKind.GENERAL, number=k)
+        for k, (x, y, theta) in enumerate(planned.points, start=1)
+    ]
+    people = tuple(PersonRoute((a, b), speed=options.walker_speed, loop=False)
+                   for a, b in planned.walkers)
+    floor = WorldFloor("floor1", 1, "floor1", planned.grid, tuple(points), None, people)
+    return World(planned.name, (floor,), "floor1", Pose2D(sx, sy, st))
 
 
 def _walker_routes(
