@@ -422,7 +422,11 @@ class Navigator:
             reason = (
                 FailureReason.NO_PATH if isinstance(exc, NoPath) else FailureReason.GOAL_OCCUPIED
             )
-            if self._cleared_for_plan:
+            if self._cleared_for_plan and self._wait.people:
+                # Cleared, and still no way, with people in view: in a narrow passage they
+                # may be what closes it. Wait for them, looking for a way meanwhile.
+                self._wait_for_people(pose, now)
+            elif self._cleared_for_plan:
                 self._fail(reason, str(exc) or reason.value, now)
             else:
                 self._cleared_for_plan = True

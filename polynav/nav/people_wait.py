@@ -134,7 +134,8 @@ class PeopleWait:
         twist = self._tick_give_way(pose, velocity, now, dt)
         if twist is not None:
             return WaitStep(twist)
-        if not self.blocks(pose, path):
+        if not self.blocks(pose, path) and not (path is None and self.people):
+            # (With no path yet, people in view may be anywhere on the way: look for one.)
             log.info("the way is open: re-planning")
             return WaitStep(go_on=True)
         face_to_face = self.people.nearest(pose.x, pose.y) <= (

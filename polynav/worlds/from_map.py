@@ -5,7 +5,8 @@ the simulated ground truth of one floor, with goal points and walkers placed at 
 seed) where the robot can really go. A MovingAI map has no scale of its own: each of its cells
 becomes ``cell`` metres, drawn at ``resolution`` metres per pixel. Points lie in the largest
 region the robot fits through, ``robot_radius + margin`` from any wall and at least
-``point_spacing`` apart; walkers pace back and forth on straight, clear stretches of it.
+``point_spacing`` apart; walkers pace back and forth on straight stretches of it wide
+enough for the robot to pass them.
 
 :func:`write_world_from_map` writes the world folder (``world.yaml`` and the floor's ROS map)
 atomically: it is built beside the target and renamed into place, so a bad input leaves nothing.
@@ -194,9 +195,11 @@ def _walker_routes(
     rng: np.random.Generator,
     options: FromMapOptions,
 ) -> tuple[tuple[tuple[float, float], tuple[float, float]], ...]:
-    """Straight, clear stretches of at least 3 m inside the robot's region."""
+    """Straight stretches of at least 3 m inside the robot's region, wide enough for the robot
+    to pass a walker (a walker on a 1 m wide passage would block it for as long as they pace:
+    people do not pace where nobody can pass them)."""
     routes = []
-    person = 0.3 + 0.5 * info.resolution  # a walker's radius, and a little room
+    person = 0.3 + 2.0 * options.robot_radius + options.margin
     for _ in range(options.walkers):
         for _attempt in range(400):
             a, b = cells[rng.integers(cells.shape[0], size=2)]

@@ -34,11 +34,12 @@ def _check_world(folder: Path, options: FromMapOptions) -> None:
     assert len({labels[iy, ix] for ix, iy in cells}) == 1  # one region: all reachable
     for ix, iy in cells:
         assert clearance[iy, ix] >= options.robot_radius + options.margin - 1e-9
-    assert len(floor.people) == options.walkers
+    assert len(floor.people) <= options.walkers
+    wide = 0.3 + 2.0 * options.robot_radius + options.margin  # the robot can pass them
     for route in floor.people:
         for x, y in route.waypoints:
             ix, iy = info.world_to_cell(x, y)
-            assert passable[iy, ix]
+            assert passable[iy, ix] and clearance[iy, ix] >= wide
     assert (world.start_pose.x, world.start_pose.y) == (floor.points[0].pose.x,
                                                          floor.points[0].pose.y)
 
@@ -57,6 +58,7 @@ def test_a_ros_map_becomes_a_world_and_the_seed_decides_everything(tmp_path: Pat
     again = write_world_from_map(NAV2, tmp_path / "b", options)
     other = write_world_from_map(NAV2, tmp_path / "c", FromMapOptions(points=8, seed=10))
     _check_world(tmp_path / "a", options)
+    assert len(first.walkers) == 3  # open floor: every walker finds a stretch
     assert (first.points, first.walkers) == (again.points, again.walkers)
     assert first.points != other.points
     written = [(tmp_path / name / "world.yaml").read_text() for name in ("a", "b")]
@@ -98,7 +100,7 @@ def test_an_existing_folder_is_not_overwritten(tmp_path: Path) -> None:
 
 def test_the_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "w"
-    assert main(["world", "from-map", str(ROOMS), "--out", str(out), "--points", "5",
+    assert main(["world", "from-map", str(NAV2), "--out", str(out), "--points", "5",
                  "--walkers", "1", "--seed", "2"]) == 0
     assert "5 points, 1 walkers" in capsys.readouterr().out
     assert load_world(out).floors[0].points[-1].name == "p05"
