@@ -52,6 +52,7 @@ import numpy.typing as npt
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D, angle_diff, wrap_angle
 from polynav.localization import scan_matcher
+from polynav.localization.degeneracy import Constraint, translation_constraint
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.localization.likelihood_field import build_likelihood_field
 from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
@@ -98,6 +99,12 @@ class PoseTrackerConfig:
         max_correction_xy: largest translation applied by one correction while tracking [m].
         max_correction_theta: largest rotation applied by one correction while tracking [rad].
         use_imu: take rotation from the IMU's integrated yaw when a reading is given.
+        min_points: a scan with fewer usable endpoints says nothing about the pose (an open
+            hall beyond the lidar's range): odometry alone carries it, and the time does not
+            count towards LOST nor against a pending relocalization.
+        degenerate_ratio: a direction in which the scan's surfaces give less than this share
+            of the information of the best one (along a corridor, an aisle) is taken from
+            odometry, not from the match (:mod:`~polynav.localization.degeneracy`).
     """
 
     sigma: float = 0.05
@@ -126,6 +133,8 @@ class PoseTrackerConfig:
     max_correction_xy: float = 0.04
     max_correction_theta: float = math.radians(2.0)
     use_imu: bool = True
+    min_points: int = 12
+    degenerate_ratio: float = 0.1
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -144,7 +153,10 @@ class PoseTrackerConfig:
         for name in ("track_window_xy", "lost_after", "wide_search_interval"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
-        for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
+        if not 0.0 <= self.degenerate_ratio < 1.0:
+            _fail("degenerate_ratio", f"must be in [0, 1), got {self.degenerate_ratio}")
+        for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates",
+                     "min_points"):
             if not getattr(self, name) >= 1:
                 _fail(name, f"must be >= 1, got {getattr(self, name)}")
         for name in ("relocalize_quality", "accept_quality", "lost_quality"):
@@ -191,6 +203,7 @@ class PoseTracker:
         self._history_poses: deque[Pose2D] = deque()
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
         self.last_match: Match | None = None
+        self.last_constraint: Constraint | None = None
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -322,6 +335,12 @@ class PoseTracker:
             scan.ranges, self._beam_angles(scan), range_min=scan.range_min,
             range_max=scan.range_max, sensor_pose=scan.sensor_pose, step=step,
         )
+        if points.shape[0] < c.min_points:
+            # Nothing in range to match: no evidence for or against the pose.
+            self._low_since = None
+            if self._awaiting_relocalization:
+                self._initialized_at = now
+            return
         if tracking:
             window = SearchWindow(c.track_window_xy, c.track_window_theta, c.theta_step)
             match = self._matcher.match(points, at_scan, window, prior_xy=c.prior_xy,
@@ -345,7 +364,8 @@ class PoseTracker:
 
         if tracking:
             if quality >= c.accept_quality:
-                corrected = _clamp_step(at_scan, match.pose, c.max_correction_xy,
+                target = self._constrained(match.pose, at_scan, points)
+                corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
                 self._pose = corrected.compose(since_scan)
             self._smooth_quality(quality)
@@ -362,6 +382,21 @@ class PoseTracker:
             self._set_state(LocalizationState.TRACKING, now)
         else:
             self._smooth_quality(quality)
+
+    def _constrained(self, matched: Pose2D, predicted: Pose2D,
+                     points: npt.NDArray[np.float64]) -> Pose2D:
+        """``matched``, with its correction along a direction the scan does not constrain
+        dropped (the prediction, from odometry, stands there)."""
+        c = self.config
+        assert self._matcher is not None
+        constraint = translation_constraint(self._matcher.field, points, matched,
+                                            inlier_distance=c.inlier_distance)
+        self.last_constraint = constraint
+        if not constraint.degenerate(c.degenerate_ratio):
+            return matched
+        ex, ey = constraint.weak_direction
+        along = (matched.x - predicted.x) * ex + (matched.y - predicted.y) * ey
+        return Pose2D(matched.x - along * ex, matched.y - along * ey, matched.theta)
 
     def _check_lost(self, now: float) -> None:
         """The LOST timers, checked at every update so they fire on time between scans."""
