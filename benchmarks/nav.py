@@ -235,7 +235,7 @@ def main(argv: list[str] | None = None) -> int:
     for note in left_out:
         print(f"  left out {note}")
     print(f"{'map':28s}{'reached':>10s}{'eff.med':>9s}{'eff.p90':>9s}{'coll.':>7s}"
-          f"{'closest':>9s}{'RTF':>7s}  failures")
+          f"{'walkers':>8s}{'closest':>9s}{'RTF':>7s}  failures")
     rows: list[dict[str, Any]] = []
     skipped: list[str] = []
     for path in maps:
@@ -250,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{row['map']:28s}{row['reached']:>5d}/{row['goals']:<4d}"
               f"{_fmt(row['path_efficiency_median'], '.2f'):>9s}"
               f"{_fmt(row['path_efficiency_p90'], '.2f'):>9s}{row['collisions']:>7d}"
-              f"{_fmt(row['closest_person_m'], '.2f'):>9s}"
+              f"{row['walkers']:>8d}{_fmt(row['closest_person_m'], '.2f'):>9s}"
               f"{_fmt(row['real_time_factor'], '.1f'):>7s}"
               f"  {failures}", flush=True)
     overall = overall_figures(rows, StackConfig().people.social_distance)

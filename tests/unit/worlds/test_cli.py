@@ -7,8 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from polynav.cli import main
+from polynav.cli import main, site_mismatches
+from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
+from polynav.worlds.from_map import FromMapOptions, write_world_from_map
 from tests.conftest import DATA
 
 NAV2 = DATA / "nav2" / "planner_benchmark" / "100by100_10.yaml"
@@ -69,3 +71,13 @@ def test_from_map_refuses_bad_input_with_exit_2_one_line_and_nothing_written(
     (line,) = captured.err.splitlines()
     assert line.startswith("polynav world from-map: ") and reason in line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in"]  # no world, no staging folder
+
+
+def test_run_warns_when_the_site_was_seeded_from_another_world(tmp_path: Path) -> None:
+    write_world_from_map(EMPTY, tmp_path / "w", FromMapOptions(points=2, walkers=0))
+    generated = load_world(tmp_path / "w")
+    with SiteStore.open(tmp_path / "fresh", seed_world=generated) as store:
+        assert site_mismatches(store, generated) == []
+    with SiteStore.open(tmp_path / "demo", seed_world=load_world("demo")) as store:
+        (warning,) = site_mismatches(store, generated)
+    assert "map 'floor1' of the site" in warning and "--data NEW_FOLDER" in warning
