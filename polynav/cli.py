@@ -24,6 +24,7 @@ from polynav.worlds import cli as world_cli
 
 if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
     from polynav.store.site_store import SiteStore
+    from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
 
@@ -95,6 +96,8 @@ def _run(args: argparse.Namespace) -> int:
     world = load_world(args.world)
     store = SiteStore.open(args.data, seed_world=world)
     try:
+        for warning in site_mismatches(store, world):
+            print(f"polynav run: warning: {warning}", file=sys.stderr)
         runtime = RobotRuntime.simulated(
             store,
             world,
@@ -148,6 +151,31 @@ def _run(args: argparse.Namespace) -> int:
         store.close()
     print("polynav: stopped", flush=True)
     return 0
+
+
+def site_mismatches(store: SiteStore, world: World) -> list[str]:
+    """Why the site in ``store`` may not be ``world``'s: a data directory is seeded from a world
+    once, so ``polynav run --world B`` on a directory seeded from world A simulates B while the
+    robot navigates on A's maps. A map edited since (SLAM, import) shows here too, so it is a
+    warning, not a refusal."""
+    maps = {record.name: record for record in store.maps()}
+    notes = []
+    for floor in world.floors:
+        record = maps.get(floor.map_name)
+        info = floor.map.info
+        if record is None:
+            notes.append(f"the site in {store.data_dir} has no map {floor.map_name!r} of world "
+                         f"{world.name!r}; pass --data NEW_FOLDER to start a site from it")
+        elif (record.width, record.height) != (info.width, info.height) or not math.isclose(
+            record.resolution, info.resolution
+        ):
+            notes.append(
+                f"map {floor.map_name!r} of the site in {store.data_dir} is {record.width} x "
+                f"{record.height} at {record.resolution:g} m, world {world.name!r} has "
+                f"{info.width} x {info.height} at {info.resolution:g} m: the robot navigates on "
+                "the site's map (pass --data NEW_FOLDER to start a site from the world)"
+            )
+    return notes
 
 
 def _open_store(args: argparse.Namespace) -> SiteStore:

@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
+from polynav.errors import PolynavError
 from polynav.worlds.from_map import FromMapOptions, write_world_from_map
+
+EXIT_BAD_INPUT = 2
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:  # type: ignore[type-arg]
@@ -30,9 +34,17 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
 
 
 def main(args: argparse.Namespace) -> int:
-    options = FromMapOptions(cell=args.cell, points=args.points, walkers=args.walkers,
-                             seed=args.seed)
-    planned = write_world_from_map(args.map, args.out, options)
+    """Run ``world from-map``: 0 once the world is written; 2, with one line on stderr and
+    nothing written, on bad input (a missing or malformed plan, no room, bad options)."""
+    try:
+        options = FromMapOptions(cell=args.cell, points=args.points, walkers=args.walkers,
+                                 seed=args.seed)
+        planned = write_world_from_map(args.map, args.out, options)
+    except PolynavError as exc:
+        # One line, whatever the cause: a YAML parser's message spans several.
+        reason = " ".join(str(exc).split())
+        print(f"polynav world from-map: {reason}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     print(f"polynav world: {args.out}: {planned.grid.info.width} x {planned.grid.info.height} "
           f"cells at {planned.grid.info.resolution:g} m, {len(planned.points)} points, "
           f"{len(planned.walkers)} walkers")

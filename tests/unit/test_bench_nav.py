@@ -3,9 +3,12 @@ end to end on small worlds (no timing is asserted)."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import shutil
 from pathlib import Path
+from types import ModuleType
+from typing import Any
 
 import pytest
 
@@ -14,6 +17,18 @@ from polynav.worlds.from_map import FromMapOptions, write_world_from_map
 from tests.conftest import DATA
 
 SMALL = DATA / "movingai" / "empty-8-8.map"
+
+
+def _load_bench_nav() -> ModuleType:
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "nav.py"
+    spec = importlib.util.spec_from_file_location("polynav_bench_nav_test", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+bench_nav = _load_bench_nav()
 
 
 def _last_json(out: str) -> dict[str, object]:
@@ -44,10 +59,32 @@ def test_bench_nav_prints_per_map_and_overall(
     figures = _last_json(out)
     (row,) = figures["maps"]  # type: ignore[misc]
     assert row["map"] == "empty-8-8.map" and row["goals"] == 2  # 300 x 300 is left out
+    assert figures["left_out"] == ["huge.map: 300 x 300 cells, more than 256"]
+    assert row["reached"] + sum(row["failures"].values()) == 2
     overall = figures["overall"]
     assert set(overall) >= {"success_rate", "path_efficiency_median", "collisions",  # type: ignore[arg-type]
-                            "closest_person_m", "real_time_factor_min"}
+                            "closest_person_m", "real_time_factor_min", "targets", "pass"}
     assert "overall:" in out
+
+
+def _row(reached: int, efficiencies: list[float], closest: float | None, rtf: float,
+         failures: dict[str, int] | None = None) -> dict[str, Any]:
+    return {"goals": 4, "reached": reached, "path_efficiencies": efficiencies,
+            "failures": failures or {}, "collisions": 0, "closest_person_m": closest,
+            "real_time_factor": rtf, "sim_seconds": 10.0}
+
+
+def test_overall_figures_pool_every_goal_and_name_the_missed_targets() -> None:
+    rows = [_row(4, [1.1, 1.2, 1.2, 1.25], 1.0, 30.0),
+            _row(3, [1.2, 1.4, 2.0], None, 25.0, {"timeout": 1})]
+    overall = bench_nav.overall_figures(rows, social_distance=0.8)
+    assert (overall["goals"], overall["reached"], overall["success_rate"]) == (8, 7, 0.875)
+    assert overall["path_efficiency_median"] == 1.2  # the 4th of 7 goals reached, in order
+    assert overall["failures"] == {"timeout": 1}
+    assert overall["closest_person_m"] == 1.0 and overall["real_time_factor_min"] == 25.0
+    assert overall["missed"] == ["success_rate"] and overall["pass"] is False
+    near = bench_nav.overall_figures([_row(4, [1.0], 0.5, 10.0)], social_distance=0.8)
+    assert near["missed"] == ["closest_person", "real_time_factor"]
 
 
 def test_bench_nav_without_maps_fails_clearly(

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from polynav.cli import main
 from polynav.errors import InvalidRequest
 from polynav.worlds import load_world
 from polynav.worlds.from_map import FromMapOptions, write_world_from_map
@@ -96,15 +95,3 @@ def test_an_existing_folder_is_not_overwritten(tmp_path: Path) -> None:
     with pytest.raises(InvalidRequest, match="not an empty folder"):
         write_world_from_map(ROOMS, out, FromMapOptions(points=3))
     assert [p.name for p in out.iterdir()] == ["mine.txt"]
-
-
-def test_the_command_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    out = tmp_path / "w"
-    assert main(["world", "from-map", str(NAV2), "--out", str(out), "--points", "5",
-                 "--walkers", "1", "--seed", "2"]) == 0
-    assert "5 points, 1 walkers" in capsys.readouterr().out
-    assert load_world(out).floors[0].points[-1].name == "p05"
-    assert main(["world", "from-map", str(tmp_path / "none.map"), "--out",
-                 str(tmp_path / "x")]) == 1
-    assert "no such file" in capsys.readouterr().err
-    assert not (tmp_path / "x").exists()
