@@ -51,7 +51,8 @@ import numpy.typing as npt
 
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D, angle_diff, wrap_angle
-from polynav.localization import scan_matcher
+from polynav.localization import degeneracy, scan_matcher
+from polynav.localization.degeneracy import Constraint
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.localization.likelihood_field import build_likelihood_field
 from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
@@ -98,6 +99,30 @@ class PoseTrackerConfig:
         max_correction_xy: largest translation applied by one correction while tracking [m].
         max_correction_theta: largest rotation applied by one correction while tracking [rad].
         use_imu: take rotation from the IMU's integrated yaw when a reading is given.
+        min_information: endpoints' worth of map surface a direction of the pose needs in the
+            match's normal matrix before the scan corrects it (see
+            :mod:`~polynav.localization.degeneracy`). Along a corridor, across an open hall,
+            or along the one wall in sight the match has less, and the correction is projected
+            onto the directions that have it: odometry and IMU carry the rest, instead of the
+            near-random pick of the search sliding the pose along the corridor. A few endpoints
+            are plenty when they are real (a lidar return is good to a centimetre or two), but
+            one or two could be a person's legs.
+        heading_length_scale: metres one radian of heading counts as when comparing heading
+            with translation in the normal matrix [m]; about the distance to the walls that fix
+            heading.
+        constraint_distance: endpoints within this distance of a map surface at the matched
+            pose enter the normal matrix [m]; farther ones (people, clutter) say nothing.
+        min_evidence_points: a scan with fewer usable endpoints than this (an open hall with
+            the walls out of range) neither moves the quality nor counts towards LOST: it
+            cannot contradict the pose, so it cannot be evidence that the robot is lost. Its
+            match still corrects the directions it constrains.
+        gyro_bias_time_constant: time constant [s] of the running estimate of the gyro's bias,
+            learnt from the heading corrections the scan makes while it constrains heading and
+            subtracted from the IMU's rotation, so that a stretch where the scan fixes no
+            heading (an open hall) drifts as little as the gyro's noise, not its bias; 0 turns
+            the estimate off.
+        max_gyro_bias: the bias estimate is clamped to this [rad/s], so a run of wrong matches
+            cannot teach the tracker a spin.
     """
 
     sigma: float = 0.05
@@ -126,6 +151,12 @@ class PoseTrackerConfig:
     max_correction_xy: float = 0.04
     max_correction_theta: float = math.radians(2.0)
     use_imu: bool = True
+    min_information: float = 4.0
+    heading_length_scale: float = 1.0
+    constraint_distance: float = 0.15
+    min_evidence_points: int = 10
+    gyro_bias_time_constant: float = 60.0
+    max_gyro_bias: float = 0.02
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -136,12 +167,14 @@ class PoseTrackerConfig:
             "sigma", "max_distance", "track_window_theta", "theta_step", "coarse_theta_step",
             "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
             "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
-            "max_correction_xy", "max_correction_theta",
+            "max_correction_xy", "max_correction_theta", "heading_length_scale",
+            "constraint_distance",
         )
         for name in positive:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")
-        for name in ("track_window_xy", "lost_after", "wide_search_interval"):
+        for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
+                     "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
         for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
@@ -171,6 +204,8 @@ class PoseTracker:
 
     Attributes:
         last_match: the newest scan match, for diagnostics (pose, score, inlier fraction).
+        last_constraint: the directions the newest tracking match constrained, for
+            diagnostics (``None`` before the first).
     """
 
     def __init__(self, config: PoseTrackerConfig = PoseTrackerConfig()) -> None:  # noqa: B008
@@ -186,11 +221,16 @@ class PoseTracker:
         self._next_wide_search = -math.inf
         self._last_odometry: Pose2D | None = None
         self._last_imu_yaw: float | None = None
+        self._last_imu_stamp: float | None = None
+        # Running gyro-bias estimate: bias = _bias_sum / (_bias_time + prior time).
+        self._bias_sum = 0.0
+        self._bias_time = 0.0
         self._last_scan_stamp: float | None = None
         self._history_stamps: deque[float] = deque()
         self._history_poses: deque[Pose2D] = deque()
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
         self.last_match: Match | None = None
+        self.last_constraint: Constraint | None = None
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -263,6 +303,10 @@ class PoseTracker:
         quality = 0.0 if self._state is LocalizationState.UNINITIALIZED else self._quality
         return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state)
 
+    @property
+    def _imu_used(self) -> bool:
+        return self.config.use_imu and self._last_imu_stamp is not None
+
     # -- prediction ----------------------------------------------------------------------------
 
     def _predict(self, odometry: Odometry, imu: ImuReading | None) -> None:
@@ -270,9 +314,14 @@ class PoseTracker:
         delta = Pose2D() if last is None else odometry.pose.relative_to(last)
         rotation = delta.theta
         if imu is not None and self.config.use_imu:
-            if self._last_imu_yaw is not None and last is not None:
-                rotation = angle_diff(imu.yaw, self._last_imu_yaw)
+            if (self._last_imu_yaw is not None and self._last_imu_stamp is not None
+                    and last is not None):
+                dt = max(0.0, imu.stamp - self._last_imu_stamp)
+                bias = self.gyro_bias
+                rotation = angle_diff(imu.yaw, self._last_imu_yaw) - bias * dt
+                self._learn_bias(bias * dt, dt)
             self._last_imu_yaw = imu.yaw
+            self._last_imu_stamp = imu.stamp
         self._last_odometry = odometry.pose
         if last is not None:
             self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
@@ -305,6 +354,31 @@ class PoseTracker:
         f = (stamp - t0) / (t1 - t0) if t1 > t0 else 1.0
         return Pose2D(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y),
                       a.theta + f * angle_diff(b.theta, a.theta))
+
+    @property
+    def gyro_bias(self) -> float:
+        """The gyro bias [rad/s] the tracker currently subtracts from the IMU's rotation."""
+        c = self.config
+        if c.gyro_bias_time_constant <= 0.0:
+            return 0.0
+        # A prior of zero bias weighs as much as a tenth of the time constant of evidence.
+        bias = self._bias_sum / (self._bias_time + 0.1 * c.gyro_bias_time_constant)
+        return max(-c.max_gyro_bias, min(c.max_gyro_bias, bias))
+
+    def _learn_bias(self, heading: float, dt: float) -> None:
+        """Add ``heading`` [rad] of bias evidence over ``dt`` [s], forgetting old evidence.
+
+        The bias subtracted during a prediction goes in as evidence for itself, and each heading
+        correction the scan makes goes in with the opposite sign (a gyro reading high makes the
+        pose turn too far, which the scan turns back): the sum over time is the raw bias times
+        the time, whatever estimate was used on the way.
+        """
+        tau = self.config.gyro_bias_time_constant
+        if tau <= 0.0:
+            return
+        keep = math.exp(-dt / tau)
+        self._bias_sum = keep * self._bias_sum + heading
+        self._bias_time = keep * self._bias_time + dt
 
     # -- correction ----------------------------------------------------------------------------
 
@@ -345,14 +419,23 @@ class PoseTracker:
 
         if tracking:
             if quality >= c.accept_quality:
-                corrected = _clamp_step(at_scan, match.pose, c.max_correction_xy,
+                information = self._matcher.information(
+                    points, match.pose, max_distance=c.constraint_distance)
+                con = degeneracy.constraint(information, length_scale=c.heading_length_scale,
+                                            min_information=c.min_information)
+                self.last_constraint = con
+                target = con.project(at_scan, match.pose)
+                corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
                 self._pose = corrected.compose(since_scan)
-            self._smooth_quality(quality)
-            if self._quality >= c.lost_quality:
-                self._low_since = None
-            elif self._low_since is None:
-                self._low_since = now
+                if self._imu_used:
+                    self._learn_bias(-angle_diff(corrected.theta, at_scan.theta), 0.0)
+            if match.points >= c.min_evidence_points:
+                self._smooth_quality(quality)
+                if self._quality >= c.lost_quality:
+                    self._low_since = None
+                elif self._low_since is None:
+                    self._low_since = now
         elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
             self._quality = quality
