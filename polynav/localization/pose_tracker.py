@@ -62,6 +62,7 @@ from polynav.robot.interface import ImuReading, LaserScan, Odometry
 log = logging.getLogger(__name__)
 
 _HISTORY_SECONDS = 1.0
+_BIAS_PRIOR_SECONDS = 5.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -114,8 +115,15 @@ class PoseTrackerConfig:
             pose enter the normal matrix [m]; farther ones (people, clutter) say nothing.
         min_evidence_points: a scan with fewer usable endpoints than this (an open hall with
             the walls out of range) neither moves the quality nor counts towards LOST: it
-            cannot contradict the pose, so it cannot be evidence that the robot is lost. Its
-            match still corrects the directions it constrains.
+            cannot contradict the pose, so it cannot be evidence that the robot is lost. Nor
+            does it correct the pose: two returns twelve metres away pin a rotation about
+            them on paper, and a person's legs would pin it just as well.
+        odometry_drift: how fast the pose may drift [m per m travelled] while some direction
+            of it goes unconstrained (odometry scale error and heading drift). The tracking
+            window widens by this much per metre travelled since the scan last fixed position
+            in every direction, up to ``lost_window_xy``, so that after a long aisle or an open
+            hall the match can still reach the walls that come into view; a widened window is
+            searched coarse-to-fine.
         gyro_bias_time_constant: time constant [s] of the running estimate of the gyro's bias,
             learnt from the heading corrections the scan makes while it constrains heading and
             subtracted from the IMU's rotation, so that a stretch where the scan fixes no
@@ -155,7 +163,8 @@ class PoseTrackerConfig:
     heading_length_scale: float = 1.0
     constraint_distance: float = 0.15
     min_evidence_points: int = 10
-    gyro_bias_time_constant: float = 60.0
+    odometry_drift: float = 0.02
+    gyro_bias_time_constant: float = 120.0
     max_gyro_bias: float = 0.02
 
     def __post_init__(self) -> None:
@@ -174,6 +183,7 @@ class PoseTrackerConfig:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")
         for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
+                     "odometry_drift",
                      "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
@@ -225,6 +235,7 @@ class PoseTracker:
         # Running gyro-bias estimate: bias = _bias_sum / (_bias_time + prior time).
         self._bias_sum = 0.0
         self._bias_time = 0.0
+        self._unfixed_travel = 0.0  # [m] since the scan last fixed x and y both
         self._last_scan_stamp: float | None = None
         self._history_stamps: deque[float] = deque()
         self._history_poses: deque[Pose2D] = deque()
@@ -261,6 +272,7 @@ class PoseTracker:
         self._quality = 0.0
         self._low_since = None
         self._awaiting_relocalization = True
+        self._unfixed_travel = 0.0
         self._initialized_at = now
         self._next_wide_search = -math.inf
         self._set_state(LocalizationState.UNINITIALIZED, now)
@@ -325,6 +337,7 @@ class PoseTracker:
         self._last_odometry = odometry.pose
         if last is not None:
             self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
+            self._unfixed_travel += math.hypot(delta.x, delta.y)
         self._remember(odometry.stamp, odometry.pose)
 
     def _remember(self, stamp: float, odom: Pose2D) -> None:
@@ -361,8 +374,8 @@ class PoseTracker:
         c = self.config
         if c.gyro_bias_time_constant <= 0.0:
             return 0.0
-        # A prior of zero bias weighs as much as a tenth of the time constant of evidence.
-        bias = self._bias_sum / (self._bias_time + 0.1 * c.gyro_bias_time_constant)
+        # A prior of zero bias weighs as much as a few seconds of evidence.
+        bias = self._bias_sum / (self._bias_time + _BIAS_PRIOR_SECONDS)
         return max(-c.max_gyro_bias, min(c.max_gyro_bias, bias))
 
     def _learn_bias(self, heading: float, dt: float) -> None:
@@ -397,7 +410,12 @@ class PoseTracker:
             range_max=scan.range_max, sensor_pose=scan.sensor_pose, step=step,
         )
         if tracking:
-            window = SearchWindow(c.track_window_xy, c.track_window_theta, c.theta_step)
+            xy = min(max(c.lost_window_xy, c.track_window_xy),
+                     c.track_window_xy + c.odometry_drift * self._unfixed_travel)
+            window = SearchWindow(xy, c.track_window_theta, c.theta_step,
+                                  coarse=xy > 1.5 * c.track_window_xy,
+                                  coarse_theta_step=c.coarse_theta_step,
+                                  candidates=c.candidates)
             match = self._matcher.match(points, at_scan, window, prior_xy=c.prior_xy,
                                         prior_theta=c.prior_theta,
                                         inlier_distance=c.inlier_distance)
@@ -418,19 +436,22 @@ class PoseTracker:
         quality = match.inliers if match.points else 0.0
 
         if tracking:
-            if quality >= c.accept_quality:
+            evidence = match.points >= c.min_evidence_points
+            if evidence and quality >= c.accept_quality:
                 information = self._matcher.information(
                     points, match.pose, max_distance=c.constraint_distance)
                 con = degeneracy.constraint(information, length_scale=c.heading_length_scale,
                                             min_information=c.min_information)
                 self.last_constraint = con
+                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
+                    self._unfixed_travel = 0.0
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
                 self._pose = corrected.compose(since_scan)
                 if self._imu_used:
                     self._learn_bias(-angle_diff(corrected.theta, at_scan.theta), 0.0)
-            if match.points >= c.min_evidence_points:
+            if evidence:
                 self._smooth_quality(quality)
                 if self._quality >= c.lost_quality:
                     self._low_since = None
@@ -438,6 +459,7 @@ class PoseTracker:
                     self._low_since = now
         elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
+            self._unfixed_travel = 0.0
             self._quality = quality
             self._low_since = None
             self._awaiting_relocalization = False
