@@ -207,7 +207,8 @@ class ScanMatcher:
         # The kernel works in the grid frame; turn the translation block into the map frame.
         c, s = math.cos(self.field.info.origin.theta), math.sin(self.field.info.origin.theta)
         t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        return t.T @ h @ t
+        world: npt.NDArray[np.float64] = t.T @ h @ t
+        return world
 
     def _coarse_seeds(
         self,
