@@ -5,6 +5,8 @@
 **Prediction.** Each :meth:`PoseTracker.update` moves the map pose by the odometry increment
 (the new odometry pose expressed in the previous one's frame); when an IMU reading is given, its
 integrated-yaw increment replaces the wheels' rotation, which slip and scale more than a gyro.
+The gyro's bias is learnt on the way (the heading corrections the scan makes, over time) and
+subtracted, so that where no wall fixes heading the pose drifts by the gyro's noise only.
 
 **Correction.** Each *new* scan (by stamp) is matched with the correlative matcher
 (:mod:`~polynav.localization.scan_matcher`) in a narrow window around the pose predicted *at the
@@ -15,9 +17,21 @@ While tracking, each correction is clamped to ``max_correction_xy`` / ``max_corr
 so a controller at 20 Hz never sees a jump of more than a few centimetres; a larger error is
 worked off over the next scans.
 
+**Degenerate geometry.** A corridor pins the pose across it and in heading, never along it; an
+open hall with the walls out of range pins nothing. Each tracking correction is therefore
+projected onto the directions the match constrains, read from the eigen-decomposition of its
+Gauss-Newton normal matrix (:mod:`~polynav.localization.degeneracy`, ``min_information``):
+along the others odometry and IMU carry the pose, instead of the search's near-arbitrary pick
+there. While some direction goes unconstrained the tracking window widens with the distance
+travelled (``odometry_drift``), so the walls that come into view at the end of the aisle or
+hall are within its reach.
+
 **Quality** is the fraction of used endpoints within ``inlier_distance`` of a map surface at the
 matched pose, smoothed by an exponential moving average over scans. It is 1 when the scan fits
-the map, and falls with people, moved furniture, or a wrong pose or map.
+the map (in a corridor too: the walls fit, whatever the match cannot tell along it), and falls
+with people, moved furniture, or a wrong pose or map. A scan with fewer than
+``min_evidence_points`` endpoints (nothing in range) leaves it, and the LOST timer, as they
+were: it contradicts nothing.
 
 **States.**
 
