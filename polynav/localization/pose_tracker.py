@@ -343,9 +343,19 @@ class PoseTracker:
             if (self._last_imu_yaw is not None and self._last_imu_stamp is not None
                     and last is not None):
                 dt = max(0.0, imu.stamp - self._last_imu_stamp)
-                bias = self.gyro_bias
-                rotation = angle_diff(imu.yaw, self._last_imu_yaw) - bias * dt
-                self._learn_bias(bias * dt, dt)
+                turn = angle_diff(imu.yaw, self._last_imu_yaw)
+                standing = (abs(delta.x) + abs(delta.y) < 1e-9 and abs(delta.theta) < 1e-9)
+                if standing:
+                    # The wheels do not turn: whatever the gyro integrated is its bias (a
+                    # zero-velocity update), and the robot did not turn. Learnt before the
+                    # robot first drives, it keeps dead reckoning straight across an open
+                    # hall where no scan corrects the heading.
+                    rotation = 0.0
+                    self._learn_bias(turn, dt)
+                else:
+                    bias = self.gyro_bias
+                    rotation = turn - bias * dt
+                    self._learn_bias(bias * dt, dt)
             self._last_imu_yaw = imu.yaw
             self._last_imu_stamp = imu.stamp
         self._last_odometry = odometry.pose
@@ -434,11 +444,18 @@ class PoseTracker:
                                         prior_theta=c.prior_theta,
                                         inlier_distance=c.inlier_distance)
         else:
+            if self._awaiting_relocalization and points.shape[0] < c.min_evidence_points:
+                # Started where the lidar sees nothing (an open hall): not a failed
+                # relocalization yet; odometry carries the given pose until walls come in view.
+                self._initialized_at = now
+                return
             wide_xy, wide_theta = (
                 (c.relocalize_window_xy, c.relocalize_window_theta)
                 if self._awaiting_relocalization
                 else (c.lost_window_xy, c.lost_window_theta)
             )
+            # As far as odometry may have drifted since the pose was last fixed, not less.
+            wide_xy = max(wide_xy, min(4.0 * wide_xy, c.odometry_drift * self._unfixed_travel))
             window = SearchWindow(wide_xy, wide_theta, c.theta_step, coarse=True,
                                   coarse_theta_step=c.coarse_theta_step,
                                   candidates=c.candidates)
