@@ -74,6 +74,8 @@ from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.mapping_commands import MappingCommands
+from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
@@ -92,7 +94,7 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, MotionCommands):
+class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -130,6 +132,7 @@ class RobotRuntime(GoalCommands, MotionCommands):
         )
         self._localization = LocalizationWatcher()
         self._recovery = LostRecovery(self._restart_localization)
+        self._mapping: MappingSession | None = None
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
         # Timing.
@@ -424,6 +427,8 @@ class RobotRuntime(GoalCommands, MotionCommands):
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
             self._patrols.follow(stack.navigator.attempt)
+        if self._mapping is not None:
+            self._mapping.tick(self._robot.read_odometry(), self._robot.read_scan())
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()
         if override is not None:
@@ -571,6 +576,12 @@ class RobotRuntime(GoalCommands, MotionCommands):
         """Rebuild the snapshot now, so a status read right after a command shows its effect."""
         self._snapshot = self._build_snapshot(self.now())
 
+    def _floor_now(self) -> str | None:
+        return self._sim.floor
+
+    def _status_pose(self) -> Pose2D:
+        return self._snapshot.pose
+
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
 
@@ -585,6 +596,8 @@ class RobotRuntime(GoalCommands, MotionCommands):
             pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
         else:
             pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+        if self._mapping is not None:
+            pose = self._mapping.pose
         attempts = self._attempts
         attempt = attempts.attempt
         nav_state = attempt.state.value if attempt is not None else "idle"
