@@ -183,3 +183,39 @@ def test_a_tracker_in_an_open_hall_stays_tracking_on_odometry():
     assert {e.state for e in estimates} == {LocalizationState.TRACKING}
     assert estimates[-1].quality == pytest.approx(quality)
     assert estimates[-1].pose.distance_to(middle) < 0.02
+
+
+def test_after_a_long_unconstrained_stretch_the_window_reaches_the_walls_that_come_into_view():
+    warm_up()
+    grid = _hall()
+    tracker = PoseTracker(CONFIG)
+    tracker.set_map(grid)
+    start = Pose2D(20.0, 3.0, 0.0)
+    tracker.initialize(start, 0.0)
+    _feed(tracker, grid, start, Pose2D(), 5)
+    assert tracker.estimate.state is LocalizationState.TRACKING
+
+    # 38 m across the hall on odometry that comes out 0.4 m short; then the corner is in view.
+    true = Pose2D(37.4, 37.0, 0.0)
+    estimates = _feed(tracker, grid, true, Pose2D(17.0, 34.0, 0.0), 40, start=5)
+
+    assert {e.state for e in estimates} == {LocalizationState.TRACKING}
+    assert estimates[-1].pose.distance_to(true) < 0.02
+    assert estimates[-1].quality > 0.9
+    # Worked off in clamped steps, never in one jump.
+    steps = [b.pose.distance_to(a.pose) for a, b in zip(estimates, estimates[1:], strict=False)]
+    assert max(steps) <= CONFIG.max_correction_xy + 1e-6
+
+
+def test_with_odometry_drift_off_the_fixed_window_does_not_reach_them():
+    warm_up()
+    grid = _hall()
+    tracker = PoseTracker(PoseTrackerConfig(odometry_drift=0.0))
+    tracker.set_map(grid)
+    start = Pose2D(20.0, 3.0, 0.0)
+    tracker.initialize(start, 0.0)
+    _feed(tracker, grid, start, Pose2D(), 5)
+    true = Pose2D(37.4, 37.0, 0.0)
+    estimates = _feed(tracker, grid, true, Pose2D(17.0, 34.0, 0.0), 40, start=5)
+
+    assert estimates[-1].pose.distance_to(true) > 0.2
