@@ -76,7 +76,7 @@ from polynav.robot.interface import ImuReading, LaserScan, Odometry
 log = logging.getLogger(__name__)
 
 _HISTORY_SECONDS = 1.0
-_BIAS_PRIOR_SECONDS = 5.0
+_BIAS_PRIOR_SECONDS = 2.0
 
 
 @dataclass(frozen=True, slots=True)
