@@ -76,7 +76,7 @@ from polynav.robot.interface import ImuReading, LaserScan, Odometry
 log = logging.getLogger(__name__)
 
 _HISTORY_SECONDS = 1.0
-_BIAS_PRIOR_SECONDS = 5.0
+_BIAS_PRIOR_SECONDS = 2.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -474,11 +474,15 @@ class PoseTracker:
                 con = degeneracy.constraint(information, length_scale=c.heading_length_scale,
                                             min_information=c.min_information)
                 self.last_constraint = con
-                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
-                    self._unfixed_travel = 0.0
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
+                    # Position is fixed in every direction, up to what the clamp left for the
+                    # next scans: the window keeps room for that much.
+                    left = math.hypot(target.x - corrected.x, target.y - corrected.y)
+                    self._unfixed_travel = (left / c.odometry_drift if c.odometry_drift > 0.0
+                                            else 0.0)
                 self._pose = corrected.compose(since_scan)
                 if self._imu_used:
                     self._learn_bias(-angle_diff(corrected.theta, at_scan.theta), 0.0)
