@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import logging
 
+import numpy as np
+
 from polynav.geometry import Pose2D
 from polynav.mapping.config import SlamConfig
 from polynav.mapping.slam import Slam
-from polynav.maps.map import Map
+from polynav.maps.map import Map, MapInfo
 from polynav.robot.interface import LaserScan, Odometry
 
 log = logging.getLogger(__name__)
@@ -64,7 +66,13 @@ class MappingSession:
         """The map so far (rendered again only after new scans)."""
         nodes = self._slam.node_count
         if self._rendered is None or self._rendered[0] != nodes:
-            self._rendered = (nodes, self._slam.render_map())
+            grid = self._slam.render_map() if nodes else None
+            if grid is None or grid.info.width == 0 or grid.info.height == 0:
+                # Nothing scanned yet: one unknown cell where the robot stands.
+                resolution = self._slam.config.resolution
+                origin = Pose2D(self._start.x - 0.5 * resolution, self._start.y - 0.5 * resolution)
+                grid = Map(MapInfo(resolution, 1, 1, origin), np.full((1, 1), -1, dtype=np.int8))
+            self._rendered = (nodes, grid)
         return self._rendered[1]
 
     def finish(self) -> Map:

@@ -37,6 +37,8 @@ def test_a_map_is_built_while_driving_saved_and_navigated_on(runtime: RobotRunti
         runtime.stop_mapping("new")  # not mapping
     runtime.start_mapping()
     assert runtime.mode is Mode.MAPPING
+    empty = runtime.mapping_map()  # nothing scanned yet: one unknown cell, still a map
+    assert (empty.info.width, empty.info.height, int(empty.data[0, 0])) == (1, 1, -1)
     with pytest.raises(Conflict):
         runtime.start_navigation("floor1")
     with pytest.raises(Conflict):
