@@ -19,6 +19,7 @@ from polynav.nav.stack import NavigationStack
 from polynav.robot.interface import Robot
 from polynav.runtime.config import Mode, SiteData
 from polynav.runtime.direct_motion import DirectMotion
+from polynav.runtime.exploration import Exploration
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
@@ -44,6 +45,7 @@ class RuntimeParts(abc.ABC):
     _attempts: AttemptBook
     _patrols: PatrolRunner
     _mapping: MappingSession | None
+    _exploration: Exploration | None
 
     @abc.abstractmethod
     def now(self) -> float:

@@ -14,6 +14,7 @@ import logging
 from polynav.errors import Conflict, NotFound
 from polynav.maps.map import Map
 from polynav.runtime.config import Mode
+from polynav.runtime.exploration import Exploration
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_session import MappingSession
 
@@ -38,6 +39,24 @@ class MappingCommands(RuntimeParts):
             self._mapping = MappingSession(self._floor_now(), self._status_pose())
             self._set_mode(Mode.MAPPING)
             log.info("mapping started on floor %s", self._mapping.floor)
+
+        self._call(run)
+
+    def explore(self) -> None:
+        """Let the robot map on its own: it drives to the nearest frontier of the live map,
+        again and again, then back to where exploring began (``exploration_finished``).
+        Teleop or a local move takes over while it runs.
+
+        Raises:
+            Conflict: not mapping; already exploring.
+        """
+
+        def run() -> None:
+            session = self._require_mapping()
+            if self._exploration is not None and not self._exploration.done:
+                raise Conflict("already exploring")
+            self._exploration = Exploration(session.pose)
+            log.info("exploration started at %s", session.pose)
 
         self._call(run)
 
@@ -119,4 +138,5 @@ class MappingCommands(RuntimeParts):
     def _end_mapping(self) -> None:
         self._halt_motion()
         self._mapping = None
+        self._exploration = None
         self._set_mode(Mode.FREE)

@@ -72,6 +72,7 @@ from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
+from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.mapping_commands import MappingCommands
@@ -133,6 +134,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._localization = LocalizationWatcher()
         self._recovery = LostRecovery(self._restart_localization)
         self._mapping: MappingSession | None = None
+        self._exploration: Exploration | None = None
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
         # Timing.
@@ -427,13 +429,15 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
             self._patrols.follow(stack.navigator.attempt)
-        if self._mapping is not None:
-            self._mapping.tick(self._robot.read_odometry(), self._robot.read_scan())
+        explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()
         if override is not None:
             self._robot.drive(override)
             commanded = override
+        elif explored is not None:
+            self._robot.drive(explored)
+            commanded = explored
         elif stack is None:
             self._robot.drive(Twist())
         else:
@@ -445,6 +449,22 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._check_battery(now)
         self.device.tick(now, commanded)
         self._refresh()
+
+    def _map_tick(self, now: float, estop: bool) -> Twist | None:
+        """Feed the mapping session; the exploration's velocity while it explores."""
+        session = self._mapping
+        if session is None:
+            return None
+        odometry, scan = self._robot.read_odometry(), self._robot.read_scan()
+        session.tick(odometry, scan)
+        exploration = self._exploration
+        if exploration is None or exploration.done:
+            return None
+        twist = exploration.tick(now, session.live_map, session.pose, odometry.twist, scan,
+                                 estop)
+        if exploration.done:
+            self._publish(events.ExplorationFinished(now, exploration.targets))
+        return twist
 
     # -- state checks that publish events ----------------------------------------------------
 

@@ -140,6 +140,9 @@ class FakeRuntime:
         self._set_mode("free")
         return record
 
+    def explore(self) -> None:
+        self._need_mapping()
+
     def cancel_mapping(self) -> None:
         self._need_mapping()
         self._set_mode("free")

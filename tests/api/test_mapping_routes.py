@@ -10,8 +10,10 @@ from tests.api.fakes import FakeRuntime
 
 def test_mapping_start_watch_save_stop(client: httpx.Client, fake_runtime: FakeRuntime) -> None:
     assert client.get("/api/mapping/map").status_code == 409
+    assert client.post("/api/mapping/explore").status_code == 409  # not mapping
     assert client.post("/api/mapping/start").status_code == 200
     assert client.post("/api/mapping/start").status_code == 409  # already mapping
+    assert client.post("/api/mapping/explore").status_code == 200
     assert client.get("/api/status").json()["mode"] == "mapping"
     grid = client.get("/api/mapping/map").json()
     assert (grid["width"], grid["height"], grid["resolution"]) == (6, 4, 0.05)

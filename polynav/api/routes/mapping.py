@@ -25,6 +25,15 @@ def start_mapping(runtime: RuntimeDep) -> Ok:
     return Ok()
 
 
+@router.post("/explore", operation_id="explore", response_model=Ok)
+def explore(runtime: RuntimeDep) -> Ok:
+    """Let the robot map on its own: frontier after frontier of the live map, then back to
+    where it began (event ``exploration_finished``); 409 unless mapping, or already exploring.
+    Teleop takes over while it is given."""
+    runtime.explore()
+    return Ok()
+
+
 @router.get("/map", operation_id="get_mapping_map", response_model=GridOut)
 def get_mapping_map(runtime: RuntimeDep) -> GridOut:
     """The map built so far as a grid: ``data`` row by row from the bottom row (``iy = 0``),
