@@ -16,7 +16,9 @@ An :class:`Exclusion` removes a neighbourhood of poses from the search (those wi
 *and* within a heading range of a given pose): a node whose whole block lies inside it is pruned,
 a leaf inside it is skipped. Searching again with the winner excluded gives the exact best
 *distinct* alternative, which is what global relocalization needs to tell a unique match from an
-ambiguous one (a featureless hall, two identical rooms, a corridor).
+ambiguous one (a featureless hall, two identical rooms, a corridor). An ``allowed`` mask (its
+own max-pooled levels, from :func:`precompute`) restricts the poses to some cells, the free
+space of a map: a block holding no allowed cell is pruned at whatever level it is met.
 """
 
 from __future__ import annotations
@@ -94,7 +96,8 @@ def _excluded(near: npt.NDArray[np.uint8], r: int, x: int, y: int, size: int, ex
 def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
             bxs: npt.NDArray[np.int64], bys: npt.NDArray[np.int64], window: int,
             min_score: float, near: npt.NDArray[np.uint8], ex_x: float, ex_y: float,
-            radius: float) -> tuple[float, int, int, int]:
+            radius: float, allowed: npt.NDArray[np.uint8], allowed_pad: int, ox: int,
+            oy: int) -> tuple[float, int, int, int]:
     n_rot = bxs.shape[0]
     top = 1 << depth
     n_top = (2 * window) // top + 1
@@ -146,6 +149,12 @@ def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
             y = st_y[sp]
             if st_b[sp] <= best or _excluded(near, r, x, y, 1 << level, ex_x, ex_y, radius):
                 continue
+            if allowed.shape[0] > level:
+                ay = oy + y + allowed_pad
+                ax = ox + x + allowed_pad
+                inside = 0 <= ay < allowed.shape[1] and 0 <= ax < allowed.shape[2]
+                if not inside or allowed[level, ay, ax] == 0:
+                    continue
             if level == 0:
                 best = st_b[sp]
                 best_r, best_x, best_y = r, x, y
@@ -256,6 +265,7 @@ def search_headings(
     window_cells: int,
     min_score: float,
     exclude: Exclusion | None = None,
+    allowed: PrecomputedGrids | None = None,
 ) -> SearchResult | None:
     """Best pose at any of ``thetas`` within ``window_cells`` of (x, y), outside ``exclude``.
 
@@ -267,6 +277,9 @@ def search_headings(
         window_cells: translation half-width [cells].
         min_score: nothing at or below this is returned.
         exclude: poses left out (see :class:`Exclusion`), or None.
+        allowed: where a pose may be: :func:`precompute` of a 0/1 mask of the table's cells
+            with at least ``pre.depth`` levels (a pose is in the cell its position falls in);
+            None allows every cell.
 
     Returns:
         The best pose, or None when nothing searched beats ``min_score``.
@@ -284,8 +297,15 @@ def search_headings(
         turn = np.angle(np.exp(1j * (np.asarray(thetas) - exclude.theta)))
         near = (np.abs(turn) <= exclude.theta_radius).astype(np.uint8)
         ex_x, ex_y, radius = exclude.x - x, exclude.y - y, exclude.radius
+    if allowed is None:
+        mask, mask_pad = np.zeros((0, 1, 1), dtype=np.uint8), 0
+    else:
+        if allowed.depth < pre.depth:
+            raise ValueError("the allowed mask needs as many levels as the table")
+        mask, mask_pad = allowed.grids, allowed.pad
     score, r, dx, dy = _search(pre.grids, pre.pad, pre.depth, bxs, bys, int(window_cells),
-                               float(min_score), near, float(ex_x), float(ex_y), float(radius))
+                               float(min_score), near, float(ex_x), float(ex_y), float(radius),
+                               mask, mask_pad, math.floor(x), math.floor(y))
     if r < 0:
         return None
     return SearchResult(float(score), x + dx, y + dy, float(thetas[r]))
@@ -297,4 +317,5 @@ def warm_up() -> None:
     table[4, 4] = 1.0
     pre = precompute(table, 2)
     search_headings(pre, np.array([[0.5, 0.5]]), x=3.0, y=3.0, thetas=np.array([0.0, 0.01]),
-                    window_cells=2, min_score=0.1, exclude=Exclusion(3.0, 3.0, 1.0, 0.0, 0.1))
+                    window_cells=2, min_score=0.1, exclude=Exclusion(3.0, 3.0, 1.0, 0.0, 0.1),
+                    allowed=precompute(table, 2))

@@ -82,6 +82,6 @@ def test_a_featureless_hall_is_ambiguous_or_no_match_never_a_pose() -> None:
 
 def test_config_rejects_bad_values() -> None:
     for bad in ({"sigma": 0.0}, {"depth": 0}, {"points": 5}, {"min_score": 1.5},
-                {"tile": math.inf}):
+                {"theta_step": math.inf}):
         with pytest.raises(ConfigError):
             RelocalizationConfig(**bad)  # type: ignore[arg-type]
