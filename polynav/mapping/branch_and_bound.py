@@ -250,7 +250,7 @@ def search(
         The best pose, or None when nothing in the window beats ``min_score``.
     """
     n_theta = int(math.ceil(window_theta / theta_step - 1e-9))
-    thetas = theta + theta_step * np.arange(-n_theta, n_theta + 1)
+    thetas = theta + theta_step * np.arange(-n_theta, n_theta + 1, dtype=np.float64)
     return search_headings(pre, points, x=x, y=y, thetas=thetas, window_cells=window_cells,
                            min_score=min_score)
 

@@ -116,7 +116,7 @@ class Relocalizer:
         self._polish = SearchWindow(xy=0.1, theta=math.radians(2.0),
                                     theta_step=math.radians(0.25))
         n_theta = max(1, int(round(2.0 * math.pi / cfg.theta_step)))
-        self._thetas = -math.pi + (2.0 * math.pi / n_theta) * np.arange(n_theta)
+        self._thetas = -math.pi + (2.0 * math.pi / n_theta) * np.arange(n_theta, dtype=np.float64)
         self._centre = (0.5 * info.width, 0.5 * info.height)
         self._window = (max(info.width, info.height) + 1) // 2 + 1
 
