@@ -104,8 +104,6 @@ class Relocalizer:
     def __init__(self, grid: Map, config: RelocalizationConfig | None = None) -> None:
         self.config = cfg = config or RelocalizationConfig()
         info = grid.info
-        if abs(info.origin.theta) > 1e-9:
-            raise ConfigError("map.origin.theta", "relocalization needs an unrotated map origin")
         self._info = info
         field = build_likelihood_field(grid, sigma=cfg.sigma, max_distance=4.0 * cfg.sigma)
         self._pre = branch_and_bound.precompute(field.likelihood, cfg.depth)
@@ -146,9 +144,8 @@ class Relocalizer:
         if best.score - runner_up < cfg.margin:
             log.info("relocalization ambiguous: %.3f against %.3f", best.score, runner_up)
             return Relocalization(None, best.score, runner_up, "ambiguous")
-        origin = self._info.origin
-        pose = Pose2D(origin.x + best.x * res, origin.y + best.y * res,
-                      math.atan2(math.sin(best.theta), math.cos(best.theta)))
+        # The search runs in the grid's frame; a map origin may be rotated (ROS allows it).
+        pose = self._info.origin.compose(Pose2D(best.x * res, best.y * res, best.theta))
         refined = self._matcher.match(points, pose, self._polish).pose
         log.info("relocalized at %s (score %.3f, runner-up %.3f)", refined, best.score, runner_up)
         return Relocalization(refined, best.score, runner_up)
