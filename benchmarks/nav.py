@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from polynav.errors import PolynavError
+from polynav.localization.interface import LocalizationState
 from polynav.maps import movingai
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.nav.attempt import NavigationState
@@ -84,18 +85,36 @@ def _percentile(values: list[float], q: float) -> float | None:
     return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
 
 
-def _drive(driver: SimDriver, timeout: float) -> tuple[float, float]:
-    """Step until the attempt finishes or ``timeout`` simulated seconds pass; the wall time it
-    took [s] and the closest a person came to the robot [m] (inf with no one about)."""
-    closest = math.inf
+class _Leg:
+    """What happened while driving to one goal. (Not a dataclass: ``polynav bench`` loads this
+    file without registering it in ``sys.modules``, which dataclasses need.)"""
+
+    def __init__(self) -> None:
+        self.wall_seconds = 0.0
+        self.closest_person = math.inf  # [m], centre to centre; inf with no one about
+        self.localization_error_max = 0.0  # [m], estimate against ground truth
+        self.lost = False  # localization declared LOST at some moment
+
+
+def _drive(driver: SimDriver, timeout: float) -> _Leg:
+    """Step until the attempt finishes or ``timeout`` simulated seconds pass."""
+    leg = _Leg()
     end = driver.now + timeout
     wall = time.perf_counter()
     while not driver.stack.navigator.state.finished and driver.now < end:
         driver.step()
         true = driver.sim.true_pose
         for person in driver.sim.people_poses():
-            closest = min(closest, math.hypot(person.x - true.x, person.y - true.y))
-    return time.perf_counter() - wall, closest
+            leg.closest_person = min(leg.closest_person,
+                                     math.hypot(person.x - true.x, person.y - true.y))
+        estimate = driver.stack.estimate
+        leg.localization_error_max = max(
+            leg.localization_error_max,
+            math.hypot(estimate.pose.x - true.x, estimate.pose.y - true.y),
+        )
+        leg.lost |= estimate.state is LocalizationState.LOST
+    leg.wall_seconds = time.perf_counter() - wall
+    return leg
 
 
 def run_map(path: Path, goals: int, walkers: int, seed: int) -> dict[str, Any]:
@@ -118,7 +137,8 @@ def run_map(path: Path, goals: int, walkers: int, seed: int) -> dict[str, Any]:
     efficiencies: list[float] = []
     failures: Counter[str] = Counter()
     closest = math.inf
-    sim_seconds = wall_seconds = 0.0
+    sim_seconds = wall_seconds = error_max = 0.0
+    lost = 0
     for point in floor.points[1:]:
         try:
             optimal = planner.plan(static, driver.sim.true_pose, point.pose).length
@@ -127,10 +147,12 @@ def run_map(path: Path, goals: int, walkers: int, seed: int) -> dict[str, Any]:
             optimal, timeout = math.nan, UNPLANNED_GOAL_TIME
         began = driver.now
         driver.stack.go_to(point.pose, driver.now)
-        wall, near = _drive(driver, timeout)
-        wall_seconds += wall
+        leg = _drive(driver, timeout)
+        wall_seconds += leg.wall_seconds
         sim_seconds += driver.now - began
-        closest = min(closest, near)
+        closest = min(closest, leg.closest_person)
+        error_max = max(error_max, leg.localization_error_max)
+        lost += leg.lost
         state = driver.stack.navigator.state
         if state is NavigationState.SUCCEEDED:
             reached += 1
@@ -155,6 +177,8 @@ def run_map(path: Path, goals: int, walkers: int, seed: int) -> dict[str, Any]:
         "collisions": len(driver.sim.collisions),
         "walkers": len(floor.people),
         "closest_person_m": None if math.isinf(closest) else round(closest, 3),
+        "goals_with_localization_lost": lost,
+        "localization_error_max_m": round(error_max, 3),
         "sim_seconds": round(sim_seconds, 1),
         "real_time_factor": round(sim_seconds / wall_seconds, 2) if wall_seconds > 0 else None,
     }
@@ -186,6 +210,7 @@ def overall_figures(rows: list[dict[str, Any]], social_distance: float) -> dict[
         "failures": dict(sorted(failures.items())),
         "collisions": sum(r["collisions"] for r in rows),
         "closest_person_m": min(closests, default=None),
+        "goals_with_localization_lost": sum(r["goals_with_localization_lost"] for r in rows),
         "real_time_factor_min": min(rtfs, default=None),
         "sim_seconds": round(sim_seconds, 1),
     }
@@ -235,7 +260,7 @@ def main(argv: list[str] | None = None) -> int:
     for note in left_out:
         print(f"  left out {note}")
     print(f"{'map':28s}{'reached':>10s}{'eff.med':>9s}{'eff.p90':>9s}{'coll.':>7s}"
-          f"{'walkers':>8s}{'closest':>9s}{'RTF':>7s}  failures")
+          f"{'walkers':>8s}{'closest':>9s}{'loc.err':>8s}{'lost':>5s}{'RTF':>7s}  failures")
     rows: list[dict[str, Any]] = []
     skipped: list[str] = []
     for path in maps:
@@ -251,6 +276,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{_fmt(row['path_efficiency_median'], '.2f'):>9s}"
               f"{_fmt(row['path_efficiency_p90'], '.2f'):>9s}{row['collisions']:>7d}"
               f"{row['walkers']:>8d}{_fmt(row['closest_person_m'], '.2f'):>9s}"
+              f"{row['localization_error_max_m']:>8.2f}{row['goals_with_localization_lost']:>5d}"
               f"{_fmt(row['real_time_factor'], '.1f'):>7s}"
               f"  {failures}", flush=True)
     overall = overall_figures(rows, StackConfig().people.social_distance)

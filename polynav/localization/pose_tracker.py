@@ -76,7 +76,7 @@ from polynav.robot.interface import ImuReading, LaserScan, Odometry
 log = logging.getLogger(__name__)
 
 _HISTORY_SECONDS = 1.0
-_BIAS_PRIOR_SECONDS = 5.0
+_BIAS_PRIOR_SECONDS = 2.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -343,9 +343,19 @@ class PoseTracker:
             if (self._last_imu_yaw is not None and self._last_imu_stamp is not None
                     and last is not None):
                 dt = max(0.0, imu.stamp - self._last_imu_stamp)
-                bias = self.gyro_bias
-                rotation = angle_diff(imu.yaw, self._last_imu_yaw) - bias * dt
-                self._learn_bias(bias * dt, dt)
+                turn = angle_diff(imu.yaw, self._last_imu_yaw)
+                standing = (abs(delta.x) + abs(delta.y) < 1e-9 and abs(delta.theta) < 1e-9)
+                if standing:
+                    # The wheels do not turn: whatever the gyro integrated is its bias (a
+                    # zero-velocity update), and the robot did not turn. Learnt before the
+                    # robot first drives, it keeps dead reckoning straight across an open
+                    # hall where no scan corrects the heading.
+                    rotation = 0.0
+                    self._learn_bias(turn, dt)
+                else:
+                    bias = self.gyro_bias
+                    rotation = turn - bias * dt
+                    self._learn_bias(bias * dt, dt)
             self._last_imu_yaw = imu.yaw
             self._last_imu_stamp = imu.stamp
         self._last_odometry = odometry.pose
@@ -434,11 +444,18 @@ class PoseTracker:
                                         prior_theta=c.prior_theta,
                                         inlier_distance=c.inlier_distance)
         else:
+            if self._awaiting_relocalization and points.shape[0] < c.min_evidence_points:
+                # Started where the lidar sees nothing (an open hall): not a failed
+                # relocalization yet; odometry carries the given pose until walls come in view.
+                self._initialized_at = now
+                return
             wide_xy, wide_theta = (
                 (c.relocalize_window_xy, c.relocalize_window_theta)
                 if self._awaiting_relocalization
                 else (c.lost_window_xy, c.lost_window_theta)
             )
+            # As far as odometry may have drifted since the pose was last fixed, not less.
+            wide_xy = max(wide_xy, min(4.0 * wide_xy, c.odometry_drift * self._unfixed_travel))
             window = SearchWindow(wide_xy, wide_theta, c.theta_step, coarse=True,
                                   coarse_theta_step=c.coarse_theta_step,
                                   candidates=c.candidates)
@@ -457,11 +474,15 @@ class PoseTracker:
                 con = degeneracy.constraint(information, length_scale=c.heading_length_scale,
                                             min_information=c.min_information)
                 self.last_constraint = con
-                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
-                    self._unfixed_travel = 0.0
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
+                    # Position is fixed in every direction, up to what the clamp left for the
+                    # next scans: the window keeps room for that much.
+                    left = math.hypot(target.x - corrected.x, target.y - corrected.y)
+                    self._unfixed_travel = (left / c.odometry_drift if c.odometry_drift > 0.0
+                                            else 0.0)
                 self._pose = corrected.compose(since_scan)
                 if self._imu_used:
                     self._learn_bias(-angle_diff(corrected.theta, at_scan.theta), 0.0)

@@ -71,7 +71,8 @@ def _row(reached: int, efficiencies: list[float], closest: float | None, rtf: fl
          failures: dict[str, int] | None = None) -> dict[str, Any]:
     return {"goals": 4, "reached": reached, "path_efficiencies": efficiencies,
             "failures": failures or {}, "collisions": 0, "closest_person_m": closest,
-            "real_time_factor": rtf, "sim_seconds": 10.0}
+            "real_time_factor": rtf, "sim_seconds": 10.0,
+            "goals_with_localization_lost": 0}
 
 
 def test_overall_figures_pool_every_goal_and_name_the_missed_targets() -> None:

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from polynav.geometry import Pose2D, Twist
+from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.localization import degeneracy
 from polynav.localization.interface import LocalizationState
 from polynav.localization.likelihood_field import build_likelihood_field
@@ -16,7 +16,7 @@ from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig, wa
 from polynav.localization.scan_matcher import ScanMatcher, SearchWindow, scan_points
 from polynav.maps.map import Map
 from polynav.maps.raycast import cast_rays
-from polynav.robot.interface import LaserScan, Odometry
+from polynav.robot.interface import ImuReading, LaserScan, Odometry
 
 RES = 0.05
 RANGE = 12.0
@@ -183,3 +183,71 @@ def test_a_tracker_in_an_open_hall_stays_tracking_on_odometry():
     assert {e.state for e in estimates} == {LocalizationState.TRACKING}
     assert estimates[-1].quality == pytest.approx(quality)
     assert estimates[-1].pose.distance_to(middle) < 0.02
+
+
+def test_after_a_long_unconstrained_stretch_the_window_reaches_the_walls_that_come_into_view():
+    warm_up()
+    grid = _hall()
+    tracker = PoseTracker(CONFIG)
+    tracker.set_map(grid)
+    start = Pose2D(20.0, 3.0, 0.0)
+    tracker.initialize(start, 0.0)
+    _feed(tracker, grid, start, Pose2D(), 5)
+    assert tracker.estimate.state is LocalizationState.TRACKING
+
+    # 38 m across the hall on odometry that comes out 0.4 m short; then the corner is in view.
+    true = Pose2D(37.4, 37.0, 0.0)
+    estimates = _feed(tracker, grid, true, Pose2D(17.0, 34.0, 0.0), 40, start=5)
+
+    assert {e.state for e in estimates} == {LocalizationState.TRACKING}
+    assert estimates[-1].pose.distance_to(true) < 0.02
+    assert estimates[-1].quality > 0.9
+    # Worked off in clamped steps, never in one jump.
+    steps = [b.pose.distance_to(a.pose) for a, b in zip(estimates, estimates[1:], strict=False)]
+    assert max(steps) <= CONFIG.max_correction_xy + 1e-6
+
+
+def test_with_odometry_drift_off_the_fixed_window_does_not_reach_them():
+    warm_up()
+    grid = _hall()
+    tracker = PoseTracker(PoseTrackerConfig(odometry_drift=0.0))
+    tracker.set_map(grid)
+    start = Pose2D(20.0, 3.0, 0.0)
+    tracker.initialize(start, 0.0)
+    _feed(tracker, grid, start, Pose2D(), 5)
+    true = Pose2D(37.4, 37.0, 0.0)
+    estimates = _feed(tracker, grid, true, Pose2D(17.0, 34.0, 0.0), 40, start=5)
+
+    assert estimates[-1].pose.distance_to(true) > 0.2
+
+
+def test_the_gyro_bias_is_learnt_where_walls_fix_heading_and_spares_the_heading_where_none_do():
+    warm_up()
+    grid = _hall()
+    bias = 0.002  # [rad/s], a MEMS gyro's
+    tracker = PoseTracker(CONFIG)
+    tracker.set_map(grid)
+    corner = Pose2D(3.0, 3.0, 0.5)
+    tracker.initialize(corner, 0.0)
+    now = 0.0
+
+    def run(true: Pose2D, odom: Pose2D, seconds: float) -> None:
+        nonlocal now
+        for _ in range(round(seconds / 0.05)):
+            now += 0.05
+            ranges = _ranges(grid, true, seed=round(now * 20))
+            scan = LaserScan(now, float(ANGLES[0]), 2.0 * math.pi / 360, 0.05, RANGE,
+                             ranges.astype(np.float32))
+            # The robot does not turn; the integrated gyro yaw drifts by the bias.
+            imu = ImuReading(now, true.theta + bias * now, bias, 0.0)
+            tracker.update(Odometry(now, odom, Twist()), imu, scan, now)
+
+    run(corner, Pose2D(), 120.0)  # standing in a corner: the scan fixes heading
+    assert tracker.gyro_bias == pytest.approx(bias, rel=0.1)
+
+    # Carried into the middle of the hall (no wall in range) and left there for a minute: the
+    # uncorrected bias would have turned the pose by 0.12 rad (7 degrees).
+    middle = Pose2D(20.0, 20.0, 0.5)
+    run(middle, corner.inverse().compose(middle), 60.0)
+    assert tracker.estimate.state is LocalizationState.TRACKING
+    assert abs(angle_diff(tracker.estimate.pose.theta, middle.theta)) < 0.015

@@ -81,3 +81,14 @@ def test_run_warns_when_the_site_was_seeded_from_another_world(tmp_path: Path) -
     with SiteStore.open(tmp_path / "demo", seed_world=load_world("demo")) as store:
         (warning,) = site_mismatches(store, generated)
     assert "map 'floor1' of the site" in warning and "--data NEW_FOLDER" in warning
+
+
+@pytest.mark.parametrize("argv", [["world", "--help"], ["world", "from-map", "--help"],
+                                  ["bench", "nav", "--help"], ["bench", "sim", "--help"]])
+def test_the_world_and_bench_commands_have_help(
+    argv: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    assert exit_.value.code == 0
+    assert "usage: polynav" in capsys.readouterr().out

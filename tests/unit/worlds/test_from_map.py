@@ -10,6 +10,8 @@ import pytest
 from scipy import ndimage
 
 from polynav.errors import InvalidRequest
+from polynav.maps.costmap import Costmap, CostmapConfig
+from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.worlds import load_world
 from polynav.worlds.from_map import FromMapOptions, write_world_from_map
 from tests.conftest import DATA
@@ -41,6 +43,11 @@ def _check_world(folder: Path, options: FromMapOptions) -> None:
             assert passable[iy, ix] and clearance[iy, ix] >= wide
     assert (world.start_pose.x, world.start_pose.y) == (floor.points[0].pose.x,
                                                          floor.points[0].pose.y)
+    # Reachable as the navigator sees it: the planner finds a way from the start to each point.
+    costmap = Costmap.from_map(grid, CostmapConfig(obstacle_layer=False))
+    planner = GridPlanner(GridPlannerConfig())
+    for point in floor.points[1:]:
+        assert planner.plan(costmap, world.start_pose, point.pose).length > 0.0
 
 
 def test_a_movingai_map_becomes_a_world_of_reachable_cleared_points(tmp_path: Path) -> None:
