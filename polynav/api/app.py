@@ -12,6 +12,7 @@ from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
     localization,
+    mapping,
     maps,
     navigation,
     points,
@@ -24,7 +25,7 @@ from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-ROUTERS = (status, maps, points, navigation, localization, control, settings, ws)
+ROUTERS = (status, maps, points, navigation, localization, mapping, control, settings, ws)
 
 
 def _operation_id(route: APIRoute) -> str:

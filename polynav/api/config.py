@@ -21,6 +21,7 @@ class ApiConfig:
         ws_max_rate: the highest rate a client may ask for [Hz], so a client cannot flood itself.
         ws_poll_interval: how often a WebSocket task looks at the snapshot and the event queue
             [s wall]; small enough to follow the fastest simulated rate, large enough to stay idle.
+        ws_map_rate: while mapping, live map messages per SIMULATED second [Hz].
         ws_queue_size: events a WebSocket client may fall behind before it is closed as too slow
             (status messages are coalesced and do not count).
     """
@@ -31,6 +32,7 @@ class ApiConfig:
     ws_max_rate: float = 50.0
     ws_poll_interval: float = 0.005
     ws_queue_size: int = 1000
+    ws_map_rate: float = 0.5
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -44,6 +46,8 @@ class ApiConfig:
                 "api.ws_default_rate",
                 f"must be in (0, ws_max_rate={self.ws_max_rate}], got {self.ws_default_rate}",
             )
+        if not 0.0 < self.ws_map_rate <= 10.0:
+            raise ConfigError("api.ws_map_rate", f"must be in (0, 10], got {self.ws_map_rate}")
         if not 1 <= self.ws_queue_size <= 1_000_000:
             raise ConfigError(
                 "api.ws_queue_size", f"must be in [1, 1000000], got {self.ws_queue_size}"

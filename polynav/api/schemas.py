@@ -222,6 +222,29 @@ class MapOut(BaseModel):
         )
 
 
+class GridOut(BaseModel):
+    """An occupancy grid: ``data`` row by row from the bottom row, 100 / 0 / -1."""
+
+    resolution: float = Field(description="cell size [m]")
+    width: int
+    height: int
+    origin: PoseOut = Field(description="pose of the bottom-left cell's corner")
+    data: list[int] = Field(description="width x height values, bottom row first")
+
+    @classmethod
+    def from_domain(cls, grid: Any) -> GridOut:
+        info = grid.info
+        return cls(resolution=info.resolution, width=info.width, height=info.height,
+                   origin=PoseOut.from_domain(info.origin), data=grid.data.ravel().tolist())
+
+
+class MapSaveIn(_Body):
+    """Where to save the map being built."""
+
+    name: Name
+    overwrite: StrictBool = False
+
+
 class PointOut(BaseModel):
     name: str
     map: str

@@ -5,6 +5,8 @@
 **Prediction.** Each :meth:`PoseTracker.update` moves the map pose by the odometry increment
 (the new odometry pose expressed in the previous one's frame); when an IMU reading is given, its
 integrated-yaw increment replaces the wheels' rotation, which slip and scale more than a gyro.
+The gyro's bias is learnt on the way (the heading corrections the scan makes, over time) and
+subtracted, so that where no wall fixes heading the pose drifts by the gyro's noise only.
 
 **Correction.** Each *new* scan (by stamp) is matched with the correlative matcher
 (:mod:`~polynav.localization.scan_matcher`) in a narrow window around the pose predicted *at the
@@ -15,9 +17,21 @@ While tracking, each correction is clamped to ``max_correction_xy`` / ``max_corr
 so a controller at 20 Hz never sees a jump of more than a few centimetres; a larger error is
 worked off over the next scans.
 
+**Degenerate geometry.** A corridor pins the pose across it and in heading, never along it; an
+open hall with the walls out of range pins nothing. Each tracking correction is therefore
+projected onto the directions the match constrains, read from the eigen-decomposition of its
+Gauss-Newton normal matrix (:mod:`~polynav.localization.degeneracy`, ``min_information``):
+along the others odometry and IMU carry the pose, instead of the search's near-arbitrary pick
+there. While some direction goes unconstrained the tracking window widens with the distance
+travelled (``odometry_drift``), so the walls that come into view at the end of the aisle or
+hall are within its reach.
+
 **Quality** is the fraction of used endpoints within ``inlier_distance`` of a map surface at the
 matched pose, smoothed by an exponential moving average over scans. It is 1 when the scan fits
-the map, and falls with people, moved furniture, or a wrong pose or map.
+the map (in a corridor too: the walls fit, whatever the match cannot tell along it), and falls
+with people, moved furniture, or a wrong pose or map. A scan with fewer than
+``min_evidence_points`` endpoints (nothing in range) leaves it, and the LOST timer, as they
+were: it contradicts nothing.
 
 **States.**
 
@@ -51,7 +65,8 @@ import numpy.typing as npt
 
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D, angle_diff, wrap_angle
-from polynav.localization import scan_matcher
+from polynav.localization import degeneracy, scan_matcher
+from polynav.localization.degeneracy import Constraint
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.localization.likelihood_field import build_likelihood_field
 from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
@@ -61,6 +76,7 @@ from polynav.robot.interface import ImuReading, LaserScan, Odometry
 log = logging.getLogger(__name__)
 
 _HISTORY_SECONDS = 1.0
+_BIAS_PRIOR_SECONDS = 2.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,6 +114,37 @@ class PoseTrackerConfig:
         max_correction_xy: largest translation applied by one correction while tracking [m].
         max_correction_theta: largest rotation applied by one correction while tracking [rad].
         use_imu: take rotation from the IMU's integrated yaw when a reading is given.
+        min_information: endpoints' worth of map surface a direction of the pose needs in the
+            match's normal matrix before the scan corrects it (see
+            :mod:`~polynav.localization.degeneracy`). Along a corridor, across an open hall,
+            or along the one wall in sight the match has less, and the correction is projected
+            onto the directions that have it: odometry and IMU carry the rest, instead of the
+            near-random pick of the search sliding the pose along the corridor. A few endpoints
+            are plenty when they are real (a lidar return is good to a centimetre or two), but
+            one or two could be a person's legs.
+        heading_length_scale: metres one radian of heading counts as when comparing heading
+            with translation in the normal matrix [m]; about the distance to the walls that fix
+            heading.
+        constraint_distance: endpoints within this distance of a map surface at the matched
+            pose enter the normal matrix [m]; farther ones (people, clutter) say nothing.
+        min_evidence_points: a scan with fewer usable endpoints than this (an open hall with
+            the walls out of range) neither moves the quality nor counts towards LOST: it
+            cannot contradict the pose, so it cannot be evidence that the robot is lost. Nor
+            does it correct the pose: two returns twelve metres away pin a rotation about
+            them on paper, and a person's legs would pin it just as well.
+        odometry_drift: how fast the pose may drift [m per m travelled] while some direction
+            of it goes unconstrained (odometry scale error and heading drift). The tracking
+            window widens by this much per metre travelled since the scan last fixed position
+            in every direction, up to ``lost_window_xy``, so that after a long aisle or an open
+            hall the match can still reach the walls that come into view; a widened window is
+            searched coarse-to-fine.
+        gyro_bias_time_constant: time constant [s] of the running estimate of the gyro's bias,
+            learnt from the heading corrections the scan makes while it constrains heading and
+            subtracted from the IMU's rotation, so that a stretch where the scan fixes no
+            heading (an open hall) drifts as little as the gyro's noise, not its bias; 0 turns
+            the estimate off.
+        max_gyro_bias: the bias estimate is clamped to this [rad/s], so a run of wrong matches
+            cannot teach the tracker a spin.
     """
 
     sigma: float = 0.05
@@ -126,6 +173,13 @@ class PoseTrackerConfig:
     max_correction_xy: float = 0.04
     max_correction_theta: float = math.radians(2.0)
     use_imu: bool = True
+    min_information: float = 4.0
+    heading_length_scale: float = 1.0
+    constraint_distance: float = 0.15
+    min_evidence_points: int = 10
+    odometry_drift: float = 0.02
+    gyro_bias_time_constant: float = 120.0
+    max_gyro_bias: float = 0.02
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -136,12 +190,15 @@ class PoseTrackerConfig:
             "sigma", "max_distance", "track_window_theta", "theta_step", "coarse_theta_step",
             "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
             "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
-            "max_correction_xy", "max_correction_theta",
+            "max_correction_xy", "max_correction_theta", "heading_length_scale",
+            "constraint_distance",
         )
         for name in positive:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")
-        for name in ("track_window_xy", "lost_after", "wide_search_interval"):
+        for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
+                     "odometry_drift",
+                     "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
         for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
@@ -171,6 +228,8 @@ class PoseTracker:
 
     Attributes:
         last_match: the newest scan match, for diagnostics (pose, score, inlier fraction).
+        last_constraint: the directions the newest tracking match constrained, for
+            diagnostics (``None`` before the first).
     """
 
     def __init__(self, config: PoseTrackerConfig = PoseTrackerConfig()) -> None:  # noqa: B008
@@ -186,11 +245,17 @@ class PoseTracker:
         self._next_wide_search = -math.inf
         self._last_odometry: Pose2D | None = None
         self._last_imu_yaw: float | None = None
+        self._last_imu_stamp: float | None = None
+        # Running gyro-bias estimate: bias = _bias_sum / (_bias_time + prior time).
+        self._bias_sum = 0.0
+        self._bias_time = 0.0
+        self._unfixed_travel = 0.0  # [m] since the scan last fixed x and y both
         self._last_scan_stamp: float | None = None
         self._history_stamps: deque[float] = deque()
         self._history_poses: deque[Pose2D] = deque()
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
         self.last_match: Match | None = None
+        self.last_constraint: Constraint | None = None
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -221,6 +286,7 @@ class PoseTracker:
         self._quality = 0.0
         self._low_since = None
         self._awaiting_relocalization = True
+        self._unfixed_travel = 0.0
         self._initialized_at = now
         self._next_wide_search = -math.inf
         self._set_state(LocalizationState.UNINITIALIZED, now)
@@ -263,6 +329,10 @@ class PoseTracker:
         quality = 0.0 if self._state is LocalizationState.UNINITIALIZED else self._quality
         return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state)
 
+    @property
+    def _imu_used(self) -> bool:
+        return self.config.use_imu and self._last_imu_stamp is not None
+
     # -- prediction ----------------------------------------------------------------------------
 
     def _predict(self, odometry: Odometry, imu: ImuReading | None) -> None:
@@ -270,12 +340,28 @@ class PoseTracker:
         delta = Pose2D() if last is None else odometry.pose.relative_to(last)
         rotation = delta.theta
         if imu is not None and self.config.use_imu:
-            if self._last_imu_yaw is not None and last is not None:
-                rotation = angle_diff(imu.yaw, self._last_imu_yaw)
+            if (self._last_imu_yaw is not None and self._last_imu_stamp is not None
+                    and last is not None):
+                dt = max(0.0, imu.stamp - self._last_imu_stamp)
+                turn = angle_diff(imu.yaw, self._last_imu_yaw)
+                standing = (abs(delta.x) + abs(delta.y) < 1e-9 and abs(delta.theta) < 1e-9)
+                if standing:
+                    # The wheels do not turn: whatever the gyro integrated is its bias (a
+                    # zero-velocity update), and the robot did not turn. Learnt before the
+                    # robot first drives, it keeps dead reckoning straight across an open
+                    # hall where no scan corrects the heading.
+                    rotation = 0.0
+                    self._learn_bias(turn, dt)
+                else:
+                    bias = self.gyro_bias
+                    rotation = turn - bias * dt
+                    self._learn_bias(bias * dt, dt)
             self._last_imu_yaw = imu.yaw
+            self._last_imu_stamp = imu.stamp
         self._last_odometry = odometry.pose
         if last is not None:
             self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
+            self._unfixed_travel += math.hypot(delta.x, delta.y)
         self._remember(odometry.stamp, odometry.pose)
 
     def _remember(self, stamp: float, odom: Pose2D) -> None:
@@ -306,6 +392,31 @@ class PoseTracker:
         return Pose2D(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y),
                       a.theta + f * angle_diff(b.theta, a.theta))
 
+    @property
+    def gyro_bias(self) -> float:
+        """The gyro bias [rad/s] the tracker currently subtracts from the IMU's rotation."""
+        c = self.config
+        if c.gyro_bias_time_constant <= 0.0:
+            return 0.0
+        # A prior of zero bias weighs as much as a few seconds of evidence.
+        bias = self._bias_sum / (self._bias_time + _BIAS_PRIOR_SECONDS)
+        return max(-c.max_gyro_bias, min(c.max_gyro_bias, bias))
+
+    def _learn_bias(self, heading: float, dt: float) -> None:
+        """Add ``heading`` [rad] of bias evidence over ``dt`` [s], forgetting old evidence.
+
+        The bias subtracted during a prediction goes in as evidence for itself, and each heading
+        correction the scan makes goes in with the opposite sign (a gyro reading high makes the
+        pose turn too far, which the scan turns back): the sum over time is the raw bias times
+        the time, whatever estimate was used on the way.
+        """
+        tau = self.config.gyro_bias_time_constant
+        if tau <= 0.0:
+            return
+        keep = math.exp(-dt / tau)
+        self._bias_sum = keep * self._bias_sum + heading
+        self._bias_time = keep * self._bias_time + dt
+
     # -- correction ----------------------------------------------------------------------------
 
     def _correct(self, scan: LaserScan, odom_now: Pose2D, now: float) -> None:
@@ -323,16 +434,28 @@ class PoseTracker:
             range_max=scan.range_max, sensor_pose=scan.sensor_pose, step=step,
         )
         if tracking:
-            window = SearchWindow(c.track_window_xy, c.track_window_theta, c.theta_step)
+            xy = min(max(c.lost_window_xy, c.track_window_xy),
+                     c.track_window_xy + c.odometry_drift * self._unfixed_travel)
+            window = SearchWindow(xy, c.track_window_theta, c.theta_step,
+                                  coarse=xy > 1.5 * c.track_window_xy,
+                                  coarse_theta_step=c.coarse_theta_step,
+                                  candidates=c.candidates)
             match = self._matcher.match(points, at_scan, window, prior_xy=c.prior_xy,
                                         prior_theta=c.prior_theta,
                                         inlier_distance=c.inlier_distance)
         else:
+            if self._awaiting_relocalization and points.shape[0] < c.min_evidence_points:
+                # Started where the lidar sees nothing (an open hall): not a failed
+                # relocalization yet; odometry carries the given pose until walls come in view.
+                self._initialized_at = now
+                return
             wide_xy, wide_theta = (
                 (c.relocalize_window_xy, c.relocalize_window_theta)
                 if self._awaiting_relocalization
                 else (c.lost_window_xy, c.lost_window_theta)
             )
+            # As far as odometry may have drifted since the pose was last fixed, not less.
+            wide_xy = max(wide_xy, min(4.0 * wide_xy, c.odometry_drift * self._unfixed_travel))
             window = SearchWindow(wide_xy, wide_theta, c.theta_step, coarse=True,
                                   coarse_theta_step=c.coarse_theta_step,
                                   candidates=c.candidates)
@@ -344,17 +467,34 @@ class PoseTracker:
         quality = match.inliers if match.points else 0.0
 
         if tracking:
-            if quality >= c.accept_quality:
-                corrected = _clamp_step(at_scan, match.pose, c.max_correction_xy,
+            evidence = match.points >= c.min_evidence_points
+            if evidence and quality >= c.accept_quality:
+                information = self._matcher.information(
+                    points, match.pose, max_distance=c.constraint_distance)
+                con = degeneracy.constraint(information, length_scale=c.heading_length_scale,
+                                            min_information=c.min_information)
+                self.last_constraint = con
+                target = con.project(at_scan, match.pose)
+                corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
+                    # Position is fixed in every direction, up to what the clamp left for the
+                    # next scans: the window keeps room for that much.
+                    left = math.hypot(target.x - corrected.x, target.y - corrected.y)
+                    self._unfixed_travel = (left / c.odometry_drift if c.odometry_drift > 0.0
+                                            else 0.0)
                 self._pose = corrected.compose(since_scan)
-            self._smooth_quality(quality)
-            if self._quality >= c.lost_quality:
-                self._low_since = None
-            elif self._low_since is None:
-                self._low_since = now
+                if self._imu_used:
+                    self._learn_bias(-angle_diff(corrected.theta, at_scan.theta), 0.0)
+            if evidence:
+                self._smooth_quality(quality)
+                if self._quality >= c.lost_quality:
+                    self._low_since = None
+                elif self._low_since is None:
+                    self._low_since = now
         elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
+            self._unfixed_travel = 0.0
             self._quality = quality
             self._low_since = None
             self._awaiting_relocalization = False

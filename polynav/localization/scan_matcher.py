@@ -180,6 +180,36 @@ class ScanMatcher:
         )
         return Match(pose, float(score), float(inliers), int(pts.shape[0]))
 
+    def information(
+        self, points: npt.NDArray[np.float64], pose: Pose2D, *, max_distance: float = 0.15
+    ) -> npt.NDArray[np.float64]:
+        """The Gauss-Newton normal matrix of ``points`` fitted at ``pose`` (map frame).
+
+        ``H = sum J^T J`` over the endpoints within ``max_distance`` [m] of a map surface, where
+        ``J`` is the derivative of an endpoint's signed surface distance [m] with respect to the
+        pose (x [m], y [m], theta [rad]). Its x/y block counts endpoints' worth of surface
+        facing each direction; :func:`polynav.localization.degeneracy.constraint` reads it.
+        Endpoints farther from any surface (people, clutter) say nothing and are left out.
+
+        Returns:
+            ``H`` (3x3), symmetric, positive semi-definite; zeros when no endpoint is near a
+            surface.
+        """
+        res = self.field.info.resolution
+        pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+        h = np.zeros((3, 3), dtype=np.float64)
+        if pts.shape[0] == 0:
+            return h
+        local = self._origin_inverse.compose(pose)
+        _normal_matrix(self._distance, res, local.x / res, local.y / res, local.theta,
+                       np.ascontiguousarray(pts[:, 0] / res),
+                       np.ascontiguousarray(pts[:, 1] / res), max_distance / res, h)
+        # The kernel works in the grid frame; turn the translation block into the map frame.
+        c, s = math.cos(self.field.info.origin.theta), math.sin(self.field.info.origin.theta)
+        t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+        world: npt.NDArray[np.float64] = t.T @ h @ t
+        return world
+
     def _coarse_seeds(
         self,
         px: npt.NDArray[np.float64],
@@ -389,6 +419,38 @@ def _refine(
 
 
 @numba.njit(cache=True, nogil=True)
+def _normal_matrix(
+    distance: npt.NDArray[np.float32],
+    res: float,
+    x: float,
+    y: float,
+    theta: float,
+    px: npt.NDArray[np.float64],
+    py: npt.NDArray[np.float64],
+    max_cells: float,
+    out: npt.NDArray[np.float64],
+) -> None:
+    """``out += sum J^T J`` at a pose (grid frame, cells) over endpoints within ``max_cells``
+    of a surface; ``J`` per metre of translation and per radian, in metres of distance."""
+    c = math.cos(theta)
+    s = math.sin(theta)
+    inv_res = 1.0 / res
+    for k in range(px.shape[0]):
+        qx = x + c * px[k] - s * py[k]
+        qy = y + s * px[k] + c * py[k]
+        d, du, dv, ok = _sample(distance, qx, qy)
+        if not ok or abs(d) * inv_res > max_cells:
+            continue
+        gu = du * inv_res
+        gv = dv * inv_res
+        jt = (gu * (-s * px[k] - c * py[k]) + gv * (c * px[k] - s * py[k])) * res
+        j = (gu, gv, jt)
+        for a in range(3):
+            for b in range(3):
+                out[a, b] += j[a] * j[b]
+
+
+@numba.njit(cache=True, nogil=True)
 def _evaluate(
     likelihood: npt.NDArray[np.float32],
     distance: npt.NDArray[np.float32],
@@ -462,3 +524,4 @@ def warm_up() -> None:
     _score_volume(table, 1.5, 1.5, px, py, np.zeros(1), offsets, offsets, out)
     _refine(table, 0.05, 1.5, 1.5, 0.0, px, py, 3.0, 1)
     _evaluate(table, table, 0.05, 1.5, 1.5, 0.0, px, py, 2.0)
+    _normal_matrix(table, 0.05, 1.5, 1.5, 0.0, px, py, 3.0, np.zeros((3, 3)))

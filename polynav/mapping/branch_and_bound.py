@@ -11,6 +11,14 @@ the exhaustive search at the finest level, usually for a tiny fraction of its co
 
 The search is over whole-cell translations (``-w..w`` cells each way) and a list of headings;
 the caller refines the winner below a cell. Cells are indexed ``[iy, ix]``.
+
+An :class:`Exclusion` removes a neighbourhood of poses from the search (those within a radius
+*and* within a heading range of a given pose): a node whose whole block lies inside it is pruned,
+a leaf inside it is skipped. Searching again with the winner excluded gives the exact best
+*distinct* alternative, which is what global relocalization needs to tell a unique match from an
+ambiguous one (a featureless hall, two identical rooms, a corridor). An ``allowed`` mask (its
+own max-pooled levels, from :func:`precompute`) restricts the poses to some cells, the free
+space of a map: a block holding no allowed cell is pruned at whatever level it is met.
 """
 
 from __future__ import annotations
@@ -73,9 +81,23 @@ def _bound(grid: npt.NDArray[np.uint8], pad: int, bx: npt.NDArray[np.int64],
 
 
 @numba.njit(cache=True, nogil=True)
+def _excluded(near: npt.NDArray[np.uint8], r: int, x: int, y: int, size: int, ex_x: float,
+              ex_y: float, radius: float) -> bool:
+    """Whether every translation of the node (``size`` cells from ``(x, y)``, heading ``r``) lies
+    within ``radius`` of ``(ex_x, ex_y)`` at a heading marked ``near``."""
+    if near[r] == 0:
+        return False
+    far_x = max(abs(x - ex_x), abs(x + size - 1 - ex_x))
+    far_y = max(abs(y - ex_y), abs(y + size - 1 - ex_y))
+    return far_x * far_x + far_y * far_y <= radius * radius
+
+
+@numba.njit(cache=True, nogil=True)
 def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
             bxs: npt.NDArray[np.int64], bys: npt.NDArray[np.int64], window: int,
-            min_score: float) -> tuple[float, int, int, int]:
+            min_score: float, near: npt.NDArray[np.uint8], ex_x: float, ex_y: float,
+            radius: float, allowed: npt.NDArray[np.uint8], allowed_pad: int, ox: int,
+            oy: int) -> tuple[float, int, int, int]:
     n_rot = bxs.shape[0]
     top = 1 << depth
     n_top = (2 * window) // top + 1
@@ -125,8 +147,14 @@ def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
             r = st_r[sp]
             x = st_x[sp]
             y = st_y[sp]
-            if st_b[sp] <= best:
+            if st_b[sp] <= best or _excluded(near, r, x, y, 1 << level, ex_x, ex_y, radius):
                 continue
+            if allowed.shape[0] > level:
+                ay = oy + y + allowed_pad
+                ax = ox + x + allowed_pad
+                inside = 0 <= ay < allowed.shape[1] and 0 <= ax < allowed.shape[2]
+                if not inside or allowed[level, ay, ax] == 0:
+                    continue
             if level == 0:
                 best = st_b[sp]
                 best_r, best_x, best_y = r, x, y
@@ -157,6 +185,25 @@ def _search(grids: npt.NDArray[np.uint8], pad: int, depth: int,
                     st_b[sp] = child_b[q]
                     sp += 1
     return best, best_r, best_x, best_y
+
+
+@dataclass(frozen=True, slots=True)
+class Exclusion:
+    """Poses left out of a search: within ``radius`` of ``(x, y)`` *and* within ``theta_radius``
+    of ``theta`` (so a pose far enough in either position or heading stays in).
+
+    Attributes:
+        x, y: centre in the table's frame [cells].
+        radius: [cells].
+        theta: heading [rad].
+        theta_radius: [rad].
+    """
+
+    x: float
+    y: float
+    radius: float
+    theta: float
+    theta_radius: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -203,15 +250,62 @@ def search(
         The best pose, or None when nothing in the window beats ``min_score``.
     """
     n_theta = int(math.ceil(window_theta / theta_step - 1e-9))
-    thetas = theta + theta_step * np.arange(-n_theta, n_theta + 1)
+    thetas = theta + theta_step * np.arange(-n_theta, n_theta + 1, dtype=np.float64)
+    return search_headings(pre, points, x=x, y=y, thetas=thetas, window_cells=window_cells,
+                           min_score=min_score)
+
+
+def search_headings(
+    pre: PrecomputedGrids,
+    points: npt.NDArray[np.float64],
+    *,
+    x: float,
+    y: float,
+    thetas: npt.NDArray[np.float64],
+    window_cells: int,
+    min_score: float,
+    exclude: Exclusion | None = None,
+    allowed: PrecomputedGrids | None = None,
+) -> SearchResult | None:
+    """Best pose at any of ``thetas`` within ``window_cells`` of (x, y), outside ``exclude``.
+
+    Args:
+        pre: the table's precomputed grids.
+        points: (N, 2) endpoints in the robot frame [cells].
+        x, y: window centre in the table's frame [cells].
+        thetas: the headings searched [rad].
+        window_cells: translation half-width [cells].
+        min_score: nothing at or below this is returned.
+        exclude: poses left out (see :class:`Exclusion`), or None.
+        allowed: where a pose may be: :func:`precompute` of a 0/1 mask of the table's cells
+            with at least ``pre.depth`` levels (a pose is in the cell its position falls in);
+            None allows every cell.
+
+    Returns:
+        The best pose, or None when nothing searched beats ``min_score``.
+    """
     c = np.cos(thetas)[:, None]
     s = np.sin(thetas)[:, None]
     px = points[:, 0][None, :]
     py = points[:, 1][None, :]
     bxs = np.ascontiguousarray(np.floor(x + c * px - s * py).astype(np.int64))
     bys = np.ascontiguousarray(np.floor(y + s * px + c * py).astype(np.int64))
+    if exclude is None:
+        near = np.zeros(len(thetas), dtype=np.uint8)
+        ex_x = ex_y = radius = 0.0
+    else:
+        turn = np.angle(np.exp(1j * (np.asarray(thetas) - exclude.theta)))
+        near = (np.abs(turn) <= exclude.theta_radius).astype(np.uint8)
+        ex_x, ex_y, radius = exclude.x - x, exclude.y - y, exclude.radius
+    if allowed is None:
+        mask, mask_pad = np.zeros((0, 1, 1), dtype=np.uint8), 0
+    else:
+        if allowed.depth < pre.depth:
+            raise ValueError("the allowed mask needs as many levels as the table")
+        mask, mask_pad = allowed.grids, allowed.pad
     score, r, dx, dy = _search(pre.grids, pre.pad, pre.depth, bxs, bys, int(window_cells),
-                               float(min_score))
+                               float(min_score), near, float(ex_x), float(ex_y), float(radius),
+                               mask, mask_pad, math.floor(x), math.floor(y))
     if r < 0:
         return None
     return SearchResult(float(score), x + dx, y + dy, float(thetas[r]))
@@ -222,5 +316,6 @@ def warm_up() -> None:
     table = np.zeros((8, 8), dtype=np.float32)
     table[4, 4] = 1.0
     pre = precompute(table, 2)
-    search(pre, np.array([[0.5, 0.5]]), x=3.0, y=3.0, theta=0.0, window_cells=2,
-           window_theta=0.01, theta_step=0.01, min_score=0.1)
+    search_headings(pre, np.array([[0.5, 0.5]]), x=3.0, y=3.0, thetas=np.array([0.0, 0.01]),
+                    window_cells=2, min_score=0.1, exclude=Exclusion(3.0, 3.0, 1.0, 0.0, 0.1),
+                    allowed=precompute(table, 2))

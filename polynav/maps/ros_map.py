@@ -275,6 +275,15 @@ def _value_table(mode: str, *, negate: bool, occupied: float, free: float) -> np
     return table
 
 
+def png_bytes(grid: Map) -> bytes:
+    """``grid`` as the PNG ``map_saver`` would write (trinary, top row first), in memory: for a
+    live map served while it is being built."""
+    data = grid.data
+    buf = io.BytesIO()
+    _picture(data, (data >= FREE) & (data <= OCCUPIED), "trinary").save(buf, format="PNG")
+    return buf.getvalue()
+
+
 def _picture(data: npt.NDArray[np.int8], known: npt.NDArray[np.bool_], mode: str) -> Image.Image:
     """The image to save, top row first (the grid is flipped: row iy = 0 is the bottom)."""
     values = data.astype(np.int64)

@@ -174,6 +174,16 @@ class NavigationWaiting(RuntimeEvent):
 
 
 @dataclass(frozen=True, slots=True)
+class ExplorationFinished(RuntimeEvent):
+    """Exploration found no frontier left and brought the robot back to where it began;
+    ``targets`` frontiers were driven to."""
+
+    kind: ClassVar[str] = "exploration_finished"
+
+    targets: int
+
+
+@dataclass(frozen=True, slots=True)
 class AttemptEvent(RuntimeEvent):
     """A step of navigation attempt ``attempt_id`` that carries nothing else."""
 

@@ -19,6 +19,8 @@ from polynav.nav.stack import NavigationStack
 from polynav.robot.interface import Robot
 from polynav.runtime.config import Mode, SiteData
 from polynav.runtime.direct_motion import DirectMotion
+from polynav.runtime.exploration import Exploration
+from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.settings import RobotSettings
@@ -42,6 +44,8 @@ class RuntimeParts(abc.ABC):
     _motion: DirectMotion
     _attempts: AttemptBook
     _patrols: PatrolRunner
+    _mapping: MappingSession | None
+    _exploration: Exploration | None
 
     @abc.abstractmethod
     def now(self) -> float:
@@ -84,3 +88,15 @@ class RuntimeParts(abc.ABC):
     @abc.abstractmethod
     def _halt_motion(self) -> None:
         """End teleop and local moves (motion commands)."""
+
+    @abc.abstractmethod
+    def _set_mode(self, mode: Mode) -> None:
+        """Change mode, publishing the change."""
+
+    @abc.abstractmethod
+    def _floor_now(self) -> str | None:
+        """The floor the robot is on."""
+
+    @abc.abstractmethod
+    def _status_pose(self) -> Pose2D:
+        """The pose the status shows now."""

@@ -5,8 +5,9 @@ API's ``POST /api/localization/relocalize``) it searches the current map for the
 while the tracker reports LOST it does the same every ``retry_period`` seconds of the robot's
 clock, so that a robot that was carried away, or got lost in a corridor, finds itself and the
 navigator (which holds a goal while localization is lost) goes on. A found pose restarts the
-tracker there. The search runs between ticks: about a second of computation while the robot
-stands (a lost robot is held anyway), once per map for the precomputation.
+tracker there. The search runs between ticks: 0.1 to 0.3 s of computation on a demo floor
+(820 x 500 cells) while the robot stands (a lost robot is held anyway), plus about as much
+once per map for the precomputation.
 """
 
 from __future__ import annotations

@@ -72,8 +72,11 @@ from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
+from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.mapping_commands import MappingCommands
+from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
@@ -92,7 +95,7 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, MotionCommands):
+class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -130,6 +133,8 @@ class RobotRuntime(GoalCommands, MotionCommands):
         )
         self._localization = LocalizationWatcher()
         self._recovery = LostRecovery(self._restart_localization)
+        self._mapping: MappingSession | None = None
+        self._exploration: Exploration | None = None
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
         # Timing.
@@ -424,11 +429,15 @@ class RobotRuntime(GoalCommands, MotionCommands):
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
             self._patrols.follow(stack.navigator.attempt)
+        explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()
         if override is not None:
             self._robot.drive(override)
             commanded = override
+        elif explored is not None:
+            self._robot.drive(explored)
+            commanded = explored
         elif stack is None:
             self._robot.drive(Twist())
         else:
@@ -440,6 +449,22 @@ class RobotRuntime(GoalCommands, MotionCommands):
         self._check_battery(now)
         self.device.tick(now, commanded)
         self._refresh()
+
+    def _map_tick(self, now: float, estop: bool) -> Twist | None:
+        """Feed the mapping session; the exploration's velocity while it explores."""
+        session = self._mapping
+        if session is None:
+            return None
+        odometry, scan = self._robot.read_odometry(), self._robot.read_scan()
+        session.tick(odometry, scan)
+        exploration = self._exploration
+        if exploration is None or exploration.done:
+            return None
+        twist = exploration.tick(now, session.live_map, session.pose, odometry.twist, scan,
+                                 estop)
+        if exploration.done:
+            self._publish(events.ExplorationFinished(now, exploration.targets))
+        return twist
 
     # -- state checks that publish events ----------------------------------------------------
 
@@ -571,6 +596,12 @@ class RobotRuntime(GoalCommands, MotionCommands):
         """Rebuild the snapshot now, so a status read right after a command shows its effect."""
         self._snapshot = self._build_snapshot(self.now())
 
+    def _floor_now(self) -> str | None:
+        return self._sim.floor
+
+    def _status_pose(self) -> Pose2D:
+        return self._snapshot.pose
+
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
 
@@ -585,6 +616,8 @@ class RobotRuntime(GoalCommands, MotionCommands):
             pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
         else:
             pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+        if self._mapping is not None:
+            pose = self._mapping.pose
         attempts = self._attempts
         attempt = attempts.attempt
         nav_state = attempt.state.value if attempt is not None else "idle"

@@ -10,9 +10,12 @@ from __future__ import annotations
 import threading
 from collections.abc import Mapping
 
+import numpy as np
+
 from polynav.errors import Conflict, InvalidRequest, NotLocalized
 from polynav.geometry import Pose2D
 from polynav.mapping.relocalization import Relocalization
+from polynav.maps.map import Map, MapInfo
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.settings import RobotSettings
@@ -107,6 +110,42 @@ class FakeRuntime:
         if self.lost_in_a_hall:
             raise NotLocalized("relocalization failed: ambiguous")
         return Relocalization(self.pose, 0.93, 0.41)
+
+    # -- mapping: a fixed little map "grows" as the fake advances
+
+    def start_mapping(self) -> None:
+        if self.mode != "free":
+            raise Conflict(f"mapping starts from free (mode {self.mode})")
+        self._set_mode("mapping")
+
+    def _need_mapping(self) -> None:
+        if self.mode != "mapping":
+            raise Conflict("not mapping")
+
+    def mapping_map(self) -> Map:
+        self._need_mapping()
+        data = np.full((4, 6), -1, dtype=np.int8)
+        data[1:3, 1:5] = 0
+        data[0, :] = 100
+        return Map(MapInfo(0.05, 6, 4, Pose2D(-0.1, -0.1, 0.0)), data)
+
+    def save_mapping(self, name: str, *, overwrite: bool = False) -> object:
+        self._need_mapping()
+        if not overwrite and name in {m.name for m in self.store.maps()}:
+            raise Conflict(f"a map called {name!r} exists")
+        return self.store.save_map(name, self.mapping_map())
+
+    def stop_mapping(self, name: str, *, overwrite: bool = False) -> object:
+        record = self.save_mapping(name, overwrite=overwrite)
+        self._set_mode("free")
+        return record
+
+    def explore(self) -> None:
+        self._need_mapping()
+
+    def cancel_mapping(self) -> None:
+        self._need_mapping()
+        self._set_mode("free")
 
     def go_to(
         self, *, point: str | None = None, pose: Pose2D | None = None,

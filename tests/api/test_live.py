@@ -142,3 +142,28 @@ def test_local_move_and_estop_on_the_real_runtime(
         runtime.advance(0.1)
         assert http.get("/api/status").json()["estop"]["software"] is True
         assert http.post("/api/teleop", json={"linear": 0.3}).status_code == 409
+
+
+def test_while_mapping_the_websocket_sends_the_live_map(
+    runtime: RobotRuntime, server: ServerThread
+) -> None:
+    import base64
+    import io
+
+    from PIL import Image
+
+    runtime.start()
+    with connect(f"ws://127.0.0.1:{server.port}/api/ws?rate=2") as ws, \
+            httpx.Client(base_url=server.url) as http:
+        assert http.post("/api/mapping/start").status_code == 200
+        for _ in range(200):
+            message = json.loads(ws.recv(timeout=30.0))
+            if message["type"] == "map":
+                break
+        else:
+            raise AssertionError("no map message")
+        data = message["data"]
+        picture = Image.open(io.BytesIO(base64.b64decode(data["png"])))
+        assert picture.size == (data["width"], data["height"])
+        assert data["resolution"] == pytest.approx(0.05)
+        assert http.post("/api/mapping/cancel").status_code == 200

@@ -1,9 +1,11 @@
 """WS /api/ws: the status snapshot at a requested rate and every runtime event as it happens.
 
-Messages are ``{"type": "status", "data": <GET /api/status body>}`` and
-``{"type": "event", "data": {"kind": ..., "stamp": ..., ...}}``. The rate is counted on the
-robot's SIMULATED clock (the snapshot's ``stamp``), so at ``--speed 20`` a 5 Hz stream is 100
-messages per wall second and a client sees the same stream at every speed.
+Messages are ``{"type": "status", "data": <GET /api/status body>}``,
+``{"type": "event", "data": {"kind": ..., "stamp": ..., ...}}`` and, while mapping, the live
+map every ``1 / ws_map_rate`` simulated seconds: ``{"type": "map", "data": {"resolution",
+"width", "height", "origin", "png"}}`` (``png``: the ROS picture, base64). The rates are
+counted on the robot's SIMULATED clock (the snapshot's ``stamp``), so at ``--speed 20`` a 5 Hz
+stream is 100 messages per wall second and a client sees the same stream at every speed.
 
 A slow client never slows the robot, and costs a bounded amount: each client writes through an
 :class:`~polynav.protocols.outbox.Outbox` whose unsent status messages are coalesced to the newest;
@@ -14,6 +16,7 @@ with code 1008 and the reason, and can reconnect.
 from __future__ import annotations
 
 import asyncio
+import base64
 import contextlib
 import json
 import logging
@@ -22,11 +25,24 @@ from typing import Any
 from fastapi import APIRouter, Query, WebSocket, WebSocketDisconnect
 
 from polynav.api.errors import error_body
+from polynav.errors import PolynavError
+from polynav.maps.map import Map
+from polynav.maps.ros_map import png_bytes
 from polynav.protocols.outbox import Outbox, OutboxClosed
 
 log = logging.getLogger(__name__)
 
 router = APIRouter(prefix="/api", tags=["events"])
+
+
+def map_message(grid: Map) -> dict[str, Any]:
+    """The WebSocket message of the live map."""
+    info = grid.info
+    return {"type": "map", "data": {
+        "resolution": info.resolution, "width": info.width, "height": info.height,
+        "origin": {"x": info.origin.x, "y": info.origin.y, "theta": info.origin.theta},
+        "png": base64.b64encode(png_bytes(grid)).decode("ascii"),
+    }}
 
 
 def event_message(event: Any) -> dict[str, Any]:
@@ -106,6 +122,7 @@ async def stream(
     subscription = runtime.bus.subscribe(maxlen=config.ws_queue_size)
     outbox: Outbox[str] = Outbox(limit=config.ws_queue_size)
     pacer = StatusPacer(hz)
+    map_pacer = StatusPacer(config.ws_map_rate)
     closed = asyncio.Event()
     watcher = asyncio.create_task(_watch_disconnect(websocket, closed))
     writer = asyncio.create_task(_write(websocket, outbox))
@@ -121,6 +138,10 @@ async def stream(
             if snapshot.stamp != last_stamp and pacer.due(snapshot.stamp):
                 last_stamp = snapshot.stamp
                 outbox.status(_text({"type": "status", "data": snapshot.to_dict()}), "status")
+            if snapshot.mode == "mapping" and map_pacer.due(snapshot.stamp):
+                with contextlib.suppress(PolynavError):  # mapping ended meanwhile
+                    grid = await asyncio.to_thread(runtime.mapping_map)
+                    outbox.status(_text(map_message(grid)), "map")
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(closed.wait(), timeout=config.ws_poll_interval)
         if outbox.closed and not closed.is_set():

@@ -102,11 +102,15 @@ def test_intel_json_keeps_keys_verbatim_and_sorts_them_numerically(tmp_path: Pat
 def test_mines_log_integrates_wheel_ticks(tmp_path: Path) -> None:
     ranges = " ".join(["1000"] * logs.MINES_BEAMS)
     filler = " ".join(["0"] * 20)
-    # 2000 ticks = half a wheel turn = pi * 0.077 m on both wheels: straight ahead.
-    lines = [f"1000000 0 0 0 {filler} {ranges} 0", f"2000000 0 2000 2000 {filler} {ranges} 0"]
+    # 2000 ticks = pi rad of wheel on both wheels: straight ahead, 0.077 m x (pi + pi) as
+    # BreezySLAM counts it; then the right wheel alone turns 1000 ticks more.
+    lines = [f"1000000 0 0 0 {filler} {ranges} 0", f"2000000 0 2000 2000 {filler} {ranges} 0",
+             f"3000000 0 2000 3000 {filler} {ranges} 0"]
     log = logs.read_log(_write(tmp_path / "exp.dat", "\n".join(lines)))
     assert log.source == "mines"
-    assert log.scans[1].odom.x == pytest.approx(math.pi * 0.077)
+    assert log.scans[1].odom.x == pytest.approx(2.0 * math.pi * 0.077)
+    turn = 0.077 / 0.165 * (math.pi / 2.0)  # BreezySLAM: (r / half axle) x (right - left)
+    assert log.scans[2].odom.theta == pytest.approx(turn)
     assert log.scans[1].stamp == pytest.approx(2.0)
     assert math.isinf(log.scans[0].ranges[0]) and log.scans[0].ranges[300] == 1.0
 

@@ -60,6 +60,25 @@ def test_twenty_random_poses_are_found_or_refused_never_wrong(floor_name: str) -
     assert found >= (15 if floor_name == "floor1" else 4)
 
 
+def test_a_map_with_a_rotated_origin_answers_in_its_own_frame() -> None:
+    floor = WORLD.floor("floor1")
+    info = floor.map.info
+    turned = Pose2D(3.0, -2.0, 0.7)
+    rotated = Map(MapInfo(info.resolution, info.width, info.height, turned), floor.map.data)
+    relocalizer = Relocalizer(rotated)
+    found = 0
+    for k, pose in enumerate(_random_poses(floor, 5, seed=4)):
+        scan, true = _scan_at(WORLD, "floor1", pose, seed=k)
+        result = relocalizer.locate(scan)
+        if result.pose is None:
+            continue
+        found += 1
+        expected = turned.compose(info.origin.inverse().compose(true))
+        assert result.pose.distance_to(expected) <= 0.1, (k, result, expected)
+        assert abs(angle_diff(result.pose.theta, expected.theta)) <= 0.05, (k, result, expected)
+    assert found >= 3
+
+
 def _hall(size: float = 16.0) -> Map:
     res = 0.05
     n = int(size / res)
@@ -82,6 +101,6 @@ def test_a_featureless_hall_is_ambiguous_or_no_match_never_a_pose() -> None:
 
 def test_config_rejects_bad_values() -> None:
     for bad in ({"sigma": 0.0}, {"depth": 0}, {"points": 5}, {"min_score": 1.5},
-                {"tile": math.inf}):
+                {"theta_step": math.inf}):
         with pytest.raises(ConfigError):
             RelocalizationConfig(**bad)  # type: ignore[arg-type]

@@ -1,0 +1,45 @@
+"""/api/mapping over HTTP: start, the live map as grid JSON and PNG, save (409 on a taken name
+unless overwrite), stop (saves, free), cancel; 409 in the wrong mode."""
+
+from __future__ import annotations
+
+import httpx
+
+from tests.api.fakes import FakeRuntime
+
+
+def test_mapping_start_watch_save_stop(client: httpx.Client, fake_runtime: FakeRuntime) -> None:
+    assert client.get("/api/mapping/map").status_code == 409
+    assert client.post("/api/mapping/explore").status_code == 409  # not mapping
+    assert client.post("/api/mapping/start").status_code == 200
+    assert client.post("/api/mapping/start").status_code == 409  # already mapping
+    assert client.post("/api/mapping/explore").status_code == 200
+    assert client.get("/api/status").json()["mode"] == "mapping"
+    grid = client.get("/api/mapping/map").json()
+    assert (grid["width"], grid["height"], grid["resolution"]) == (6, 4, 0.05)
+    assert len(grid["data"]) == 24 and grid["data"][:6] == [100] * 6  # bottom row first
+    png = client.get("/api/mapping/map.png")
+    assert png.status_code == 200 and png.headers["content-type"] == "image/png"
+    assert png.content.startswith(b"\x89PNG")
+    saved = client.post("/api/mapping/save", json={"name": "draft"})
+    assert saved.status_code == 200 and saved.json()["name"] == "draft"
+    taken = client.post("/api/mapping/save", json={"name": "draft"})
+    assert taken.status_code == 409 and "exists" in taken.json()["error"]["message"]
+    assert client.post("/api/mapping/save",
+                       json={"name": "draft", "overwrite": True}).status_code == 200
+    assert client.post("/api/mapping/stop", json={"name": "floor1"}).status_code == 409
+    stopped = client.post("/api/mapping/stop", json={"name": "hall"})
+    assert stopped.status_code == 200 and stopped.json()["width"] == 6
+    assert client.get("/api/status").json()["mode"] == "free"
+    assert "hall" in [m["name"] for m in client.get("/api/maps").json()]
+
+
+def test_mapping_cancel_and_bad_bodies(client: httpx.Client) -> None:
+    assert client.post("/api/mapping/cancel").status_code == 409
+    client.post("/api/mapping/start")
+    assert client.post("/api/mapping/stop", json={}).status_code == 422
+    assert client.post("/api/mapping/stop", json={"name": "a/b"}).status_code == 422
+    bad = client.post("/api/mapping/save", json={"name": "x", "overwrite": "yes"})
+    assert bad.status_code == 422
+    assert client.post("/api/mapping/cancel").status_code == 200
+    assert client.get("/api/status").json()["mode"] == "free"
