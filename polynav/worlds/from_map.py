@@ -228,7 +228,7 @@ def write_world_from_map(
 
     Raises:
         InvalidRequest: as :func:`load_plan` and :func:`plan_world`; ``out`` exists and is not
-            an empty folder. Nothing is written then.
+            an empty folder, or cannot be created or written. Nothing is written then.
     """
     options = options or FromMapOptions()
     target = Path(out)
@@ -236,8 +236,12 @@ def write_world_from_map(
         raise InvalidRequest("out", f"{target}: exists and is not an empty folder")
     name = Path(plan).stem or "world"
     planned = plan_world(name, load_plan(plan, options), options)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    except OSError as exc:
+        # An unwritable or impossible --out is the caller's mistake, not a crash.
+        raise InvalidRequest("out", f"{target}: cannot create it: {exc.strerror or exc}") from exc
     try:
         staging.chmod(0o755)  # mkdtemp's folder is private; the world is an ordinary folder
         ros_map.save_map(planned.grid, staging / "floor1.yaml")
@@ -245,6 +249,9 @@ def write_world_from_map(
         if target.exists():
             target.rmdir()
         os.replace(staging, target)
+    except OSError as exc:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise InvalidRequest("out", f"{target}: cannot write it: {exc.strerror or exc}") from exc
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise

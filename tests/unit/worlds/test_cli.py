@@ -73,6 +73,17 @@ def test_from_map_refuses_bad_input_with_exit_2_one_line_and_nothing_written(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in"]  # no world, no staging folder
 
 
+def test_from_map_refuses_an_out_folder_it_cannot_create_with_exit_2_and_no_traceback(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    blocker = _write(tmp_path, "a-file", "not a folder")
+    out = blocker / "w"  # its parent is a file: mkdir fails even for root
+    assert main(["world", "from-map", str(EMPTY), "--out", str(out), "--points", "2"]) == 2
+    (line,) = capsys.readouterr().err.splitlines()
+    assert line.startswith(f"polynav world from-map: out: {out}: cannot create it")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
 def test_run_warns_when_the_site_was_seeded_from_another_world(tmp_path: Path) -> None:
     write_world_from_map(EMPTY, tmp_path / "w", FromMapOptions(points=2, walkers=0))
     generated = load_world(tmp_path / "w")
