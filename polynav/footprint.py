@@ -277,6 +277,25 @@ def first_collision(
     return None if hit < 0 else int(hit)
 
 
+def collision_mask(
+    footprint: Footprint,
+    costmap: CostGrid,
+    poses: npt.NDArray[np.float64],
+    *,
+    unknown_is_lethal: bool = False,
+) -> npt.NDArray[np.bool_]:
+    """Per pose (N, 3): does the footprint there overlap a LETHAL cell?"""
+    local = _to_grid_frame(costmap.info, poses)
+    return _mask(
+        np.ascontiguousarray(costmap.costs),
+        costmap.info.resolution,
+        footprint.vertices,
+        footprint.radius,
+        local,
+        unknown_is_lethal,
+    )
+
+
 def clearances(
     footprint: Footprint,
     costmap: CostGrid,
@@ -650,6 +669,24 @@ def _first_hit(
 
 
 @numba.njit(cache=True, nogil=True)
+def _mask(
+    grid: npt.NDArray[np.uint8],
+    res: float,
+    verts: npt.NDArray[np.float64],
+    radius: float,
+    poses: npt.NDArray[np.float64],
+    unknown_is_lethal: bool,
+) -> npt.NDArray[np.bool_]:
+    world = np.empty_like(verts)
+    reach = _reach(verts, radius)
+    out = np.zeros(poses.shape[0], dtype=np.bool_)
+    for k in range(poses.shape[0]):
+        out[k] = _overlaps(grid, res, verts, radius, poses[k, 0], poses[k, 1], poses[k, 2],
+                           reach, unknown_is_lethal, world)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
 def _clearances(
     grid: npt.NDArray[np.uint8],
     res: float,
@@ -676,6 +713,7 @@ def warm_up() -> None:
     poses = np.array([[2.5, 2.5, 0.0]])
     for fp in (Footprint.circle(0.4), Footprint.rectangle(0.8, 0.6)):
         first_collision(fp, snapshot, poses)
+        collision_mask(fp, snapshot, poses)
         clearances(fp, snapshot, poses, horizon=1.0)
 
 

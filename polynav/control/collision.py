@@ -1,9 +1,13 @@
 """Is the way ahead clear? Costs along the path and along the arc the robot is about to drive.
 
-The costmap is inflated by the robot's inscribed radius, so the robot *centre* collides exactly
-where a cell is INSCRIBED or LETHAL: checking points under the centre is a check of the whole
-(circular) footprint. Points are sampled at half a cell so no cell along the way is skipped,
-whatever the spacing of the planner's points.
+Two kinds of check live here. Cost lookups under points (:func:`costs_at`) read the inflated
+costmap, where the robot *centre* collides where a cell is INSCRIBED or LETHAL: exact for a round
+robot of the inscribed radius, and what the proximity regulation reads. Footprint checks
+(:func:`first_footprint_collision` over :func:`arc_poses`, :func:`path_poses` or a turn in place)
+place the robot's real body, circle or polygon, at each pose and test it against LETHAL cells
+(:mod:`polynav.footprint`): a rectangle may pass a gap lengthwise that its circumscribed circle
+could not, and turning on the spot sweeps its corners, not a point. Poses are sampled at half a
+cell so no cell along the way is skipped, whatever the spacing of the planner's points.
 
 UNKNOWN cells and points outside the grid are not obstacles here: the planner decided whether
 unknown space may be crossed, and the obstacle layer marks what the lidar sees.
@@ -17,6 +21,8 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+from polynav import footprint as body
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.interface import CostGrid
@@ -77,3 +83,55 @@ def arc_points(pose: Pose2D, kappa: float, length: float, step: float) -> npt.ND
     return np.column_stack(
         (pose.x + c * local_x - si * local_y, pose.y + si * local_x + c * local_y)
     )
+
+
+def arc_poses(pose: Pose2D, kappa: float, length: float, step: float) -> npt.NDArray[np.float64]:
+    """Poses (N, 3) every ``step`` [m] along the arc of :func:`arc_points`, heading included."""
+    points = arc_points(pose, kappa, length, step)
+    n = points.shape[0]
+    s = np.linspace(0.0, length, n)
+    out = np.empty((n, 3), dtype=np.float64)
+    out[:, :2] = points
+    out[:, 2] = pose.theta + kappa * s
+    return out
+
+
+def path_poses(
+    points: npt.NDArray[np.float64], headings: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]:
+    """Poses (N, 3) from points (N, 2) [m] and headings (N,) [rad]."""
+    return np.column_stack((points, headings))
+
+
+def first_footprint_collision(
+    footprint: Footprint, costmap: CostGrid, poses: npt.NDArray[np.float64]
+) -> int | None:
+    """Index of the first pose where the body overlaps a LETHAL cell, or ``None``.
+
+    As :func:`first_collision`: a run of poses that *starts* in collision is skipped up to its
+    first clear pose, so a robot touching a mark (a wedged robot, an estimate a few centimetres
+    off) may still move out of it, but not on into anything after.
+    """
+    hit = body.first_collision(footprint, costmap, poses)
+    if hit != 0:
+        return hit
+    mask = body.collision_mask(footprint, costmap, poses)
+    clear = np.flatnonzero(~mask)
+    if clear.size == 0:
+        return None
+    mask[: clear[0]] = False
+    found = np.flatnonzero(mask)
+    return int(found[0]) if found.size else None
+
+
+def turn_collides(
+    footprint: Footprint, costmap: CostGrid, pose: Pose2D, turn: float
+) -> bool:
+    """Does turning in place by ``turn`` [rad] from ``pose`` sweep the body into a LETHAL cell?
+
+    A circle centred on the base never changes as it turns: only a polygon can.
+    """
+    if footprint.is_circle or turn == 0.0:
+        return False
+    poses = body.rotation_poses(footprint, pose, turn, costmap.info.resolution)
+    return first_footprint_collision(footprint, costmap, poses) is not None

@@ -17,10 +17,19 @@ Each control period :meth:`RegulatedPurePursuit.compute` goes through these step
 4. **Track**: curvature 2y/L² to the carrot; the linear speed is *regulated* by curvature, by the
    cost under and just ahead of the robot, and by the distance left to the goal
    (:mod:`polynav.control.regulation`); the turn rate is speed × curvature.
-5. **Collision check**: the path ahead and the arc about to be driven are looked up in the
-   costmap (:mod:`polynav.control.collision`). An obstacle within the stopping distance (what the
+5. **Collision check**: the robot's footprint (circle or polygon, :mod:`polynav.footprint`) is
+   placed along the path ahead and along the arc about to be driven and tested against LETHAL
+   cells (:mod:`polynav.control.collision`). An obstacle within the stopping distance (what the
    robot covers in ``collision_lookahead_time`` plus its braking distance) stops the robot
-   (``BLOCKED``: the navigator re-plans); one within ``slowdown_distance`` slows it (``SLOWING``).
+   (``BLOCKED``: the navigator recovers and re-plans); one within ``slowdown_distance`` slows it
+   (``SLOWING``). The body's *clearance* along the arc caps the speed too (``clearance_time``):
+   in a gap barely wider than the robot it creeps through rather than stopping, and where the
+   clearance allows it drives at the full ``max_linear_velocity``.
+   A turn in place is checked by sweeping the footprint through the turn (a polygon's corners
+   swing out; a circle never changes), and turns the long way round when only that way is clear.
+   Odometry of a robot standing still reports a few mm/s of noise: below ``standstill_speed``
+   the robot is not coasting anywhere, so no coasting arc (of a tiny radius that would touch
+   every post nearby) is checked.
 6. **Limits**: never above the velocity limits, and within the acceleration limits from the
    *measured* velocity, except the stop when ``BLOCKED``, which is immediate.
 
@@ -42,13 +51,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
+from polynav import footprint as body
 from polynav.control import collision, regulation
 from polynav.control.goal_checker import GoalChecker
 from polynav.control.interface import ControlCommand, ControlStatus
 from polynav.control.pose_filter import PoseFilter
 from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist, angle_diff, wrap_angle
 from polynav.maps import costs
 from polynav.maps.interface import CostGrid
@@ -57,6 +69,9 @@ from polynav.planning.path import Path
 log = logging.getLogger(__name__)
 
 _KEY = "control.pure_pursuit."
+
+DEFAULT_FOOTPRINT = Footprint.circle(0.25)
+"""The demo robot's body, when none is given."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,6 +110,10 @@ class PurePursuitConfig:
         pose_filter_gain: weight of each new pose estimate against the odometry prediction
             (:mod:`polynav.control.pose_filter`); 1 steers by the raw estimate.
         pose_filter_reset_distance: an estimate this far [m] from the prediction is taken as is.
+        standstill_speed: measured speeds [m/s] below this are odometry noise on a robot
+            standing still: it coasts nowhere.
+        clearance_time: the speed is at most the body's clearance along the arc ahead divided by
+            this [s] (never below ``min_regulated_speed``): slow in tight gaps, fast in the open.
     """
 
     max_linear_velocity: float = 0.6
@@ -124,6 +143,8 @@ class PurePursuitConfig:
     path_search_distance: float = 2.0
     pose_filter_gain: float = 0.2
     pose_filter_reset_distance: float = 0.2
+    standstill_speed: float = 0.05
+    clearance_time: float = 0.25
 
     def __post_init__(self) -> None:
         positive = (
@@ -131,7 +152,8 @@ class PurePursuitConfig:
             "linear_deceleration", "angular_acceleration", "lookahead_time", "min_lookahead",
             "rotate_gain", "regulated_min_radius", "approach_velocity_scaling_dist",
             "min_approach_velocity", "collision_lookahead_time", "min_stop_distance",
-            "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time",
+            "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time", "standstill_speed",
+            "clearance_time",
         )
         for key in positive:
             value = getattr(self, key)
@@ -170,10 +192,18 @@ class PurePursuitConfig:
 
 
 class RegulatedPurePursuit:
-    """The path-following controller; implements :class:`polynav.control.interface.Controller`."""
+    """The path-following controller; implements :class:`polynav.control.interface.Controller`.
 
-    def __init__(self, config: PurePursuitConfig | None = None) -> None:
+    Args:
+        config: the tuning.
+        footprint: the robot's body, for every collision check; a 0.25 m disk if not given.
+    """
+
+    def __init__(
+        self, config: PurePursuitConfig | None = None, *, footprint: Footprint | None = None
+    ) -> None:
         self.config = config or PurePursuitConfig()
+        self.footprint = footprint or DEFAULT_FOOTPRINT
         self._goal_checker = GoalChecker(
             self.config.xy_goal_tolerance, self.config.yaw_goal_tolerance
         )
@@ -252,7 +282,7 @@ class RegulatedPurePursuit:
             checker.latch()
             self._settle = 0.0
         if checker.xy_reached:
-            return self._turn_to_goal(pose, velocity, dt)
+            return self._turn_to_goal(pose, velocity, costmap, dt)
         return self._track(pose, velocity, costmap, dt)
 
     # -- goal --------------------------------------------------------------------------------
@@ -272,7 +302,9 @@ class RegulatedPurePursuit:
         self._settle += dt
         return self._settle >= cfg.goal_settle_time
 
-    def _turn_to_goal(self, pose: Pose2D, velocity: Twist, dt: float) -> ControlCommand:
+    def _turn_to_goal(
+        self, pose: Pose2D, velocity: Twist, costmap: CostGrid, dt: float
+    ) -> ControlCommand:
         cfg = self.config
         goal = self._goal
         assert goal is not None
@@ -296,6 +328,22 @@ class RegulatedPurePursuit:
                 return self._answer(Twist(), ControlStatus.ARRIVED)
         else:
             self._settle = 0.0
+        return self._rotate(pose, error, velocity, costmap, dt)
+
+    def _rotate(
+        self, pose: Pose2D, error: float, velocity: Twist, costmap: CostGrid, dt: float
+    ) -> ControlCommand:
+        """Turn in place by ``error`` [rad], the long way round if only that way is clear."""
+        if velocity.linear > self.config.standstill_speed and self._coasting_collides(
+            pose, velocity, costmap
+        ):
+            return self._answer(Twist(), ControlStatus.BLOCKED)
+        if collision.turn_collides(self.footprint, costmap, pose, error):
+            other = error - math.copysign(2.0 * math.pi, error)
+            if collision.turn_collides(self.footprint, costmap, pose, other):
+                log.debug("no way to turn %.2f rad in place: blocked", error)
+                return self._answer(Twist(), ControlStatus.BLOCKED)
+            error = other
         return self._answer(self._turn(error, velocity, dt), ControlStatus.ROTATING)
 
     def _turn(self, error: float, velocity: Twist, dt: float) -> Twist:
@@ -361,9 +409,7 @@ class RegulatedPurePursuit:
         elif abs(bearing) > cfg.rotate_to_heading_min_angle:
             self._rotating = True
         if self._rotating:
-            if velocity.linear > 0.0 and self._coasting_collides(pose, velocity, costmap):
-                return self._answer(Twist(), ControlStatus.BLOCKED)
-            return self._answer(self._turn(bearing, velocity, dt), ControlStatus.ROTATING)
+            return self._rotate(pose, bearing, velocity, costmap, dt)
 
         if at_goal:
             # Steer to pass within half the aim, not through the goal's centre: a straight line
@@ -388,7 +434,8 @@ class RegulatedPurePursuit:
         horizon = max(cfg.slowdown_distance, stop_at)
         arc_s = np.arange(self._place, min(path.length, self._place + horizon) + step, step)
         arc_s = np.minimum(arc_s, path.length)
-        ahead = collision.costs_at(costmap, path.points_at(arc_s))
+        ahead_points = path.points_at(arc_s)
+        ahead = collision.costs_at(costmap, ahead_points)
 
         speed = regulation.curvature_speed(
             cfg.max_linear_velocity, kappa, min_radius=cfg.regulated_min_radius
@@ -409,7 +456,9 @@ class RegulatedPurePursuit:
             min_speed=cfg.min_approach_velocity,
         )
 
-        hit = collision.first_collision(ahead)
+        hit = collision.first_footprint_collision(
+            self.footprint, costmap, collision.path_poses(ahead_points, path.headings_at(arc_s))
+        )
         if hit is not None:
             obstacle = float(arc_s[hit]) - self._place
             if obstacle <= stop_at:
@@ -424,17 +473,21 @@ class RegulatedPurePursuit:
             )
             if capped < speed:
                 speed, slowing = capped, True
-        if self._arc_collides(pose, kappa, math.hypot(fx, fy), stop_at, costmap):
+        arc = self._arc_to_carrot(pose, kappa, math.hypot(fx, fy), stop_at, costmap)
+        if collision.first_footprint_collision(self.footprint, costmap, arc) is not None:
             log.debug("the arc to the carrot runs into an obstacle: blocked")
             return self._answer(Twist(), ControlStatus.BLOCKED)
+        room = self._clearance_speed(arc, costmap)
+        if room < speed:
+            speed, slowing = room, True
 
         twist = self._limit(speed, kappa, velocity, dt)
         return self._answer(twist, ControlStatus.SLOWING if slowing else ControlStatus.TRACKING)
 
-    def _arc_collides(
+    def _arc_to_carrot(
         self, pose: Pose2D, kappa: float, chord: float, stop_at: float, costmap: CostGrid
-    ) -> bool:
-        """Does the arc about to be driven hit an obstacle within the stopping distance?
+    ) -> npt.NDArray[np.float64]:
+        """Poses (N, 3) along the arc about to be driven, up to the stopping distance.
 
         The path check alone misses a robot cutting a corner into a wall. The arc is checked only
         up to the carrot, ``chord`` [m] away, where it meets the path again: beyond it the robot
@@ -442,20 +495,40 @@ class RegulatedPurePursuit:
         """
         half = min(abs(kappa) * chord / 2.0, 1.0)
         to_carrot = chord if abs(kappa) < 1e-9 else 2.0 * math.asin(half) / abs(kappa)
-        return self._collides(pose, kappa, min(stop_at, to_carrot), costmap)
+        length = max(min(stop_at, to_carrot), 0.0)
+        return collision.arc_poses(pose, kappa, length, 0.5 * costmap.info.resolution)
+
+    def _clearance_speed(self, arc: npt.NDArray[np.float64], costmap: CostGrid) -> float:
+        """The fastest speed [m/s] the body's clearance along ``arc`` allows.
+
+        Clearance over time: at ``clearance_time`` from touching, whatever the speed. A robot
+        squeezing through a gap one cell wider than itself creeps; in the open it is uncapped.
+        """
+        cfg = self.config
+        horizon = cfg.max_linear_velocity * cfg.clearance_time
+        gaps = body.clearances(self.footprint, costmap, arc, horizon=horizon)
+        gap = float(gaps.min(initial=horizon))
+        return max(gap / cfg.clearance_time, cfg.min_regulated_speed)
 
     def _coasting_collides(self, pose: Pose2D, velocity: Twist, costmap: CostGrid) -> bool:
-        """While braking into a turn in place, does the robot roll into an obstacle?"""
+        """While braking into a turn in place, does the robot roll into an obstacle?
+
+        Only asked of a robot that is really moving (above ``standstill_speed``): the arc is the
+        one the measured velocity draws, swept by the footprint as it turns along it.
+        """
         cfg = self.config
         kappa = velocity.angular / velocity.linear
-        braking = velocity.linear**2 / (2.0 * cfg.linear_deceleration)
-        return self._collides(pose, kappa, braking + cfg.min_stop_distance, costmap)
-
-    def _collides(self, pose: Pose2D, kappa: float, length: float, costmap: CostGrid) -> bool:
-        if length <= 0.0:
-            return False
-        points = collision.arc_points(pose, kappa, length, 0.5 * costmap.info.resolution)
-        return collision.first_collision(collision.costs_at(costmap, points)) is not None
+        step = 0.5 * costmap.info.resolution
+        # What it covers while braking, plus the collision lookahead at its speed: a robot
+        # really rolling keeps the usual margin, one barely moving gets a barely longer arc.
+        reach = regulation.stop_distance(
+            velocity.linear,
+            deceleration=cfg.linear_deceleration,
+            lookahead_time=cfg.collision_lookahead_time,
+            minimum=0.0,
+        )
+        arc = collision.arc_poses(pose, kappa, reach + step, step)
+        return collision.first_footprint_collision(self.footprint, costmap, arc) is not None
 
     def _limit(self, speed: float, kappa: float, velocity: Twist, dt: float) -> Twist:
         """Velocity and acceleration limits, keeping to the arc where the turn rate allows."""

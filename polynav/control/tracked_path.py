@@ -81,6 +81,18 @@ class TrackedPath:
             )
         )
 
+    def headings_at(self, s: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """Directions [rad] of the segments holding arc lengths ``s`` (M,); 0 for one point.
+
+        A footprint checked along the path faces this way, as a robot following it would.
+        """
+        if self.points.shape[0] == 1:
+            return np.zeros(len(s))
+        seg = np.searchsorted(self.cumulative, s, side="right") - 1
+        seg = np.clip(seg, 0, self.points.shape[0] - 2)
+        d = self.points[seg + 1] - self.points[seg]
+        return np.arctan2(d[:, 1], d[:, 0])
+
     def _segments(self, start: float, stop: float) -> tuple[int, int]:
         """Indices ``i0..i1`` of the segments (from point i to i+1) overlapping [start, stop]."""
         last = self.points.shape[0] - 2

@@ -192,6 +192,8 @@ def test_first_collision_along_poses() -> None:
     # The nose (x + 0.25) first reaches the cell's near face at x = 0.75 m.
     assert xs[hit] == pytest.approx(0.75)
     assert fp_mod.first_collision(RECT, grid, poses[:hit]) is None
+    mask = fp_mod.collision_mask(RECT, grid, poses)
+    assert int(np.flatnonzero(mask)[0]) == hit
     assert fp_mod.first_collision(RECT, grid, np.zeros((0, 3))) is None
 
 
