@@ -58,6 +58,8 @@ class CostmapConfig:
         obstacle_max_range: scan returns nearer than this [m] mark obstacles.
         raytrace_max_range: beams clear free space up to this distance [m].
         obstacle_layer: use the live scan at all.
+        range_noise: standard deviation [m] of the lidar's range noise; a return does not clear
+            the cells within 3 of it in front of itself (:mod:`polynav.maps.layers.obstacle`).
     """
 
     robot_radius: float = 0.25
@@ -68,6 +70,7 @@ class CostmapConfig:
     obstacle_max_range: float = 6.0
     raytrace_max_range: float = 8.0
     obstacle_layer: bool = True
+    range_noise: float = 0.01
 
     def __post_init__(self) -> None:
         _check(self.robot_radius >= 0.0, "robot_radius", "must be >= 0")
@@ -80,12 +83,14 @@ class CostmapConfig:
         _check(1 <= self.lethal_threshold <= 100, "lethal_threshold", "must be within 1..100")
         _check(self.obstacle_max_range > 0.0, "obstacle_max_range", "must be > 0")
         _check(self.raytrace_max_range > 0.0, "raytrace_max_range", "must be > 0")
+        _check(self.range_noise >= 0.0, "range_noise", "must be >= 0")
         for name in (
             "robot_radius",
             "inflation_radius",
             "cost_scaling_factor",
             "obstacle_max_range",
             "raytrace_max_range",
+            "range_noise",
         ):
             _check(math.isfinite(getattr(self, name)), name, "must be finite")
 
@@ -159,6 +164,7 @@ class Costmap:
                 info,
                 obstacle_max_range=cfg.obstacle_max_range,
                 raytrace_max_range=cfg.raytrace_max_range,
+                range_noise=cfg.range_noise,
             )
         self._inflation = InflationLayer(
             info,
@@ -231,6 +237,12 @@ class Costmap:
             self._obstacle.clear()
         log.info("costmap: obstacles cleared")
         self.update()
+
+    def clear_obstacles_around(self, x: float, y: float, radius: float) -> None:
+        """Forget the lidar's marks within ``radius`` [m] of (x, y) (a recovery's first rung)."""
+        if self._obstacle is not None and self._obstacle.clear_around(x, y, radius) is not None:
+            log.info("costmap: obstacles cleared within %.2f m of (%.2f, %.2f)", radius, x, y)
+            self.update()
 
     def set_keepouts(self, keepouts: Sequence[Keepout]) -> None:
         """Replace every keepout; only the cells that changed (plus inflation) are redrawn."""

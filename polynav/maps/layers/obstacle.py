@@ -5,6 +5,14 @@ Each beam marks the cell where it ended as LETHAL when the return lies within
 ``raytrace_max_range`` for a beam with no return), as Nav2's ``ObstacleLayer`` does. Clearing is
 what removes a person who walked away: the next beam through the cell frees it.
 
+Range noise. A lidar return lies a few centimetres either side of the surface it hit. Left to
+itself, one scan's short return marks the free cell in front of a post's face and the next
+scan's longer return, passing through that cell, clears it: the cell flickers, and a gap one cell
+wider than the robot opens and closes under the planner. So a return at range ``r`` clears only
+the cells it has passed through *completely* before ``r - 3 sigma`` (``range_noise`` = sigma): the
+few centimetres in front of a return are within the noise of the return itself, and a beam does
+not take them as seen free. Only a beam passing well clear (another angle, a person gone) does.
+
 The layer keeps its own grid: UNKNOWN (never seen), FREE (seen through) or LETHAL (seen hit). It
 composes into the master with "max" semantics, except that a cell it has seen through turns an
 UNKNOWN map cell FREE (Nav2 ``updateWithMax``): it never clears a map wall or a keepout.
@@ -69,7 +77,8 @@ def trace_scan(
         ranges: beam lengths in cells (meaningful where ``valid``).
         valid: the beam has a return; clearing stops before its end cell.
         mark: the beam's end cell becomes LETHAL.
-        clear_len: how far to clear along each beam, in cells.
+        clear_len: how far to clear along each beam, in cells: a cell is cleared only if the
+            beam leaves it before this length.
         bbox: ``[ix0, iy0, ix1, iy1]`` grown by every cell whose value changed.
     """
     height, width = grid.shape
@@ -115,8 +124,7 @@ def trace_scan(
         else:
             t_delta_y = math.inf
             t_max_y = math.inf
-        t = 0.0
-        while t < length:
+        while min(t_max_x, t_max_y) <= length:
             if ix == ex and iy == ey:
                 break
             if 0 <= ix < width and 0 <= iy < height:
@@ -124,11 +132,9 @@ def trace_scan(
                     grid[iy, ix] = _FREE
                     _grow(bbox, ix, iy)
             if t_max_x < t_max_y:
-                t = t_max_x
                 t_max_x += t_delta_x
                 ix += step_x
             else:
-                t = t_max_y
                 t_max_y += t_delta_y
                 iy += step_y
     for k in range(n):
@@ -162,9 +168,17 @@ class ObstacleLayer:
     """Obstacles seen by the lidar, kept until a later beam sees through them."""
 
     def __init__(
-        self, info: MapInfo, *, obstacle_max_range: float, raytrace_max_range: float
+        self,
+        info: MapInfo,
+        *,
+        obstacle_max_range: float,
+        raytrace_max_range: float,
+        range_noise: float = 0.01,
     ) -> None:
+        """Args: the grid geometry, the marking and clearing ranges [m], and the standard
+        deviation [m] of the lidar's range noise (see the module docstring)."""
         self._info = info
+        self._clear_margin = 3.0 * range_noise
         self._obstacle_max_range = obstacle_max_range
         self._raytrace_max_range = raytrace_max_range
         self._grid = np.full((info.height, info.width), costs.UNKNOWN, dtype=np.uint8)
@@ -200,7 +214,11 @@ class ObstacleLayer:
             valid = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
         mark = valid & (ranges < self._obstacle_max_range)
         no_return = min(self._raytrace_max_range, scan.range_max)
-        clear_len = np.where(valid, np.minimum(ranges, self._raytrace_max_range), no_return)
+        clear_len = np.where(
+            valid,
+            np.minimum(ranges - self._clear_margin, self._raytrace_max_range),
+            no_return,
+        )
         bbox = np.array([_BIG, _BIG, -_BIG, -_BIG], dtype=np.int64)
         trace_scan(
             self._grid,
@@ -227,6 +245,34 @@ class ObstacleLayer:
             self._grid[win.slices(self._touched)] = costs.UNKNOWN
         self._pending = win.union(self._pending, self._touched)
         self._touched = None
+
+    def clear_around(self, x: float, y: float, radius: float) -> Window | None:
+        """Forget what was seen within ``radius`` [m] of world point (x, y).
+
+        The first rung of the recovery ladder: marks around a blocked robot (stale ones, noise,
+        a person gone) are dropped, and the next scans mark again what is really there; what is
+        farther away is kept, so the planner does not forget the rest of the field.
+        Returns the window of cells dirtied (``None`` if none).
+        """
+        info = self._info
+        res = info.resolution
+        cx, cy = info.world_to_cell(x, y)
+        reach = int(math.ceil(radius / res))
+        window = win.clip((cx - reach, cy - reach, cx + reach + 1, cy + reach + 1), info.width,
+                          info.height)
+        if window is None:
+            return None
+        region = win.slices(window)
+        iy, ix = np.mgrid[region]
+        centres = info.cells_to_world(np.column_stack((ix.ravel(), iy.ravel())))
+        near = (np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius).reshape(ix.shape)
+        cells = self._grid[region]
+        near &= cells != costs.UNKNOWN
+        if not near.any():
+            return None
+        cells[near] = costs.UNKNOWN
+        self._pending = win.union(self._pending, window)
+        return window
 
     def update_bounds(self, pose: Pose2D, window: Window | None) -> Window | None:
         pending, self._pending = self._pending, None

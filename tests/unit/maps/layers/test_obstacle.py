@@ -68,3 +68,41 @@ def test_robot_outside_the_grid_still_marks_and_clears_inside_it() -> None:
 
 def test_warm_up_compiles_without_error() -> None:
     warm_up()
+
+
+def test_range_noise_keeps_a_return_from_clearing_the_cell_just_in_front_of_it() -> None:
+    # The face of a post at x = 1.50 m (the boundary between cells 14 and 15). One scan's short
+    # return (1.49 m from the sensor at 0.0) marks cell 14; the next scan's longer return (1.51 m)
+    # passes through cell 14 but within 3 sigma of its own end: cell 14 stays marked.
+    noisy = ObstacleLayer(INFO, obstacle_max_range=6.0, raytrace_max_range=8.0, range_noise=0.01)
+    noisy.add_scan(Pose2D(0.0, 0.55, 0.0), beam(1.49))
+    assert noisy.grid[5, 14] == costs.LETHAL
+    noisy.add_scan(Pose2D(0.0, 0.55, 0.0), beam(1.51))
+    assert noisy.grid[5, 14] == costs.LETHAL and noisy.grid[5, 15] == costs.LETHAL
+    assert noisy.grid[5, 0:14].tolist() == [costs.FREE] * 14
+    # Without the noise model the same two scans flicker the cell free again.
+    exact = ObstacleLayer(INFO, obstacle_max_range=6.0, raytrace_max_range=8.0, range_noise=0.0)
+    exact.add_scan(Pose2D(0.0, 0.55, 0.0), beam(1.49))
+    exact.add_scan(Pose2D(0.0, 0.55, 0.0), beam(1.51))
+    assert exact.grid[5, 14] == costs.FREE
+
+
+def test_a_beam_passing_well_clear_still_clears_a_stale_mark() -> None:
+    obstacles = layer()
+    obstacles.add_scan(Pose2D(0.0, 0.55, 0.0), beam(1.49))
+    assert obstacles.grid[5, 14] == costs.LETHAL
+    obstacles.add_scan(Pose2D(0.0, 0.55, 0.0), beam(2.5))
+    assert obstacles.grid[5, 14] == costs.FREE
+
+
+def test_clear_around_forgets_only_the_marks_near_the_point() -> None:
+    obstacles = layer()
+    obstacles.add_scan(Pose2D(0.55, 0.55, 0.0), beam(0.5))  # marks (10, 5)
+    obstacles.add_scan(Pose2D(0.55, 1.55, 0.0), beam(2.0))  # marks (25, 15)
+    obstacles.update_bounds(Pose2D(), None)
+    window = obstacles.clear_around(1.0, 0.5, 0.3)
+    assert window is not None
+    assert obstacles.grid[5, 10] == costs.UNKNOWN
+    assert obstacles.grid[15, 25] == costs.LETHAL
+    assert obstacles.update_bounds(Pose2D(), None) == window
+    assert obstacles.clear_around(1.0, 0.5, 0.3) is None  # nothing left to forget there
