@@ -8,23 +8,25 @@ Inside a running attempt the navigator moves between phases:
 
 - *plan*: plan from the estimated pose to the goal on the live costmap;
 - *follow*: the controller tracks the path; the path is re-planned every ``replan_period`` so
-  new obstacles are routed around before the controller has to stop for them;
+  new obstacles are routed around before the controller has to stop for them. The new route
+  replaces the current one only if the current one is blocked or the new one is clearly shorter
+  (``replan_hysteresis``): two near-equal ways round a post must not take turns;
 - *blocked*: the controller stopped in front of an obstacle; wait ``blocked_wait`` (a person
-  usually walks on), then re-plan;
-- *recover*: a recovery behaviour runs (clear costmap, spin, back up) before the next plan;
+  usually walks on), then recover and re-plan;
+- *recover*: a rung of the recovery ladder runs before the next plan
+  (:mod:`~polynav.nav.recoveries`): clear the marks around the robot, back up, rotate, wait,
+  one more step for each failure at the same place;
 - *wait*: only people block the way (a person in a door, a group in a corridor): the robot
   stands, says so once (:class:`~polynav.nav.events.NavigationWaiting`), goes on as soon as the
   way opens or another way exists, and fails with ``blocked by person`` after the patience.
   Near people it also slows down (:mod:`~polynav.nav.people`).
 
 An attempt's :class:`~polynav.nav.attempt.GoalOptions` add phases around that (the attempt's
-``phase``): a robot standing on a charger first backs straight off it (*leave charger*, retried
-when it makes no headway for ``undock_retry_after`` seconds, failed after
-``undock_max_retries``), and a goal that is a charger is reached at its approach pose, from
-where the robot drives straight onto the contacts and waits for charging current (*dock*).
+``phase``): leaving a charger and docking onto one (:mod:`~polynav.nav.charger_phases`).
 
-Each failure counts as a retry; ``max_retries`` failures in a row without the robot getting
-anywhere end the attempt with a :class:`FailureReason`. An e-stop or lost localization holds the
+Each failure counts as a retry, by place and time (:mod:`~polynav.nav.retry_budget`): more than
+``max_retries`` failures at one place over at least ``retry_min_time`` end the attempt with a
+:class:`FailureReason`. An e-stop or lost localization holds the
 robot without ending the attempt; it resumes with a fresh plan when the hold is released.
 """
 
@@ -42,11 +44,12 @@ from polynav.control.interface import Controller, ControlStatus
 from polynav.control.progress_checker import ProgressChecker
 from polynav.control.tracked_path import TrackedPath
 from polynav.errors import ConfigError
-from polynav.geometry import Pose2D, Twist, angle_diff
+from polynav.footprint import Footprint
+from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.maps import costs as cost_values
 from polynav.maps.costmap import Costmap
-from polynav.nav import events
+from polynav.nav import events, route_choice
 from polynav.nav.attempt import (
     FailureReason,
     GoalOptions,
@@ -54,9 +57,19 @@ from polynav.nav.attempt import (
     NavigationState,
     Phase,
 )
+from polynav.nav.charger_phases import ChargerPhases
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.nav.people_wait import PeopleWait
-from polynav.nav.recoveries import BackUp, ClearCostmap, Recovery, Spin
+from polynav.nav.recoveries import (
+    BackUp,
+    ClearAround,
+    ClearCostmap,
+    Recovery,
+    Rotate,
+    Wait,
+    ladder_rung,
+)
+from polynav.nav.retry_budget import RetryBudget
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
@@ -71,7 +84,15 @@ EventSink = Callable[[events.NavigationEvent], None]
 
 @dataclass(frozen=True, slots=True)
 class NavigatorConfig:
-    """Timing and retry policy of the navigator [s, m]."""
+    """Timing and retry policy of the navigator [s, m].
+
+    ``progress_reset_distance`` is the size of a "place" for counting failures: failures farther
+    than this from the robot are forgotten. ``retry_min_time``: a place is given up only after
+    this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
+    and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
+    one only if shorter by this fraction of the remaining length, and by at least
+    ``replan_min_gain`` [m].
+    """
 
     replan_period: float = 3.0
     replan_min_remaining: float = 1.0
@@ -87,12 +108,21 @@ class NavigatorConfig:
     dock_speed: float = 0.1
     dock_contact_wait: float = 3.0
     dock_timeout: float = 40.0
+    retry_min_time: float = 30.0
+    recovery_clear_radius: float = 1.5
+    recovery_backup_distance: float = 0.3
+    recovery_backup_speed: float = 0.15
+    recovery_rotate_angle: float = math.pi / 2
+    recovery_wait: float = 2.0
+    replan_hysteresis: float = 0.15
+    replan_min_gain: float = 0.3
 
     def __post_init__(self) -> None:
         for key in (
             "replan_period", "blocked_wait", "localization_grace", "undock_speed",
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
-            "dock_timeout",
+            "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
+            "recovery_backup_speed", "recovery_rotate_angle",
         ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
@@ -100,6 +130,11 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.replan_min_remaining", "must be >= 0")
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
+        for key in ("retry_min_time", "recovery_wait", "replan_min_gain"):
+            if getattr(self, key) < 0.0:
+                raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
+        if not 0.0 <= self.replan_hysteresis < 1.0:
+            raise ConfigError("nav.navigator.replan_hysteresis", "must be within [0, 1)")
         if self.max_retries < 0:
             raise ConfigError("nav.navigator.max_retries", "must be >= 0")
         if self.undock_max_retries < 0:
@@ -116,7 +151,7 @@ class _Phase(enum.Enum):
     WAIT = "wait"
 
 
-class Navigator:
+class Navigator(ChargerPhases):
     """Drives one navigation attempt at a time on a costmap, with a planner and a controller."""
 
     def __init__(
@@ -128,20 +163,31 @@ class Navigator:
         *,
         config: NavigatorConfig | None = None,
         robot_radius: float = 0.25,
+        footprint: Footprint | None = None,
         people: PeopleConfig | None = None,
         on_event: EventSink | None = None,
     ) -> None:
         self.config = config or NavigatorConfig()
         self._robot_radius = robot_radius
+        self._footprint = footprint or Footprint.circle(robot_radius)
         self._costmap = costmap
         self._planner = planner
         self._controller = controller
         self._progress = progress_checker
         self._sinks: list[EventSink] = [on_event] if on_event else []
-        self._stuck_recoveries: Sequence[Recovery] = (
-            ClearCostmap(costmap),
-            Spin(),
-            BackUp(costmap, robot_radius=robot_radius),
+        cfg = self.config
+        self._rotate = Rotate(costmap, footprint=self._footprint, angle=cfg.recovery_rotate_angle)
+        self._ladder_steps: Sequence[Recovery] = (
+            ClearAround(costmap, radius=cfg.recovery_clear_radius),
+            BackUp(
+                costmap, distance=cfg.recovery_backup_distance, speed=cfg.recovery_backup_speed,
+                robot_radius=robot_radius, footprint=self._footprint,
+            ),
+            self._rotate,
+            Wait(cfg.recovery_wait),
+        )
+        self._budget = RetryBudget(
+            cfg.max_retries, radius=cfg.progress_reset_distance, min_time=cfg.retry_min_time
         )
         self._clear = ClearCostmap(costmap)
         self._next_id = 1
@@ -152,11 +198,8 @@ class Navigator:
         self._phase = _Phase.PLAN
         self._phase_since = 0.0
         self._last_plan = 0.0
-        self._failures = 0
-        self._failure_pose: Pose2D | None = None
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
-        self._recovery_index = 0
         self._hold: str | None = None
         self._hold_since = 0.0
         self._last_pose: Pose2D | None = None
@@ -164,7 +207,6 @@ class Navigator:
         # Per attempt: where the robot navigates to (a charger's approach, else the goal), the
         # retry limit, and the charger phases' progress.
         self._target = Pose2D()
-        self._max_retries = self.config.max_retries
         self._undock_origin: Pose2D | None = None
         self._undock_best = 0.0
         self._undock_since = 0.0
@@ -221,7 +263,7 @@ class Navigator:
                 goal.x - back * math.cos(goal.theta), goal.y - back * math.sin(goal.theta),
                 goal.theta,
             )
-        self._max_retries = (
+        self._budget.reset(
             self.config.max_retries if options.max_retries is None else options.max_retries
         )
         self._undock_origin = None
@@ -231,10 +273,7 @@ class Navigator:
         self._contact_since = None
         self._path = None
         self._tracked = None
-        self._failures = 0
-        self._failure_pose = None
         self._cleared_for_plan = False
-        self._recovery_index = 0
         self._hold = None
         self._last_pose = None
         self._wait.reset()
@@ -438,12 +477,23 @@ class Navigator:
             self._fail(FailureReason.NO_PATH, str(exc), now)
 
     def _replan_quietly(self, pose: Pose2D, now: float) -> None:
-        """A periodic re-plan: on failure keep the old path, the controller still guards it."""
+        """A periodic re-plan, with hysteresis: the current route stays unless it is blocked or
+        the new one is clearly shorter. On failure the old path is kept too; the controller
+        still guards it."""
         self._last_plan = now
         try:
             path = self._plan_path(pose)
         except PlanningError as exc:
             log.debug("periodic re-plan failed, keeping the path: %s", exc)
+            return
+        remaining = self._remaining(pose)
+        if self._tracked is not None and route_choice.keep_current(
+            self._costmap, self._tracked, self._along, remaining=remaining,
+            new_length=path.length, hysteresis=self.config.replan_hysteresis,
+            min_gain=self.config.replan_min_gain,
+        ):
+            log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)", remaining,
+                      path.length)
             return
         self._set_path(path, now)
 
@@ -477,28 +527,22 @@ class Navigator:
             self._retry("stuck", pose, now)
             return Twist()
         reset = self.config.progress_reset_distance
-        if self._failure_pose is not None and pose.distance_to(self._failure_pose) >= reset:
-            self._failures = 0
-            self._failure_pose = None
+        self._budget.moved(pose)
         self._wait.moved(pose, reset)
         return self._wait.slow(pose, command.twist)
 
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
-        """Count a failure; give up after too many in a row, else recover and re-plan."""
-        self._failures += 1
-        self._failure_pose = pose
+        """Count a failure at this place; give up when the place is exhausted (see
+        :mod:`~polynav.nav.retry_budget`), else climb the recovery ladder and re-plan."""
+        rung = self._budget.record(pose, now)
         self._update(retries=self._require().retries + 1)
-        if self._failures > self._max_retries:
+        if self._budget.exhausted(now):
             reason = FailureReason.STUCK
-            self._fail(reason, f"{cause} after {self._max_retries} retries", now)
+            self._fail(reason, f"{cause} after {self._budget.max_retries} retries", now)
             return
         self._controller.reset()
-        if cause == "blocked":
-            self._emit_retry(cause, "re-plan", now)
-            self._enter(_Phase.PLAN, now)
-            return
-        recovery = self._stuck_recoveries[self._recovery_index % len(self._stuck_recoveries)]
-        self._recovery_index += 1
+        self._rotate.toward = (self._target.x, self._target.y)
+        recovery = ladder_rung(self._ladder_steps, rung)
         self._emit_retry(cause, recovery.name, now)
         self._recovery = recovery
         recovery.start(pose, now)
@@ -517,92 +561,10 @@ class Navigator:
             self._emit(events.NavigationWaiting(now, self._require(), cause="person"))
         self._enter(_Phase.WAIT, now)
 
-    # -- charger phases ----------------------------------------------------------------------
-
-    def _arrived(self, now: float) -> None:
-        """At the navigation target: done, or at a charger's approach: dock."""
-        if not self._require().options.dock:
-            self._finish(NavigationState.SUCCEEDED, now)
-            return
-        self._controller.reset()
-        self._update(phase=Phase.DOCK, distance_remaining=self.config.dock_approach)
-        self._dock_since = now
-        self._contact_since = None
-        log.info("navigation %d: at the charger's approach, docking", self._require().attempt_id)
-        self._emit(events.DockingStarted(now, self._require()))
-
-    def _tick_undock(self, pose: Pose2D, now: float, estop: bool) -> Twist:
-        """Back straight off the charger; no headway for a while is a retry, too many fail."""
-        cfg = self.config
-        options = self._require().options
-        assert options.undock_distance is not None
-        if self._undock_origin is None:
-            self._undock_origin = pose
-        moved = pose.distance_to(self._undock_origin)
-        if moved >= options.undock_distance:
-            self._update(phase=Phase.NAVIGATE)
-            self._enter(_Phase.PLAN, now)
-            log.info("left the charger after %.2f m", moved)
-            self._emit(events.ChargerLeft(now, self._require()))
-            return Twist()
-        if moved > self._undock_best + 0.02:
-            self._undock_best = moved
-            self._undock_since = now
-        elif now - self._undock_since >= cfg.undock_retry_after:
-            self._undock_retries += 1
-            self._undock_since = now
-            if self._undock_retries > cfg.undock_max_retries:
-                self._emit(events.ChargerLeaveFailed(now, self._require()))
-                self._fail(FailureReason.UNDOCK_FAILED, "could not leave the charger", now)
-                return Twist()
-            log.warning("no headway off the charger: retry %d", self._undock_retries)
-            self._emit(events.ChargerLeaveRetry(now, self._require(), retries=self._undock_retries))
-        if estop or not self._free_behind(pose):
-            return Twist()
-        return Twist(-cfg.undock_speed, 0.0)
-
-    def _free_behind(self, pose: Pose2D) -> bool:
-        reach = self._robot_radius + 0.1
-        x = pose.x - reach * math.cos(pose.theta)
-        y = pose.y - reach * math.sin(pose.theta)
-        return self._costmap.cost_at(x, y) < cost_values.LETHAL
-
-    def _tick_dock(self, pose: Pose2D, now: float, estop: bool, charging: bool) -> Twist:
-        """Drive straight onto the charger's pose, then wait for charging current."""
-        cfg = self.config
-        attempt = self._require()
-        if charging:
-            self._emit(events.DockingSucceeded(now, attempt))
-            self._update(distance_remaining=0.0)
-            self._finish(NavigationState.SUCCEEDED, now)
-            return Twist()
-        if now - self._dock_since >= cfg.dock_timeout:
-            return self._dock_failed("timeout", now)
-        goal = attempt.goal
-        dx, dy = goal.x - pose.x, goal.y - pose.y
-        cos_g, sin_g = math.cos(goal.theta), math.sin(goal.theta)
-        along = dx * cos_g + dy * sin_g
-        lateral = -dx * sin_g + dy * cos_g
-        self._update(distance_remaining=max(0.0, along))
-        if along <= 0.01:
-            if self._contact_since is None:
-                self._contact_since = now
-            elif now - self._contact_since >= cfg.dock_contact_wait:
-                return self._dock_failed("no_contact", now)
-            return Twist()
-        if estop:
-            return Twist()
-        speed = min(cfg.dock_speed, max(0.03, along))
-        turn = 1.5 * angle_diff(goal.theta, pose.theta) + 4.0 * lateral
-        return Twist(speed, max(-0.4, min(0.4, turn)))
-
-    def _dock_failed(self, cause: str, now: float) -> Twist:
-        log.warning("docking failed: %s", cause)
-        self._emit(events.DockingFailed(now, self._require(), cause=cause))
-        self._fail(FailureReason.DOCK_FAILED, f"docking failed: {cause}", now)
-        return Twist()
-
     # -- bookkeeping -------------------------------------------------------------------------
+
+    def _charger_left(self, now: float) -> None:
+        self._enter(_Phase.PLAN, now)
 
     def _set_path(self, path: Path, now: float) -> None:
         self._path = path

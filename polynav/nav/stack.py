@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
+from polynav.errors import ConfigError
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
@@ -30,7 +32,13 @@ log = logging.getLogger(__name__)
 
 @dataclass(frozen=True, slots=True)
 class StackConfig:
-    """Configuration of every component of the stack, plus the control rate [Hz]."""
+    """Configuration of every component of the stack, plus the control rate [Hz].
+
+    ``footprint`` is the robot's body, which the controller and the recoveries check for
+    collisions; ``None`` is a disk of the costmap's ``robot_radius``. The costmap's inscribed
+    radius may not be below the body's (a planner planning for a smaller robot sends the body
+    into gaps it does not fit), as Nav2 derives it from the footprint.
+    """
 
     control_rate: float = 20.0
     costmap: CostmapConfig = field(default_factory=CostmapConfig)
@@ -40,6 +48,23 @@ class StackConfig:
     navigator: NavigatorConfig = field(default_factory=NavigatorConfig)
     localization: PoseTrackerConfig = field(default_factory=PoseTrackerConfig)
     people: PeopleConfig = field(default_factory=PeopleConfig)
+    footprint: Footprint | None = None
+
+    def __post_init__(self) -> None:
+        if self.footprint is not None and (
+            self.costmap.robot_radius < self.footprint.inscribed_radius - 1e-9
+        ):
+            raise ConfigError(
+                "costmap.robot_radius",
+                f"{self.costmap.robot_radius:g} m is below the footprint's inscribed radius "
+                f"({self.footprint.inscribed_radius:g} m): the planner would plan for a smaller "
+                "robot than the body",
+            )
+
+    @property
+    def body(self) -> Footprint:
+        """The footprint the controller checks: ``footprint``, or the costmap's disk."""
+        return self.footprint or Footprint.circle(self.costmap.robot_radius)
 
 
 class NavigationStack:
@@ -68,10 +93,11 @@ class NavigationStack:
         self.navigator = Navigator(
             self.costmap,
             GridPlanner(self.config.planner),
-            RegulatedPurePursuit(self.config.controller),
+            RegulatedPurePursuit(self.config.controller, footprint=self.config.body),
             ProgressChecker(self.config.progress),
             config=self.config.navigator,
             robot_radius=self.config.costmap.robot_radius,
+            footprint=self.config.body,
             people=people,
             on_event=on_event,
         )

@@ -17,6 +17,7 @@ from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.maps import costs
+from polynav.maps.map import MapInfo
 from polynav.nav import events
 from polynav.nav.attempt import FailureReason, NavigationState
 from polynav.nav.navigator import Navigator, NavigatorConfig
@@ -29,11 +30,19 @@ DT = 0.05
 
 @dataclass
 class FakeCostmap:
+    """An open 40 m grid, counting the clearings asked of it."""
+
     cleared: int = 0
+    cleared_around: int = 0
     lethal_behind: bool = False
+    info: MapInfo = MapInfo(0.05, 800, 800, Pose2D(-20.0, -20.0, 0.0))
+    costs: np.ndarray = field(default_factory=lambda: np.zeros((800, 800), dtype=np.uint8))
 
     def clear_obstacles(self) -> None:
         self.cleared += 1
+
+    def clear_obstacles_around(self, x: float, y: float, radius: float) -> None:
+        self.cleared_around += 1
 
     def cost_at(self, x: float, y: float) -> int:
         return costs.LETHAL if self.lethal_behind else costs.FREE
@@ -166,17 +175,48 @@ def test_goal_occupied_and_outside_map_reasons() -> None:
     assert h2.nav.attempt is not None and h2.nav.attempt.reason is FailureReason.NO_PATH
 
 
-def test_stuck_robot_runs_recoveries_then_fails_stuck() -> None:
-    config = NavigatorConfig(max_retries=3)
+def test_stuck_robot_climbs_the_recovery_ladder_then_fails_stuck_after_the_min_time() -> None:
+    config = NavigatorConfig(max_retries=3, retry_min_time=30.0)
     h = Harness(ScriptedPlanner(), ScriptedController(), config)
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
-    h.run(60.0, move=False)  # the wheels spin, the robot goes nowhere
+    h.run(90.0, move=False)  # the wheels spin, the robot goes nowhere
     attempt = h.nav.attempt
     assert attempt is not None and attempt.state is NavigationState.FAILED
     assert attempt.reason is FailureReason.STUCK
     retries = [e for e in h.log if isinstance(e, events.NavigationRetry)]
-    assert [r.recovery for r in retries] == ["clear costmap", "spin", "back up"]
-    assert attempt.retries == 4
+    full = "clear around, back up, rotate, wait"
+    assert [r.recovery for r in retries] == [
+        "clear around", "clear around, back up", "clear around, back up, rotate",
+    ] + [full] * (len(retries) - 3)
+    # More than 3 failures at this place, but it is given up only 30 s after the first.
+    assert attempt.retries == len(retries) + 1 > 4
+    assert attempt.ended_at is not None and attempt.ended_at - retries[0].stamp >= 30.0
+    assert attempt.ended_at - retries[-1].stamp < 30.0
+    assert h.costmap.cleared_around == len(retries)
+
+
+def test_failures_at_a_place_left_behind_are_forgotten() -> None:
+    # Blocked four times in a row, each time after driving on 1.5 m: never stuck.
+    statuses = ([ControlStatus.TRACKING] * 60 + [ControlStatus.BLOCKED]) * 4
+    controller = ScriptedController(statuses + [ControlStatus.TRACKING])
+    h = Harness(ScriptedPlanner(), controller,
+                NavigatorConfig(max_retries=1, blocked_wait=0.1, retry_min_time=0.0))
+    h.nav.start(Pose2D(50.0, 0.0, 0.0), h.now)
+    h.run(20.0, move=True)
+    assert h.nav.state is NavigationState.RUNNING
+    retries = [e for e in h.log if isinstance(e, events.NavigationRetry)]
+    assert [r.recovery for r in retries] == ["clear around"] * 4
+
+
+def test_quick_blocks_at_one_place_are_not_stuck_before_the_min_time() -> None:
+    # Issue 18: four blocks within 0.75 m in 6 s ended the goal. Now they climb the ladder.
+    controller = ScriptedController([ControlStatus.BLOCKED] * 400 + [ControlStatus.TRACKING])
+    h = Harness(ScriptedPlanner(), controller,
+                NavigatorConfig(max_retries=3, blocked_wait=0.1, retry_min_time=30.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(25.0)
+    assert h.nav.state is NavigationState.RUNNING
+    assert len([e for e in h.log if isinstance(e, events.NavigationRetry)]) >= 4
 
 
 def test_blocked_waits_then_replans() -> None:

@@ -1,0 +1,57 @@
+"""Re-planning with hysteresis: when does a new route replace the one being driven?
+
+The navigator re-plans every few seconds so that new obstacles are routed round before the
+controller must stop for them. In a field of posts two ways round are often nearly equal, and the
+costs under them change with every scan: taking whichever is cheaper at each re-plan makes the
+route flip between them, and the robot dithers between two gaps for the whole time limit. So the
+current route stays unless it is *blocked* (the planner would no longer take it: a cell under its
+centre line is INSCRIBED or LETHAL) or the new one is *clearly* shorter: by a fraction of what is
+left (``hysteresis``) and by at least ``min_gain`` [m].
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from polynav.control import collision
+from polynav.control.tracked_path import TrackedPath
+from polynav.maps.interface import CostGrid
+
+log = logging.getLogger(__name__)
+
+
+def route_blocked(costmap: CostGrid, route: TrackedPath, along: float) -> bool:
+    """Does the route from arc length ``along`` [m] on cross INSCRIBED or LETHAL cells?
+
+    Sampled at half a cell. A stretch the robot starts in does not count: it is driving out.
+    """
+    step = 0.5 * costmap.info.resolution
+    s = np.arange(along, route.length + step, step)
+    values = collision.costs_at(costmap, route.points_at(s))
+    return collision.first_collision(values) is not None
+
+
+def keep_current(
+    costmap: CostGrid,
+    route: TrackedPath,
+    along: float,
+    *,
+    remaining: float,
+    new_length: float,
+    hysteresis: float,
+    min_gain: float,
+) -> bool:
+    """Keep driving ``route`` rather than switch to a new one of ``new_length`` [m]?
+
+    Args:
+        costmap: the live costs.
+        route: the current route, the robot ``along`` [m] on it with ``remaining`` [m] to go.
+        new_length: the new route's length [m].
+        hysteresis: the new route must be shorter by this fraction of ``remaining`` ...
+        min_gain: ... and by at least this [m].
+    """
+    if route_blocked(costmap, route, along):
+        return False
+    return remaining - new_length < max(hysteresis * remaining, min_gain)
