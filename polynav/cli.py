@@ -28,10 +28,10 @@ if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
 
 log = logging.getLogger(__name__)
 
-BENCH_AREAS = ("planner", "sim", "api", "slam", "nav")
+BENCH_AREAS = ("planner", "sim", "api", "slam", "nav", "clutter")
 _BENCH_FILES = {
     "planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py",
-    "nav": "nav.py",
+    "nav": "nav.py", "clutter": "clutter.py",
 }
 
 

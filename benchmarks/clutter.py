@@ -1,0 +1,184 @@
+"""Clutter at speed: generated fields of thin posts, start and goal 10 m apart across each.
+
+Issue 18's benchmark. Each course (:mod:`polynav.worlds.clutter`) is a walled box with posts
+drawn from the seed, densities stepping from sparse to barely passable over the courses, and a
+feasible path for the robot's footprint guaranteed by construction and checked. The full stack
+drives the simulated robot from start to goal on simulated time; a goal not reached in 100 s of
+simulated time is a timeout. Printed: success, collisions, timeouts, why goals failed, time
+against the optimal path's time at top speed (the checked static path's length over the
+controller's top speed; 1.0 never slows or turns), and the real-time factor. Issue 18's targets
+are in ``targets`` and ``pass`` of the JSON line; the benchmark measures, it never fails on them.
+
+Run with ``polynav bench clutter [--courses N] [--seed S] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import subprocess
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+from polynav.footprint import Footprint
+from polynav.nav.attempt import NavigationState
+from polynav.nav.stack import StackConfig
+from polynav.robot.sim.config import SimConfig
+from polynav.runtime.sim_driver import simulate
+from polynav.worlds.clutter import ClutterSpec, CourseError, draw
+
+GOAL_TIME = 100.0  # [s of simulated time] per course
+TARGET_SUCCESS_RATE = 0.97  # issue 18, without a map; 100 % with one
+TARGET_TIME_RATIO = 2.5
+
+
+def _commit() -> str | None:
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], cwd=Path(__file__).resolve().parent,
+            capture_output=True, text=True, check=True,
+        )
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return out.stdout.strip() or None
+
+
+def density_of(course: int, courses: int) -> float:
+    """Densities step evenly from 0 (sparse) to 1 (barely passable) over the courses."""
+    return 0.0 if courses <= 1 else course / (courses - 1)
+
+
+def run_course(
+    index: int, courses: int, seed: int, stack: StackConfig, sim: SimConfig, body: Footprint
+) -> dict[str, Any]:
+    """Draw course ``index`` and drive it once; its figures."""
+    spec = ClutterSpec(density=density_of(index, courses))
+    course = draw(body, spec, seed * 1000 + index)
+    top_speed = stack.controller.max_linear_velocity
+    driver = simulate(course.world, seed=seed * 1000 + index, people=False, sim_config=sim,
+                      stack_config=stack)
+    driver.run(0.5)  # the tracker settles on the first scans
+    began = driver.now
+    wall = time.perf_counter()
+    driver.stack.go_to(course.goal, driver.now)
+    navigator = driver.stack.navigator
+    while not navigator.state.finished and driver.now - began < GOAL_TIME:
+        driver.step()
+    wall_seconds = time.perf_counter() - wall
+    sim_seconds = driver.now - began
+    state = navigator.state
+    attempt = navigator.attempt
+    if state is NavigationState.SUCCEEDED:
+        outcome = "reached"
+    elif not state.finished:
+        outcome = "timeout"
+        navigator.cancel(driver.now)
+    else:
+        outcome = attempt.reason.value if attempt and attempt.reason else state.value
+    optimal_time = course.optimal_length / top_speed
+    return {
+        "course": index,
+        "density": round(spec.density, 3),
+        "posts": int(course.posts.shape[0]),
+        "min_gap_m": round(course.min_gap, 3),
+        "outcome": outcome,
+        "collisions": len(driver.sim.collisions),
+        "seconds": round(sim_seconds, 2),
+        "optimal_seconds": round(optimal_time, 2),
+        "time_ratio": round(sim_seconds / optimal_time, 3) if outcome == "reached" else None,
+        "retries": attempt.retries if attempt else 0,
+        "real_time_factor": round(sim_seconds / wall_seconds, 2) if wall_seconds > 0 else None,
+    }
+
+
+def overall_figures(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Success, collisions, timeouts and time ratio over every course, against the targets."""
+    n = len(rows)
+    reached = sum(r["outcome"] == "reached" for r in rows)
+    ratios = [r["time_ratio"] for r in rows if r["time_ratio"] is not None]
+    rtfs = [r["real_time_factor"] for r in rows if r["real_time_factor"] is not None]
+    failures = Counter(r["outcome"] for r in rows if r["outcome"] != "reached")
+    overall: dict[str, Any] = {
+        "courses": n,
+        "reached": reached,
+        "success_rate": round(reached / n, 4) if n else 0.0,
+        "collisions": sum(r["collisions"] for r in rows),
+        "courses_with_collisions": sum(r["collisions"] > 0 for r in rows),
+        "timeouts": failures.get("timeout", 0),
+        "failures": dict(sorted(failures.items())),
+        "time_ratio_mean": round(sum(ratios) / len(ratios), 3) if ratios else None,
+        "time_ratio_max": max(ratios, default=None),
+        "real_time_factor_min": min(rtfs, default=None),
+        "real_time_factor_mean": round(sum(rtfs) / len(rtfs), 2) if rtfs else None,
+    }
+    checks = {
+        "success_rate": n > 0 and overall["success_rate"] >= TARGET_SUCCESS_RATE,
+        "collisions": overall["collisions"] == 0,
+        "time_ratio": (overall["time_ratio_mean"] or math.inf) <= TARGET_TIME_RATIO,
+    }
+    overall["targets"] = {"success_rate": TARGET_SUCCESS_RATE, "collisions": 0,
+                          "time_ratio_mean": TARGET_TIME_RATIO}
+    overall["missed"] = [k for k, ok in checks.items() if not ok]
+    overall["pass"] = all(checks.values())
+    return overall
+
+
+def _fmt(value: float | None, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="polynav bench clutter",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--courses", type=int, default=100,
+                        help="courses, sparse to barely passable (default %(default)s)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    args = parser.parse_args(argv)
+    if args.courses < 1:
+        print("polynav bench clutter: --courses must be >= 1", file=sys.stderr)
+        return 2
+    stack = StackConfig()
+    sim = SimConfig()
+    body = stack.body
+    print(f"polynav bench clutter: {args.courses} courses, seed {args.seed}, body {body!r}, "
+          f"top speed {stack.controller.max_linear_velocity:g} m/s, "
+          f"Python {platform.python_version()}")
+    print(f"{'course':>6s}{'density':>9s}{'posts':>7s}{'gap':>7s}  {'outcome':14s}"
+          f"{'coll.':>6s}{'time':>8s}{'optimal':>9s}{'ratio':>7s}{'retries':>8s}{'RTF':>7s}")
+    rows: list[dict[str, Any]] = []
+    for index in range(args.courses):
+        try:
+            row = run_course(index, args.courses, args.seed, stack, sim, body)
+        except CourseError as exc:
+            print(f"{index:>6d} skipped: {exc}", flush=True)
+            continue
+        rows.append(row)
+        print(f"{row['course']:>6d}{row['density']:>9.2f}{row['posts']:>7d}"
+              f"{row['min_gap_m']:>7.2f}  {row['outcome']:14s}{row['collisions']:>6d}"
+              f"{row['seconds']:>8.1f}{row['optimal_seconds']:>9.1f}"
+              f"{_fmt(row['time_ratio'], '.2f'):>7s}{row['retries']:>8d}"
+              f"{_fmt(row['real_time_factor'], '.1f'):>7s}", flush=True)
+    overall = overall_figures(rows)
+    print(f"overall: {overall['reached']}/{overall['courses']} reached "
+          f"({100.0 * overall['success_rate']:.1f} %), {overall['collisions']} collisions, "
+          f"{overall['timeouts']} timeouts, time vs optimal mean "
+          f"{_fmt(overall['time_ratio_mean'], '.2f')} (max {_fmt(overall['time_ratio_max'], '.2f')}"
+          f"), real-time factor min {_fmt(overall['real_time_factor_min'], '.1f')}")
+    print(f"targets {'met' if overall['pass'] else 'missed: ' + ', '.join(overall['missed'])}")
+    if args.json:
+        print(json.dumps({
+            "seed": args.seed, "courses": args.courses, "body": repr(body),
+            "top_speed": stack.controller.max_linear_velocity, "rows": rows,
+            "overall": overall, "commit": _commit(), "machine": platform.platform(),
+        }))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
