@@ -1,4 +1,4 @@
-"""Robot profiles: the built-ins load, and every class of bad profile is refused naming its field."""
+"""Robot profiles: the built-ins load; every class of bad profile is refused, its field named."""
 
 from __future__ import annotations
 
