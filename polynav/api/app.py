@@ -16,6 +16,7 @@ from polynav.api.routes import (
     maps,
     navigation,
     points,
+    robot,
     settings,
     status,
     ws,
@@ -25,7 +26,9 @@ from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-ROUTERS = (status, maps, points, navigation, localization, mapping, control, settings, ws)
+ROUTERS = (
+    status, maps, points, navigation, localization, mapping, control, settings, robot, ws,
+)
 
 
 def _operation_id(route: APIRoute) -> str:

@@ -9,7 +9,7 @@ comes from the caller), so it runs the same on simulated time and on the wall cl
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
@@ -24,6 +24,7 @@ from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import Robot
+from polynav.robot.profile import RobotProfile
 
 log = logging.getLogger(__name__)
 
@@ -40,6 +41,44 @@ class StackConfig:
     navigator: NavigatorConfig = field(default_factory=NavigatorConfig)
     localization: PoseTrackerConfig = field(default_factory=PoseTrackerConfig)
     people: PeopleConfig = field(default_factory=PeopleConfig)
+
+
+# Obstacles raise costs this far [m] beyond the body's circumscribed radius, so paths keep off
+# walls by a margin even for a rectangle's corners.
+INFLATION_MARGIN = 0.3
+
+
+def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> StackConfig:
+    """``base`` (default: the defaults) built for ``profile``'s robot.
+
+    The costmap's inscribed radius is the body's inscribed radius and inflation reaches at least
+    ``INFLATION_MARGIN`` past its circumscribed radius (Nav2's convention: a centre nearer than
+    the inscribed radius to an obstacle is certainly a collision, one nearer than the
+    circumscribed radius possibly, depending on the heading). The controller drives at the
+    profile's cruise speeds and accelerations, never above its limits. Operator settings
+    (:meth:`polynav.runtime.settings.RobotSettings.stack_config`) then apply on top.
+    """
+    base = base or StackConfig()
+    cruise, limits = profile.cruise, profile.limits
+    ctl = base.controller
+    controller = replace(
+        ctl,
+        max_linear_velocity=cruise.linear_velocity,
+        max_angular_velocity=cruise.angular_velocity,
+        linear_acceleration=cruise.linear_acceleration,
+        linear_deceleration=cruise.linear_deceleration,
+        angular_acceleration=cruise.angular_acceleration,
+        min_regulated_speed=min(ctl.min_regulated_speed, cruise.linear_velocity),
+        min_approach_velocity=min(ctl.min_approach_velocity, cruise.linear_velocity),
+        min_rotation_speed=min(ctl.min_rotation_speed, limits.max_angular_velocity),
+    )
+    cm = base.costmap
+    costmap = replace(
+        cm,
+        robot_radius=profile.inscribed_radius,
+        inflation_radius=max(cm.inflation_radius, profile.circumscribed_radius + INFLATION_MARGIN),
+    )
+    return replace(base, controller=controller, costmap=costmap)
 
 
 class NavigationStack:

@@ -22,9 +22,12 @@ The file, every key optional except ``name`` and ``footprint`` (units SI, angles
       linear_deceleration: 3.0
       angular_acceleration: 4.0      # rad/s²
       angular_deceleration: 6.0
-    cruise:                          # what navigation drives at by default (the settings'
-      linear_velocity: 2.0           #  defaults), at most the limits
+    cruise:                          # how navigation drives by default, within the limits:
+      linear_velocity: 2.0           #  speeds are the settings' defaults,
       angular_velocity: 2.5
+      linear_acceleration: 1.2       #  accelerations the controller's
+      linear_deceleration: 2.0
+      angular_acceleration: 3.0
     lidar:
       pose: {x: 0.15, y: 0.0, theta: 0.0}   # on the base, inside the footprint
       range_min: 0.05
@@ -149,10 +152,15 @@ class Limits:
 
 @dataclass(frozen=True, slots=True)
 class Cruise:
-    """What navigation drives at unless an operator changes it (the settings' defaults)."""
+    """How navigation drives unless an operator changes it, within :class:`Limits`: its speeds
+    are the settings' defaults, its accelerations the controller's (gentler than the base can,
+    so a loaded robot does not jerk)."""
 
     linear_velocity: float = 0.6
     angular_velocity: float = 1.5
+    linear_acceleration: float = 0.8
+    linear_deceleration: float = 1.2
+    angular_acceleration: float = 3.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -426,12 +434,16 @@ def _validate(p: RobotProfile) -> None:
     for name in ("max_linear_velocity", "max_angular_velocity", "linear_acceleration",
                  "linear_deceleration", "angular_acceleration", "angular_deceleration"):
         _positive(getattr(lim, name), f"limits.{name}")
-    for name in ("linear_velocity", "angular_velocity"):
+    for name, limit in (("linear_velocity", "max_linear_velocity"),
+                        ("angular_velocity", "max_angular_velocity"),
+                        ("linear_acceleration", "linear_acceleration"),
+                        ("linear_deceleration", "linear_deceleration"),
+                        ("angular_acceleration", "angular_acceleration")):
         value = getattr(p.cruise, name)
         _positive(value, f"cruise.{name}")
-        top = getattr(lim, f"max_{name}")
+        top = getattr(lim, limit)
         if value > top:
-            raise ProfileError(f"cruise.{name}", f"{value:g} is above limits.max_{name} ({top:g})")
+            raise ProfileError(f"cruise.{name}", f"{value:g} is above limits.{limit} ({top:g})")
     li = p.lidar
     if not p.footprint.contains(li.x, li.y):
         raise ProfileError(

@@ -61,10 +61,11 @@ from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
-from polynav.nav.stack import NavigationStack, StackConfig
+from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
 from polynav.robot.interface import Robot
+from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
@@ -109,6 +110,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         *,
         config: RuntimeConfig | None = None,
         stack_config: StackConfig | None = None,
+        profile: RobotProfile | None = None,
     ) -> None:
         self.config = config or RuntimeConfig()
         self.store = store
@@ -116,8 +118,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._sim = sim
         self._robot = sim.robot
         self._clock = sim.clock
-        self._base_stack_config = stack_config or StackConfig()
-        self._settings = RobotSettings.from_stored(store.settings())
+        self.profile = profile or load_profile(DEFAULT_PROFILE)
+        self._base_stack_config = stack_config_for(self.profile, stack_config)
+        self._settings = RobotSettings.from_stored(store.settings(), self.profile)
         self._settings_dirty = False
         self._settings_lock = threading.Lock()
         self._mode = Mode.FREE
@@ -176,6 +179,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         config: RuntimeConfig | None = None,
         sim_config: SimConfig | None = None,
         stack_config: StackConfig | None = None,
+        profile: RobotProfile | None = None,
     ) -> RobotRuntime:
         """A runtime on the simulator, the robot standing at the world's start pose, FREE.
 
@@ -183,15 +187,20 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
             store: the site (maps, points, keepouts, settings).
             world: the simulated ground truth; its floors' maps should be the site's maps.
             config: runtime settings (seed, speed, rates).
-            sim_config: the simulated robot; defaults to :class:`SimConfig`.
-            stack_config: the navigation stack's base configuration; settings override it.
+            sim_config: the simulated robot's other settings (physics, battery, people);
+                defaults to :class:`SimConfig`.
+            stack_config: the navigation stack's base configuration; the profile and then the
+                settings override it.
+            profile: the robot (body, limits, sensors); defaults to the world's ``robot:``
+                entry, else the demo robot. The simulator and the stack are both built from it.
         """
         config = config or RuntimeConfig()
         warm_up()
+        profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
         sim = Simulation(
-            world, config=sim_config or SimConfig(), seed=config.seed, people=config.people
+            world, config=profile.sim_config(sim_config), seed=config.seed, people=config.people
         )
-        return cls(store, sim, config=config, stack_config=stack_config)
+        return cls(store, sim, config=config, stack_config=stack_config, profile=profile)
 
     # -- reads (any thread, never wait) --------------------------------------------------------
 
@@ -339,9 +348,11 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
 
         Raises:
             InvalidRequest: unknown name, wrong type or out of range (``field`` names it).
+            BeyondProfile: a speed above the robot profile's limits, a planning footprint
+                below its body.
         """
         with self._settings_lock:
-            new = self._settings.apply(changes)
+            new = self._settings.apply(changes, self.profile)
             stored = new.to_dict()
             self.store.update_settings({key: stored[key] for key in changes})
 
