@@ -270,8 +270,15 @@ class RobotProfile:
             dock_heading_tolerance=self.charger.heading_tolerance,
         )
 
+    def to_document(self) -> dict[str, Any]:
+        """The profile in the file's shape: :func:`parse_profile` reads it back unchanged."""
+        doc = self.to_dict()
+        del doc["inscribed_radius"], doc["circumscribed_radius"]
+        return doc
+
     def to_dict(self) -> dict[str, Any]:
-        """The profile in the file's shape (what ``GET /api/robot`` shows), plus the radii."""
+        """The profile in the file's shape plus the body's radii (what ``GET /api/robot``
+        shows)."""
         lidar = asdict(self.lidar)
         pose = {"x": lidar.pop("x"), "y": lidar.pop("y"), "theta": lidar.pop("theta")}
         return {
