@@ -60,7 +60,9 @@ from typing import Any
 
 import yaml
 
-from polynav.errors import InvalidRequest
+from polynav.errors import ConfigError, InvalidRequest
+from polynav.footprint import Footprint
+from polynav.geometry import Pose2D
 from polynav.robot.sim.config import SimConfig
 
 log = logging.getLogger(__name__)
@@ -69,6 +71,10 @@ PROFILES_DIR = Path(__file__).resolve().parent / "profiles"
 """Where the built-in profiles live, one ``NAME.yaml`` each."""
 
 DEFAULT_PROFILE = "demo"
+
+# A polygon's edges keep at least this far [m] from the base origin: a centre of rotation on the
+# outline is no body to turn.
+_MIN_INSCRIBED = 1e-3
 
 
 class ProfileError(InvalidRequest):
@@ -81,61 +87,16 @@ class ProfileError(InvalidRequest):
 # -- the parts ----------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True, slots=True)
-class FootprintShape:
-    """The body's outline in the base frame: a circle (``radius``) or a polygon (``polygon``).
+def footprint_document(footprint: Footprint) -> dict[str, Any]:
+    """A footprint in the file's shape: ``{radius: r}`` or ``{polygon: [[x, y], ...]}``."""
+    if footprint.is_circle:
+        return {"radius": footprint.radius}
+    return {"polygon": [[float(x), float(y)] for x, y in footprint.vertices]}
 
-    Attributes:
-        radius: the disk's radius [m] when the body is round, else ``None``.
-        polygon: the outline's vertices [m] in order when it is a polygon, else ``()``.
-    """
 
-    radius: float | None = None
-    polygon: tuple[tuple[float, float], ...] = ()
-
-    @property
-    def inscribed_radius(self) -> float:
-        """The largest disk about the origin inside the body [m] (Nav2's inscribed radius):
-        a centre farther than this from every obstacle is certainly clear."""
-        if self.radius is not None:
-            return self.radius
-        return min(_point_segment_distance((0.0, 0.0), a, b) for a, b in self.edges())
-
-    @property
-    def circumscribed_radius(self) -> float:
-        """The smallest disk about the origin holding the body [m]: a centre closer than this
-        to an obstacle may be in collision, depending on the heading."""
-        if self.radius is not None:
-            return self.radius
-        return max(math.hypot(x, y) for x, y in self.polygon)
-
-    @property
-    def is_circle(self) -> bool:
-        return self.radius is not None
-
-    def edges(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
-        """The polygon's edges, closing back to the first vertex (empty for a circle)."""
-        pts = self.polygon
-        return [(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
-
-    def contains(self, x: float, y: float) -> bool:
-        """Whether base-frame point (x, y) lies inside the body or on its edge."""
-        if self.radius is not None:
-            return math.hypot(x, y) <= self.radius + 1e-12
-        if any(_point_segment_distance((x, y), a, b) <= 1e-12 for a, b in self.edges()):
-            return True
-        inside = False
-        for (x0, y0), (x1, y1) in self.edges():
-            if (y0 > y) != (y1 > y):
-                cross_x = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
-                if x < cross_x:
-                    inside = not inside
-        return inside
-
-    def to_dict(self) -> dict[str, Any]:
-        if self.radius is not None:
-            return {"radius": self.radius}
-        return {"polygon": [list(p) for p in self.polygon]}
+def footprint_polygon(footprint: Footprint) -> tuple[tuple[float, float], ...]:
+    """A polygon footprint's vertices as a tuple (``()`` for a circle), for frozen configs."""
+    return tuple((float(x), float(y)) for x, y in footprint.vertices)
 
 
 @dataclass(frozen=True, slots=True)
@@ -215,7 +176,7 @@ class RobotProfile:
     """
 
     name: str
-    footprint: FootprintShape
+    footprint: Footprint
     description: str = ""
     limits: Limits = field(default_factory=Limits)
     cruise: Cruise = field(default_factory=Cruise)
@@ -242,7 +203,7 @@ class RobotProfile:
         return replace(
             base or SimConfig(),
             robot_radius=self.footprint.circumscribed_radius,
-            footprint_polygon=self.footprint.polygon,
+            footprint_polygon=footprint_polygon(self.footprint),
             max_linear_velocity=lim.max_linear_velocity,
             max_angular_velocity=lim.max_angular_velocity,
             linear_acceleration=lim.linear_acceleration,
@@ -284,7 +245,7 @@ class RobotProfile:
         return {
             "name": self.name,
             "description": self.description,
-            "footprint": self.footprint.to_dict(),
+            "footprint": footprint_document(self.footprint),
             "inscribed_radius": self.inscribed_radius,
             "circumscribed_radius": self.circumscribed_radius,
             "limits": asdict(self.limits),
@@ -372,13 +333,17 @@ def parse_profile(doc: object) -> RobotProfile:
     )
 
 
-def _footprint(raw: object) -> FootprintShape:
+def _footprint(raw: object) -> Footprint:
     doc = _mapping(raw, "footprint")
     _known(doc, "footprint", ("radius", "polygon"))
     if ("radius" in doc) == ("polygon" in doc):
         raise ProfileError("footprint", "give exactly one of radius or polygon")
     if "radius" in doc:
-        return FootprintShape(radius=_number(doc["radius"], "footprint.radius"))
+        radius = _number(doc["radius"], "footprint.radius")
+        try:
+            return Footprint.circle(radius, key="robot.footprint")
+        except ConfigError as exc:
+            raise ProfileError("footprint.radius", exc.reason) from None
     points = doc["polygon"]
     if not isinstance(points, list):
         raise ProfileError("footprint.polygon", f"expected a list of [x, y], got {points!r}")
@@ -388,7 +353,17 @@ def _footprint(raw: object) -> FootprintShape:
         if not isinstance(p, list | tuple) or len(p) != 2:
             raise ProfileError(key, f"expected [x, y], got {p!r}")
         vertices.append((_number(p[0], key), _number(p[1], key)))
-    return FootprintShape(polygon=tuple(vertices))
+    try:
+        footprint = Footprint.polygon(vertices, key="robot.footprint")
+    except ConfigError as exc:
+        raise ProfileError("footprint.polygon", exc.reason) from None
+    if footprint.inscribed_radius < _MIN_INSCRIBED:
+        raise ProfileError(
+            "footprint.polygon",
+            f"must hold the base origin with room about it (at least {_MIN_INSCRIBED:g} m to "
+            "every edge): the origin is the robot's centre of rotation, inside its body",
+        )
+    return footprint
 
 
 def _section(cls: type[Any], raw: object, key: str,
@@ -436,7 +411,6 @@ def _number(value: object, key: str) -> float:
 
 
 def _validate(p: RobotProfile) -> None:
-    _validate_footprint(p.footprint)
     lim = p.limits
     for name in ("max_linear_velocity", "max_angular_velocity", "linear_acceleration",
                  "linear_deceleration", "angular_acceleration", "angular_deceleration"):
@@ -452,7 +426,7 @@ def _validate(p: RobotProfile) -> None:
         if value > top:
             raise ProfileError(f"cruise.{name}", f"{value:g} is above limits.{limit} ({top:g})")
     li = p.lidar
-    if not p.footprint.contains(li.x, li.y):
+    if not p.footprint.contains_point(Pose2D(), li.x, li.y):
         raise ProfileError(
             "lidar.pose",
             f"({li.x:g}, {li.y:g}) is outside the footprint: the lidar is mounted on the base, "
@@ -484,44 +458,6 @@ def _validate(p: RobotProfile) -> None:
             raise ProfileError(key, f"must be <= {physics:g} Hz (the simulator's physics rate)")
 
 
-def _validate_footprint(fp: FootprintShape) -> None:
-    if fp.radius is not None:
-        if fp.polygon:
-            raise ProfileError("footprint", "give exactly one of radius or polygon")
-        _positive(fp.radius, "footprint.radius")
-        return
-    pts = fp.polygon
-    if len(pts) < 3:
-        raise ProfileError("footprint.polygon", f"needs at least 3 vertices, got {len(pts)}")
-    for n, (x, y) in enumerate(pts):
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise ProfileError(f"footprint.polygon[{n}]", "must be finite")
-    for n in range(len(pts)):
-        a, b = pts[n], pts[(n + 1) % len(pts)]
-        if math.hypot(b[0] - a[0], b[1] - a[1]) < 1e-6:
-            raise ProfileError(f"footprint.polygon[{n}]", "repeats the next vertex")
-    edges = fp.edges()
-    for i, (a, b) in enumerate(edges):
-        for j in range(i + 1, len(edges)):
-            if j == i + 1 or (i == 0 and j == len(edges) - 1):
-                continue  # neighbours share a vertex
-            c, d = edges[j]
-            if _segments_cross(a, b, c, d):
-                raise ProfileError(
-                    "footprint.polygon",
-                    f"is self-intersecting: edge {i} ({a} to {b}) crosses edge {j} ({c} to {d})",
-                )
-    area = 0.5 * sum(a[0] * b[1] - b[0] * a[1] for a, b in edges)
-    if abs(area) < 1e-6:
-        raise ProfileError("footprint.polygon", "has no area")
-    if not fp.contains(0.0, 0.0) or fp.inscribed_radius < 1e-3:
-        raise ProfileError(
-            "footprint.polygon",
-            "must contain the origin with room about it: the base frame's origin is the "
-            "robot's centre of rotation, inside its body",
-        )
-
-
 def _positive(value: float, key: str) -> None:
     if not (math.isfinite(value) and value > 0.0):
         raise ProfileError(key, f"must be > 0, got {value:g}")
@@ -530,35 +466,3 @@ def _positive(value: float, key: str) -> None:
 def _non_negative(value: float, key: str) -> None:
     if not (math.isfinite(value) and value >= 0.0):
         raise ProfileError(key, f"must be >= 0, got {value:g}")
-
-
-def _point_segment_distance(
-    p: tuple[float, float], a: tuple[float, float], b: tuple[float, float]
-) -> float:
-    ax, ay = a
-    dx, dy = b[0] - ax, b[1] - ay
-    length2 = dx * dx + dy * dy
-    t = 0.0 if length2 == 0.0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy)
-                                                 / length2))
-    return math.hypot(p[0] - (ax + t * dx), p[1] - (ay + t * dy))
-
-
-def _orient(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]) -> float:
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-
-def _segments_cross(
-    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float], d: tuple[float, float]
-) -> bool:
-    """Whether segments ab and cd share a point (touching counts)."""
-    d1, d2 = _orient(c, d, a), _orient(c, d, b)
-    d3, d4 = _orient(a, b, c), _orient(a, b, d)
-    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4):
-        return True
-    eps = 1e-12
-    return (
-        (abs(d1) < eps and _point_segment_distance(a, c, d) < 1e-9)
-        or (abs(d2) < eps and _point_segment_distance(b, c, d) < 1e-9)
-        or (abs(d3) < eps and _point_segment_distance(c, a, b) < 1e-9)
-        or (abs(d4) < eps and _point_segment_distance(d, a, b) < 1e-9)
-    )

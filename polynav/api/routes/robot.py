@@ -27,7 +27,7 @@ router = APIRouter(prefix="/api/robot", tags=["robot"])
 # Bounds keep every number a profile can hold far from overflow; the profile's own rules are
 # narrower (positive speeds, a lidar on the body ...) and name the field when broken.
 _BIG = 1.0e6
-Number = Annotated[float, Field(strict=False, allow_inf_nan=False, ge=-_BIG, le=_BIG)]
+Number = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-_BIG, le=_BIG)]
 Beams = Annotated[int, Field(strict=True, ge=1, le=100_000)]
 Vertex = Annotated[list[Number], Field(min_length=2, max_length=2)]
 

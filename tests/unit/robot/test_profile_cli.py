@@ -64,7 +64,7 @@ def test_from_map_with_a_robot_writes_it_into_the_world(
                  "--walkers", "0", "--robot", "research-base"]) == 0
     world = load_world(out)
     assert world.robot is not None and world.robot.name == "research-base"
-    assert len(world.robot.footprint.polygon) == 4
+    assert world.robot.footprint.vertices.shape == (4, 2)
 
 
 def test_from_map_with_a_bad_robot_exits_2_and_writes_nothing(
