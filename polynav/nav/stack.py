@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.geometry import Pose2D, Twist
-from polynav.localization.interface import LocalizationEstimate
+from polynav.localization.interface import LocalizationEstimate, Localizer
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.layers.people import PeopleLayer
@@ -91,12 +91,16 @@ class NavigationStack:
         *,
         config: StackConfig | None = None,
         on_event: EventSink | None = None,
+        localizer: Localizer | None = None,
     ) -> None:
         self.config = config or StackConfig()
         self.robot = robot
         self.map = grid
-        self.localizer = PoseTracker(self.config.localization)
-        self.localizer.set_map(grid)
+        # Scan-to-map tracking on ``grid`` unless another localizer is given (navigation
+        # without a map localizes in the odometry frame, :mod:`polynav.nav.mapless`).
+        self.localizer: Localizer = localizer or PoseTracker(self.config.localization)
+        if localizer is None:
+            self.localizer.set_map(grid)
         people = self.config.people
         self._people_layer = PeopleLayer(
             grid.info, radius=people.social_distance, cost=people.layer_cost
