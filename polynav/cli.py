@@ -113,6 +113,8 @@ def _run(args: argparse.Namespace) -> int:
             config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
             profile=profile,
         )
+        if args.mapless:
+            runtime.start_mapless()  # goals are then poses in the odometry frame
         app = create_app(runtime, api_config)
         try:
             sock = tcp_listener(api_config.host, api_config.port)
@@ -265,6 +267,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--mapless", action="store_true",
+                     help="navigate without a map from the start: goals are poses in the odometry "
+                          "frame (POST /api/navigation/goal with x, y, theta)")
     run.add_argument("--robot", default=None,
                      help="robot profile: a robot.yaml or a built-in name (demo, delivery, "
                           "research-base); default: the world's robot, else demo")

@@ -12,6 +12,7 @@ from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
     localization,
+    mapless,
     mapping,
     maps,
     navigation,
@@ -27,7 +28,8 @@ from polynav.store.site_store import SiteStore
 log = logging.getLogger(__name__)
 
 ROUTERS = (
-    status, maps, points, navigation, localization, mapping, control, settings, robot, ws,
+    status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
+    ws,
 )
 
 

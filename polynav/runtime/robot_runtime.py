@@ -76,6 +76,7 @@ from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
@@ -96,7 +97,7 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
+class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -128,6 +129,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._map_name: str | None = None
         self._grid: Map | None = None
         self._keepouts: tuple[Keepout, ...] = ()
+        self._mapless = False
         self._motion = DirectMotion(self._robot, self.config.teleop_timeout)
         self._software_estop = False
         self._estop = EStopWatcher(self._robot.estop_pressed())
@@ -313,6 +315,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
 
         def run() -> None:
             stack = self._require_navigating()
+            if self._mapless:
+                raise Conflict("navigating without a map: the frame is odometry's, there is no "
+                               "map pose to set (start navigation on a map first)")
             if self._goal_active():
                 raise Conflict("a goal is active: cancel it before setting the initial pose")
             assert self._map_name is not None
@@ -531,6 +536,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._set_mode(Mode.BUSY)
         self._attempts.new_session()
         now = self.now()
+        self._mapless = False
         self._map_name = name
         self._grid = grid
         self._keepouts = keepouts
@@ -552,6 +558,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._cancel_goal()
         self._halt_motion()
         self._stack = None
+        self._mapless = False
         self._map_name = None
         self._grid = None
         self._keepouts = ()
@@ -561,11 +568,15 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._check_localization(self.now())
 
     def _new_stack(self) -> NavigationStack:
-        assert self._grid is not None
         config = self._settings.stack_config(self._base_stack_config)
         if config.control_rate != self.config.control_rate:
             config = replace(config, control_rate=self.config.control_rate)
-        stack = NavigationStack(self._robot, self._grid, config=config, on_event=self._on_nav_event)
+        if self._mapless:
+            stack = self._new_mapless_stack(config)
+        else:
+            assert self._grid is not None
+            stack = NavigationStack(self._robot, self._grid, config=config,
+                                    on_event=self._on_nav_event)
         if self._keepouts:
             stack.costmap.set_keepouts(self._keepouts)
         stack.software_estop = self._software_estop

@@ -94,6 +94,14 @@ class FakeRuntime:
                 self.pose = pose
             self._set_mode("navigating")
 
+    def start_mapless(self) -> None:
+        with self._lock:
+            if self.mode == "mapping":
+                raise Conflict("mapping is running")
+            self._set_mode("busy")
+            self.map = "odom"
+            self._set_mode("navigating")
+
     def stop_navigation(self) -> None:
         with self._lock:
             self._set_mode("busy")
