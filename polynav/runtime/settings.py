@@ -52,13 +52,18 @@ from polynav.robot.profile import RobotProfile
 log = logging.getLogger(__name__)
 
 
-class BeyondProfile(ConfigError):
+class BeyondProfile(ConfigError, InvalidRequest):
     """A setting the robot's profile forbids: a speed above its limits, a planning footprint
-    below its body. ``field`` is the setting's name."""
+    below its body. ``field`` (and ``key``) is the setting's name.
+
+    A :class:`ConfigError` first (the native API's 422 ``invalid_setting``), and an
+    :class:`InvalidRequest` for the dialects that map only those (an invalid request, as an
+    out-of-range value is)."""
 
     def __init__(self, field: str, reason: str) -> None:
-        super().__init__(field, reason)
-        self.field = field
+        Exception.__init__(self, f"{field}: {reason}")
+        self.key = self.field = field
+        self.reason = reason
 
 SETTING_RANGES: dict[str, tuple[float, float]] = {
     "max_linear_velocity": (0.1, 3.0),
