@@ -94,3 +94,15 @@ def test_cli_style_file_round_trip(tmp_path: Path, client: httpx.Client) -> None
     doc["footprint"] = {k: v for k, v in doc["footprint"].items() if v is not None}
     r = client.post("/api/robot/check", json=doc)
     assert r.status_code == 200 and r.json() == shown
+
+
+def test_mapless_navigation_over_the_api_takes_odometry_frame_goals(client: httpx.Client) -> None:
+    assert client.post("/api/navigation/mapless").status_code == 200
+    status = client.get("/api/status").json()
+    assert status["mode"] == "navigating" and status["map"] == "odom"
+    r = client.post("/api/navigation/goal", json={"x": 5.0, "y": 4.5, "theta": 0.0})
+    assert r.status_code == 202
+    # Points belong to maps: none while mapless.
+    assert client.post("/api/navigation/goal", json={"point": "lobby"}).status_code == 404
+    assert client.post("/api/navigation/stop").status_code == 200
+    assert client.get("/api/status").json()["mode"] == "free"
