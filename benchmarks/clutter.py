@@ -9,7 +9,12 @@ against the optimal path's time at top speed (the checked static path's length o
 controller's top speed; 1.0 never slows or turns), and the real-time factor. Issue 18's targets
 are in ``targets`` and ``pass`` of the JSON line; the benchmark measures, it never fails on them.
 
-Run with ``polynav bench clutter [--courses N] [--seed S] [--json]``.
+With ``--robot`` the robot is a profile (a robot.yaml or a built-in name; default: the demo
+robot), its footprint drawing the courses and its body, speeds and lidar in the simulator and the
+stack. With ``--mapless`` the stack is given no map: it builds its rolling costmap from the
+lidar and drives to the goal as a pose in the odometry frame (:mod:`polynav.nav.mapless`).
+
+Run with ``polynav bench clutter [--robot FILE] [--mapless] [--courses N] [--seed S] [--json]``.
 """
 
 from __future__ import annotations
@@ -25,11 +30,10 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from polynav.footprint import Footprint
+from polynav.errors import PolynavError
 from polynav.nav.attempt import NavigationState
-from polynav.nav.stack import StackConfig
-from polynav.robot.sim.config import SimConfig
-from polynav.runtime.sim_driver import simulate
+from polynav.robot.profile import RobotProfile, load_profile
+from polynav.runtime.sim_driver import simulate, simulate_mapless
 from polynav.worlds.clutter import ClutterSpec, CourseError, draw
 
 GOAL_TIME = 100.0  # [s of simulated time] per course
@@ -54,14 +58,14 @@ def density_of(course: int, courses: int) -> float:
 
 
 def run_course(
-    index: int, courses: int, seed: int, stack: StackConfig, sim: SimConfig, body: Footprint
+    index: int, courses: int, seed: int, profile: RobotProfile, *, mapless: bool
 ) -> dict[str, Any]:
-    """Draw course ``index`` and drive it once; its figures."""
+    """Draw course ``index`` for ``profile``'s body and drive it once; its figures."""
     spec = ClutterSpec(density=density_of(index, courses))
-    course = draw(body, spec, seed * 1000 + index)
-    top_speed = stack.controller.max_linear_velocity
-    driver = simulate(course.world, seed=seed * 1000 + index, people=False, sim_config=sim,
-                      stack_config=stack)
+    course = draw(profile.footprint, spec, seed * 1000 + index)
+    top_speed = profile.cruise.linear_velocity
+    run = simulate_mapless if mapless else simulate
+    driver = run(course.world, seed=seed * 1000 + index, people=False, profile=profile)
     driver.run(0.5)  # the tracker settles on the first scans
     began = driver.now
     wall = time.perf_counter()
@@ -138,23 +142,30 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--courses", type=int, default=100,
                         help="courses, sparse to barely passable (default %(default)s)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--robot", default=None,
+                        help="robot profile: a robot.yaml or a built-in name (default: demo)")
+    parser.add_argument("--mapless", action="store_true",
+                        help="navigate with no prior map (rolling costmap from the lidar)")
     parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
     args = parser.parse_args(argv)
     if args.courses < 1:
         print("polynav bench clutter: --courses must be >= 1", file=sys.stderr)
         return 2
-    stack = StackConfig()
-    sim = SimConfig()
-    body = stack.body
-    print(f"polynav bench clutter: {args.courses} courses, seed {args.seed}, body {body!r}, "
-          f"top speed {stack.controller.max_linear_velocity:g} m/s, "
+    try:
+        profile = load_profile(args.robot)
+    except PolynavError as exc:
+        print(f"polynav bench clutter: {exc}", file=sys.stderr)
+        return 2
+    print(f"polynav bench clutter: {args.courses} courses, seed {args.seed}, robot "
+          f"{profile.name} ({profile.footprint!r}), top speed {profile.cruise.linear_velocity:g}"
+          f" m/s, {'no map' if args.mapless else 'with the map'}, "
           f"Python {platform.python_version()}")
     print(f"{'course':>6s}{'density':>9s}{'posts':>7s}{'gap':>7s}  {'outcome':14s}"
           f"{'coll.':>6s}{'time':>8s}{'optimal':>9s}{'ratio':>7s}{'retries':>8s}{'RTF':>7s}")
     rows: list[dict[str, Any]] = []
     for index in range(args.courses):
         try:
-            row = run_course(index, args.courses, args.seed, stack, sim, body)
+            row = run_course(index, args.courses, args.seed, profile, mapless=args.mapless)
         except CourseError as exc:
             print(f"{index:>6d} skipped: {exc}", flush=True)
             continue
@@ -173,8 +184,9 @@ def main(argv: list[str] | None = None) -> int:
     print(f"targets {'met' if overall['pass'] else 'missed: ' + ', '.join(overall['missed'])}")
     if args.json:
         print(json.dumps({
-            "seed": args.seed, "courses": args.courses, "body": repr(body),
-            "top_speed": stack.controller.max_linear_velocity, "rows": rows,
+            "seed": args.seed, "courses": args.courses, "robot": profile.name,
+            "footprint": repr(profile.footprint), "mapless": args.mapless,
+            "top_speed": profile.cruise.linear_velocity, "rows": rows,
             "overall": overall, "commit": _commit(), "machine": platform.platform(),
         }))
     return 0

@@ -41,6 +41,7 @@ log = logging.getLogger(__name__)
 
 _EPS = 1e-12
 _LETHAL = costs.LETHAL
+_NO_CELLS = np.zeros((0, 2), dtype=np.int64)
 _UNKNOWN = costs.UNKNOWN
 
 
@@ -254,8 +255,13 @@ def first_collision(
     poses: npt.NDArray[np.float64],
     *,
     unknown_is_lethal: bool = False,
+    ignore_start: bool = False,
 ) -> int | None:
     """Index of the first pose at which the footprint overlaps a LETHAL cell, or ``None``.
+
+    With ``ignore_start`` the cells the footprint overlaps at the *first* pose do not count
+    anywhere along the sequence: a robot touching a mark (wedged, or an estimate a centimetre
+    off) may move, but only if it touches nothing new on the way.
 
     Args:
         footprint: the body.
@@ -266,13 +272,19 @@ def first_collision(
         unknown_is_lethal: treat UNKNOWN cells and cells off the grid as obstacles.
     """
     local = _to_grid_frame(costmap.info, poses)
+    grid = np.ascontiguousarray(costmap.costs)
+    ignore = _NO_CELLS
+    if ignore_start and local.shape[0] > 0:
+        ignore = _overlapped_cells(grid, costmap.info.resolution, footprint.vertices,
+                                   footprint.radius, local[0], unknown_is_lethal)
     hit = _first_hit(
-        np.ascontiguousarray(costmap.costs),
+        grid,
         costmap.info.resolution,
         footprint.vertices,
         footprint.radius,
         local,
         unknown_is_lethal,
+        ignore,
     )
     return None if hit < 0 else int(hit)
 
@@ -622,8 +634,9 @@ def _overlaps(
     reach: float,
     unknown_is_lethal: bool,
     world: npt.NDArray[np.float64],
+    ignore: npt.NDArray[np.int64],
 ) -> bool:
-    """Does the shape placed at (x, y, theta) overlap an obstacle cell?"""
+    """Does the shape placed at (x, y, theta) overlap an obstacle cell not in ``ignore``?"""
     _place(verts, x, y, theta, world)
     ix0 = int(math.floor((x - reach) / res))
     ix1 = int(math.floor((x + reach) / res))
@@ -638,8 +651,47 @@ def _overlaps(
             if _box_distance(x, y, x0, y0, x0 + res, y0 + res) > reach:
                 continue
             if _cell_gap(world, radius, x, y, x0, y0, x0 + res, y0 + res) <= 0.0:
-                return True
+                ignored = False
+                for k in range(ignore.shape[0]):
+                    if ignore[k, 0] == ix and ignore[k, 1] == iy:
+                        ignored = True
+                        break
+                if not ignored:
+                    return True
     return False
+
+
+@numba.njit(cache=True, nogil=True)
+def _overlapped_cells(
+    grid: npt.NDArray[np.uint8],
+    res: float,
+    verts: npt.NDArray[np.float64],
+    radius: float,
+    pose: npt.NDArray[np.float64],
+    unknown_is_lethal: bool,
+) -> npt.NDArray[np.int64]:
+    """The obstacle cells (K, 2) of (ix, iy) the shape at ``pose`` overlaps."""
+    world = np.empty_like(verts)
+    x, y = pose[0], pose[1]
+    _place(verts, x, y, pose[2], world)
+    reach = _reach(verts, radius)
+    ix0 = int(math.floor((x - reach) / res))
+    ix1 = int(math.floor((x + reach) / res))
+    iy0 = int(math.floor((y - reach) / res))
+    iy1 = int(math.floor((y + reach) / res))
+    out = np.empty(((ix1 - ix0 + 1) * (iy1 - iy0 + 1), 2), dtype=np.int64)
+    n = 0
+    for iy in range(iy0, iy1 + 1):
+        y0 = iy * res
+        for ix in range(ix0, ix1 + 1):
+            if not _is_obstacle(grid, ix, iy, unknown_is_lethal):
+                continue
+            x0 = ix * res
+            if _cell_gap(world, radius, x, y, x0, y0, x0 + res, y0 + res) <= 0.0:
+                out[n, 0] = ix
+                out[n, 1] = iy
+                n += 1
+    return out[:n].copy()
 
 
 @numba.njit(cache=True, nogil=True)
@@ -658,12 +710,13 @@ def _first_hit(
     radius: float,
     poses: npt.NDArray[np.float64],
     unknown_is_lethal: bool,
+    ignore: npt.NDArray[np.int64],
 ) -> int:
     world = np.empty_like(verts)
     reach = _reach(verts, radius)
     for k in range(poses.shape[0]):
         if _overlaps(grid, res, verts, radius, poses[k, 0], poses[k, 1], poses[k, 2],
-                     reach, unknown_is_lethal, world):
+                     reach, unknown_is_lethal, world, ignore):
             return k
     return -1
 
@@ -682,7 +735,7 @@ def _mask(
     out = np.zeros(poses.shape[0], dtype=np.bool_)
     for k in range(poses.shape[0]):
         out[k] = _overlaps(grid, res, verts, radius, poses[k, 0], poses[k, 1], poses[k, 2],
-                           reach, unknown_is_lethal, world)
+                           reach, unknown_is_lethal, world, _NO_CELLS)
     return out
 
 
@@ -713,6 +766,7 @@ def warm_up() -> None:
     poses = np.array([[2.5, 2.5, 0.0]])
     for fp in (Footprint.circle(0.4), Footprint.rectangle(0.8, 0.6)):
         first_collision(fp, snapshot, poses)
+        first_collision(fp, snapshot, poses, ignore_start=True)
         collision_mask(fp, snapshot, poses)
         clearances(fp, snapshot, poses, horizon=1.0)
 

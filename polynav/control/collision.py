@@ -108,20 +108,13 @@ def first_footprint_collision(
 ) -> int | None:
     """Index of the first pose where the body overlaps a LETHAL cell, or ``None``.
 
-    As :func:`first_collision`: a run of poses that *starts* in collision is skipped up to its
-    first clear pose, so a robot touching a mark (a wedged robot, an estimate a few centimetres
-    off) may still move out of it, but not on into anything after.
+    The cells the body already overlaps at the first pose do not count: a robot touching a mark
+    (a wedged robot, an estimate a centimetre off) may still move, but only if it touches
+    nothing new on the way. (Skipping the whole first run of colliding poses, as
+    :func:`first_collision` does for costs under the centre, would let a robot touching one
+    post sweep through its neighbour.)
     """
-    hit = body.first_collision(footprint, costmap, poses)
-    if hit != 0:
-        return hit
-    mask = body.collision_mask(footprint, costmap, poses)
-    clear = np.flatnonzero(~mask)
-    if clear.size == 0:
-        return None
-    mask[: clear[0]] = False
-    found = np.flatnonzero(mask)
-    return int(found[0]) if found.size else None
+    return body.first_collision(footprint, costmap, poses, ignore_start=True)
 
 
 def turn_collides(

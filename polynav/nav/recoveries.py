@@ -154,10 +154,9 @@ class BackUp:
         poses = np.column_stack(
             (pose.x - c * back, pose.y - s * back, np.full(back.shape, pose.theta))
         )
-        if body.collides(self.footprint, grid, pose):
-            # Already touching a mark (wedged): back up unless it gets worse behind.
-            return bool(body.collision_mask(self.footprint, grid, poses).all())
-        return body.first_collision(self.footprint, grid, poses) is not None
+        # Already touching a mark (wedged): back up unless something new is behind.
+        poses = np.vstack(([pose.x, pose.y, pose.theta], poses))
+        return body.first_collision(self.footprint, grid, poses, ignore_start=True) is not None
 
 
 class ClearAround:
@@ -239,11 +238,9 @@ class Rotate:
         if self.footprint.is_circle or turn == 0.0:
             return turn == 0.0
         poses = body.rotation_poses(self.footprint, pose, turn, self._costmap.info.resolution)
-        hit = body.collision_mask(self.footprint, self._costmap, poses)
-        if hit[0]:
-            # Touching already: turning is allowed as long as it does not get worse.
-            return bool(hit[1:].all()) if hit.size > 1 else True
-        return bool(hit.any())
+        # Touching already: turning is allowed as long as it touches nothing new.
+        hit = body.first_collision(self.footprint, self._costmap, poses, ignore_start=True)
+        return hit is not None
 
 
 @dataclass
