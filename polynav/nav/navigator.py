@@ -371,8 +371,8 @@ class Navigator(ChargerPhases):
                 self._wait_for_people(pose, now)
                 return Twist()
             self._retry("blocked", pose, now)
-            if self.state is not NavigationState.RUNNING or self._phase is _Phase.RECOVER:
-                return Twist()  # the recovery starts with the next period
+            # Failed, or recovering: the recovery starts with the next period.
+            return Twist()
         if self._phase is _Phase.PLAN:
             if not self._plan(pose, now):
                 return Twist()
