@@ -28,10 +28,10 @@ if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
 
 log = logging.getLogger(__name__)
 
-BENCH_AREAS = ("planner", "sim", "api", "slam", "nav")
+BENCH_AREAS = ("planner", "sim", "api", "slam", "nav", "fleet")
 _BENCH_FILES = {
     "planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py",
-    "nav": "nav.py",
+    "nav": "nav.py", "fleet": "fleet.py",
 }
 
 
@@ -68,6 +68,10 @@ def _positive_speed(text: str) -> float:
 
 def _run(args: argparse.Namespace) -> int:
     """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
+    if args.robots is not None:  # a building of N robots: polynav/fleet/serve.py
+        from polynav.fleet import serve
+
+        return serve.run(args)
     import uvicorn
 
     from polynav.api import ApiConfig, create_app
@@ -255,6 +259,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--robots", type=int, default=None,
+                     help="simulate N robots in one building, robot i on every port + i "
+                     "(default: one robot)")
     run.add_argument("--yunji-port", type=int, default=31001,
                      help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")
@@ -303,7 +310,8 @@ def build_parser() -> argparse.ArgumentParser:
     world_cli.add_parser(sub)
     bench = sub.add_parser(
         "bench",
-        help="run a benchmark (planner, sim, api, slam, nav); extra arguments go to the benchmark",
+        help="run a benchmark (planner, sim, api, slam, nav, fleet); extra arguments go to the "
+        "benchmark",
         description="Run a benchmark from benchmarks/. Pass --help after the area for its options.",
     )
     bench.add_argument("area", choices=BENCH_AREAS)

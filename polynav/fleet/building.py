@@ -20,6 +20,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Literal
 
 from polynav.errors import InvalidRequest
 from polynav.fleet.agent import RobotAgent
@@ -47,6 +48,9 @@ STANDBY_PREFIX = "standby"
 """Points whose name starts with this are standby points: robots may start there."""
 
 
+OrderState = Literal["none", "running", "succeeded", "failed"]
+
+
 @dataclass(frozen=True, slots=True)
 class FleetEntry:
     """One robot as ``GET /api/fleet`` lists it."""
@@ -59,7 +63,7 @@ class FleetEntry:
     mode: str
     navigation_state: str
     order_id: str
-    order_state: str
+    order_state: OrderState
     waiting_for: str | None
     zones: tuple[str, ...]
     battery_percent: float
@@ -279,7 +283,7 @@ class Building:
             runtime.robot.drive(Twist())
 
 
-def _order_state(state: State | None) -> str:
+def _order_state(state: State | None) -> OrderState:
     """``none``, ``running``, ``succeeded`` or ``failed`` from a robot's last state."""
     if state is None or not state.order_id:
         return "none"
