@@ -13,10 +13,12 @@ from polynav.api.routes import (
     control,
     fleet,
     localization,
+    mapless,
     mapping,
     maps,
     navigation,
     points,
+    robot,
     settings,
     status,
     ws,
@@ -27,7 +29,10 @@ from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-ROUTERS = (status, maps, points, navigation, localization, mapping, control, settings, fleet, ws)
+ROUTERS = (
+    status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
+    fleet, ws,
+)
 
 
 def _operation_id(route: APIRoute) -> str:

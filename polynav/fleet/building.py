@@ -32,6 +32,7 @@ from polynav.fleet.transport import InProcessTransport
 from polynav.fleet.zones import ZoneConfig, ZoneMap, find_zones
 from polynav.geometry import Pose2D, Twist
 from polynav.nav.stack import StackConfig
+from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.scene import Scene
 from polynav.robot.sim.simulation import Simulation
@@ -101,6 +102,8 @@ class Building:
         starts: where the robots start; the site's free start points if None.
         traffic: the traffic rule's distances and timings.
         leases: the lease book's timings.
+        profile: the robots (body, limits, sensors), all alike; defaults to the world's
+            ``robot:`` entry, else the demo robot.
 
     Raises:
         InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
@@ -119,9 +122,11 @@ class Building:
         starts: Sequence[Point] | None = None,
         traffic: TrafficConfig | None = None,
         leases: LeaseBookConfig | None = None,
+        profile: RobotProfile | None = None,
     ) -> None:
         config = config or RuntimeConfig()
-        sim_config = sim_config or SimConfig()
+        profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
+        sim_config = profile.sim_config(sim_config)
         if robots < 1:
             raise InvalidRequest("robots", f"must be at least 1, got {robots}")
         points = list(starts) if starts is not None else start_points(
@@ -165,7 +170,7 @@ class Building:
                              floor=floors[point.map_name], pose=point.pose, scene=self.scene,
                              name=serial)
             runtime = RobotRuntime(store, sim, config=config, stack_config=stack_config,
-                                   loop=self._loop)
+                                   loop=self._loop, profile=profile)
             self.runtimes.append(runtime)
             self.master.add_robot(serial)
             self.agents.append(RobotAgent(serial, runtime, self.transport, self.zones,

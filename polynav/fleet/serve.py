@@ -21,9 +21,10 @@ from pathlib import Path
 import uvicorn
 
 from polynav.api import ApiConfig, create_app
-from polynav.errors import PolynavError
+from polynav.errors import InvalidRequest, PolynavError
 from polynav.fleet.building import Building
 from polynav.listen import tcp_listener
+from polynav.robot.profile import load_profile
 from polynav.runtime.config import RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
@@ -48,7 +49,14 @@ def run(args: argparse.Namespace) -> int:
     from polynav.protocols.yunji import YunjiConfig
     from polynav.protocols.yunji.server import YunjiThread
 
-    world = load_world(args.world)
+    try:
+        if args.mapless:
+            raise InvalidRequest("mapless", "--mapless runs one robot: leave out --robots")
+        world = load_world(args.world)
+        profile = load_profile(args.robot) if args.robot is not None else world.robot
+    except PolynavError as exc:
+        print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
     store = SiteStore.open(args.data, seed_world=world)
     servers: list[_Server] = []
     stop_requested: list[int] = []
@@ -66,6 +74,7 @@ def run(args: argparse.Namespace) -> int:
             building = Building(
                 store, world, robots=args.robots,
                 config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+                profile=profile,
             )
         except PolynavError as exc:
             print(f"polynav run: {exc}", file=sys.stderr)

@@ -5,8 +5,10 @@ A :class:`Scene` is what several simulated robots have in common: the ground tru
 is a :class:`~polynav.robot.sim.simulation.Simulation` (a *body*: base, sensors, battery) added to
 the scene; a lone ``Simulation`` makes a scene of its own, so one robot behaves exactly as before.
 
-Robots see and touch one another: each body's lidar sees the other bodies on its floor as discs,
-and a move that would newly overlap another body is not made (a collision with a ``"robot"``).
+Robots see and touch one another: each body's lidar sees the other bodies on its floor as discs
+(``robot_radius``: for a polygon footprint, the disc that holds it, so contact between robots is
+judged a little early, never late), and a move that would newly overlap another body is not made
+(a collision with a ``"robot"``).
 
 A scene step is ordered so that every body sees the same world at the same time:
 
