@@ -6,7 +6,8 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    zone (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet (a VDA 5050
    zone request); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
-   robot stops there (its goal is paused) and waits. Granted, it goes on.
+   robot stops there (its goal is paused) and waits; a robot whose goal starts inside a zone
+   it does not hold waits where it stands. Granted, it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
    even where it stands: a parked robot is an obstacle to plan round, not a lock.
@@ -80,6 +81,7 @@ class TrafficConfig:
 class _ZoneLease:
     request_id: str
     granted: bool = False
+    queued: bool = False
     expiry: float = -math.inf
     renew_sent: float = -math.inf
 
@@ -119,11 +121,11 @@ class TrafficRule:
             return  # an answer to a request given up since
         grant = response.grant_type
         if grant is m.GrantType.GRANTED:
-            lease.granted = True
+            lease.granted, lease.queued = True, False
             lease.expiry = response.lease_expiry if response.lease_expiry is not None else (
                 math.inf)
         elif grant is m.GrantType.QUEUED:
-            lease.granted = False
+            lease.granted, lease.queued = False, True
         elif grant in (m.GrantType.REJECTED, m.GrantType.REVOKED, m.GrantType.EXPIRED):
             # Lost or waited too long: forget it, and the next check asks again (at the back of
             # the queue).
@@ -151,7 +153,7 @@ class TrafficRule:
         if now < self._next_check:
             return
         self._next_check = now + self.config.check_period
-        needed, ahead = self._needed(runtime)
+        needed, current, ahead = self._needed(runtime)
         for zone_id in needed:
             if zone_id not in self._leases:
                 self._request(zone_id)
@@ -169,35 +171,45 @@ class TrafficRule:
             if self._paused_for not in needed or (waited is not None and waited.granted):
                 log.info("%s: %s granted, going on", self.holder, self._paused_for)
                 self.resume_goal(runtime)
-        elif ahead is not None:
-            zone_id, distance = ahead
-            next_lease = self._leases.get(zone_id)
-            stack = runtime.navigation_stack
-            if (distance <= self.config.stop_distance
-                    and (next_lease is None or not next_lease.granted)
-                    and stack is not None
-                    and stack.navigator.state is NavigationState.RUNNING):
-                runtime.pause()
-                self._paused_for = zone_id
-                self._wait_started = now
-                self.waits += 1
-                log.info("%s: waiting for %s (%.2f m ahead)", self.holder, zone_id, distance)
+            return
+        blocking = None
+        inside = self._leases.get(current) if current is not None else None
+        if current is not None and inside is not None and inside.queued:
+            blocking = current, 0.0  # it starts in a zone another robot holds: it waits there
+        elif ahead is not None and ahead[1] <= self.config.stop_distance and not self._granted(
+                ahead[0]):
+            blocking = ahead
+        stack = runtime.navigation_stack
+        if (blocking is not None and stack is not None
+                and stack.navigator.state is NavigationState.RUNNING):
+            runtime.pause()
+            self._paused_for = blocking[0]
+            self._wait_started = now
+            self.waits += 1
+            log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
 
-    def _needed(self, runtime: RobotRuntime) -> tuple[set[str], tuple[str, float] | None]:
-        """The zones the robot needs now, and the zone ahead with its distance."""
+    def _granted(self, zone_id: str) -> bool:
+        lease = self._leases.get(zone_id)
+        return lease is not None and lease.granted
+
+    def _needed(self, runtime: RobotRuntime
+                ) -> tuple[set[str], str | None, tuple[str, float] | None]:
+        """The zones the robot needs now, the zone it stands in, and the zone ahead with its
+        distance."""
         stack = runtime.navigation_stack
         name = runtime.map_name
         zmap = self._zones.get(name) if name is not None else None
         if stack is None or zmap is None:
-            return set(), None
+            return set(), None, None
         navigator = stack.navigator
         if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
-            return set(), None
+            return set(), None, None
         pose = runtime.status().pose
         needed: set[str] = set()
         current = zmap.zone_at(pose.x, pose.y)
-        if current:
-            needed.add(zmap.zone_id(current))
+        inside = zmap.zone_id(current) if current else None
+        if inside is not None:
+            needed.add(inside)
         path: Path | None = navigator.path
         ahead = None
         if path is not None:
@@ -206,7 +218,7 @@ class TrafficRule:
             if found is not None:
                 ahead = (zmap.zone_id(found[0]), found[1])
                 needed.add(ahead[0])
-        return needed, ahead
+        return needed, inside, ahead
 
     def _request(self, zone_id: str) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

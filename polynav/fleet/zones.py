@@ -50,9 +50,9 @@ class ZoneConfig:
     """
 
     robot_radius: float = 0.25
-    narrow_width: float = 1.3
+    narrow_width: float = 2.1
     approach: float = 0.7
-    merge_gap: float = 1.0
+    merge_gap: float = 1.5
 
     def __post_init__(self) -> None:
         for name in ("robot_radius", "narrow_width", "approach", "merge_gap"):

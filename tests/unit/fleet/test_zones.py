@@ -37,7 +37,13 @@ def test_a_doorway_one_robot_wide_is_one_zone() -> None:
 
 
 def test_a_doorway_two_robots_wide_is_no_zone() -> None:
-    assert find_zones("m", _two_rooms(2.0)).count == 0
+    assert find_zones("m", _two_rooms(2.5)).count == 0
+
+
+def test_a_two_metre_corridor_is_a_zone_but_a_wider_one_is_not() -> None:
+    # Two robots of 0.5 m cannot pass each other in 2 m with room to spare.
+    assert find_zones("m", _two_rooms(2.0)).count == 1
+    assert find_zones("m", _two_rooms(2.0), ZoneConfig(narrow_width=1.3)).count == 0
 
 
 def test_zone_ahead_on_a_path_through_the_door_and_its_distance() -> None:
