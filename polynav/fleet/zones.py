@@ -103,25 +103,30 @@ class ZoneMap:
             return None
         d2 = (points[:, 0] - x) ** 2 + (points[:, 1] - y) ** 2
         start = int(np.argmin(d2))
+        ahead = np.vstack(([x, y], points[start:]))
+        seg = np.hypot(*np.diff(ahead, axis=0).T)
+        along = np.concatenate(([0.0], np.cumsum(seg)))
+        # The points up to and including the first one at or past the lookahead.
+        end = min(along.shape[0], int(np.searchsorted(along, lookahead, side="left")) + 1)
+        # Resample every half cell up to the lookahead, so a zone a cell wide is never stepped
+        # over, and look every sample up at once.
         step = 0.5 * self.grid.info.resolution
-        travelled = 0.0
-        px, py = x, y
-        for k in range(start, points.shape[0]):
-            qx, qy = float(points[k, 0]), float(points[k, 1])
-            seg = math.hypot(qx - px, qy - py)
-            n = max(1, int(math.ceil(seg / step)))
-            for i in range(1, n + 1):
-                t = i / n
-                sx, sy = px + (qx - px) * t, py + (qy - py) * t
-                along = travelled + seg * t
-                if along > lookahead:
-                    return None
-                zone = self.zone_at(sx, sy)
-                if zone and zone != skip:
-                    return zone, along
-            travelled += seg
-            px, py = qx, qy
-        return None
+        reach = min(lookahead, float(along[end - 1]))
+        s = np.arange(0.0, reach + step, step)
+        s = s[s <= reach]
+        xs = np.interp(s, along[:end], ahead[:end, 0])
+        ys = np.interp(s, along[:end], ahead[:end, 1])
+        cells = self.grid.info.world_to_cells(np.column_stack((xs, ys)))
+        info = self.grid.info
+        inside = ((cells[:, 0] >= 0) & (cells[:, 0] < info.width) & (cells[:, 1] >= 0)
+                  & (cells[:, 1] < info.height))
+        labels = np.zeros(s.shape[0], dtype=np.int32)
+        labels[inside] = self.labels[cells[inside, 1], cells[inside, 0]]
+        hits = np.flatnonzero((labels != 0) & (labels != skip))
+        if hits.shape[0] == 0:
+            return None
+        k = int(hits[0])
+        return int(labels[k]), float(s[k])
 
 
 def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> ZoneMap:
