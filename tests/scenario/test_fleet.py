@@ -14,7 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from polynav.errors import NotFound
 from polynav.fleet.building import Building
+from polynav.fleet.master_control import Stop
 from polynav.geometry import Pose2D
 from polynav.runtime.config import RuntimeConfig
 from polynav.site import Point, PointKind
@@ -115,3 +117,33 @@ def test_twenty_random_missions_for_three_robots_all_succeed(
                 del pending[serial]
     assert all(r.endswith(": succeeded") for r in results), results
     assert _collisions(building) == []
+
+
+def test_an_order_canceled_by_instant_action_ends_failed_and_the_state_says_so(
+        world: World, store: SiteStore) -> None:
+    building = Building(store, world, robots=1, config=RuntimeConfig(people=False))
+    order_id = building.send("robot1", "kitchen", "floor1")
+    building.advance(3.0)
+    state = building.master.state("robot1")
+    assert state is not None and state.order_id == order_id
+    assert state.node_states == ("kitchen",) and state.navigation_state == "running"
+    assert building.outcome("robot1", order_id) is None
+    building.master.cancel_order("robot1")
+    building.advance(1.5)
+    assert building.outcome("robot1", order_id) == "failed: canceled"
+    state = building.master.state("robot1")
+    assert state is not None and [e.error_type for e in state.errors] == ["orderFailed"]
+    (entry,) = building.entries()
+    assert entry.order_state == "failed" and entry.navigation_state == "canceled"
+
+
+def test_an_order_to_a_point_the_site_lacks_fails_with_the_reason(
+        world: World, store: SiteStore) -> None:
+    building = Building(store, world, robots=1, config=RuntimeConfig(people=False))
+    with pytest.raises(NotFound):
+        building.send("robot1", "nowhere", "floor1")
+    order_id = building.master.send_order("robot1", [Stop("nowhere", "floor9", Pose2D(1, 1, 0))])
+    building.advance(0.5)
+    outcome = building.outcome("robot1", order_id)
+    assert outcome is not None and outcome.startswith("failed: node nowhere")
+    assert building.runtimes[0].status().navigation_state == "idle"
