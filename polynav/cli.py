@@ -30,10 +30,10 @@ log = logging.getLogger(__name__)
 
 EXIT_BAD_INPUT = 2
 
-BENCH_AREAS = ("planner", "sim", "api", "slam", "nav", "clutter")
+BENCH_AREAS = ("planner", "sim", "api", "slam", "nav", "clutter", "fleet")
 _BENCH_FILES = {
     "planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py",
-    "nav": "nav.py", "clutter": "clutter.py",
+    "nav": "nav.py", "clutter": "clutter.py", "fleet": "fleet.py",
 }
 
 
@@ -70,6 +70,10 @@ def _positive_speed(text: str) -> float:
 
 def _run(args: argparse.Namespace) -> int:
     """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
+    if args.robots is not None:  # a building of N robots: polynav/fleet/serve.py
+        from polynav.fleet import serve
+
+        return serve.run(args)
     import uvicorn
 
     from polynav.api import ApiConfig, create_app
@@ -273,6 +277,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--robot", default=None,
                      help="robot profile: a robot.yaml or a built-in name (demo, delivery, "
                           "research-base); default: the world's robot, else demo")
+    run.add_argument("--robots", type=int, default=None,
+                     help="simulate N robots in one building, robot i on every port + i "
+                     "(default: one robot)")
     run.add_argument("--yunji-port", type=int, default=31001,
                      help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")
@@ -321,7 +328,8 @@ def build_parser() -> argparse.ArgumentParser:
     world_cli.add_parser(sub)
     bench = sub.add_parser(
         "bench",
-        help="run a benchmark (planner, sim, api, slam, nav); extra arguments go to the benchmark",
+        help="run a benchmark (planner, sim, api, slam, nav, fleet); extra arguments go to the "
+        "benchmark",
         description="Run a benchmark from benchmarks/. Pass --help after the area for its options.",
     )
     bench.add_argument("area", choices=BENCH_AREAS)

@@ -11,6 +11,7 @@ from polynav.api.config import ApiConfig
 from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
+    fleet,
     localization,
     mapless,
     mapping,
@@ -22,6 +23,7 @@ from polynav.api.routes import (
     status,
     ws,
 )
+from polynav.api.routes.fleet import FleetListing
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
 
@@ -29,7 +31,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    ws,
+    fleet, ws,
 )
 
 
@@ -39,7 +41,8 @@ def _operation_id(route: APIRoute) -> str:
 
 
 def create_app(
-    runtime: RobotRuntime, config: ApiConfig, *, store: SiteStore | None = None
+    runtime: RobotRuntime, config: ApiConfig, *, store: SiteStore | None = None,
+    fleet: FleetListing | None = None,
 ) -> FastAPI:
     """Build the native API around one running robot.
 
@@ -48,6 +51,8 @@ def create_app(
             caller (``polynav run``), so the app never owns the robot's lifetime.
         config: where it listens and how its WebSocket streams behave.
         store: the site store for maps and points; defaults to ``runtime.store``.
+        fleet: the building's robots for ``GET /api/fleet`` (``polynav run --robots N``); a
+            lone robot lists itself.
 
     Returns:
         The application, with OpenAPI at ``/docs`` and ``/openapi.json``.
@@ -65,6 +70,7 @@ def create_app(
     app.state.runtime = runtime
     app.state.store = store if store is not None else runtime.store
     app.state.api_config = config
+    app.state.fleet = fleet
     install_error_handlers(app)
     for module in ROUTERS:
         app.include_router(module.router)

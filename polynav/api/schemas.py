@@ -448,3 +448,27 @@ SettingsOut = TypedDict(  # type: ignore[misc]
     "SettingsOut", {key: _setting(key) for key in SETTING_RANGES}
 )
 SettingsOut.__doc__ = "Every setting with its current value (SI units)."
+
+
+class FleetRobotOut(BaseModel):
+    """One robot of the building, as the fleet knows it (GET /api/fleet)."""
+
+    robot_id: str = Field(description="the robot's id in the fleet (VDA 5050 serialNumber)")
+    ports: dict[str, int] = Field(description="where the robot listens: native API and dialects")
+    floor: str | None
+    map: str | None
+    pose: PoseOut | None
+    mode: str
+    navigation_state: str
+    order_id: str = Field(description="the robot's current or last fleet order, '' if none")
+    order_state: Literal["none", "running", "succeeded", "failed"]
+    waiting_for: str | None = Field(description="the traffic zone the robot waits for, if any")
+    zones: list[str] = Field(description="the traffic zones the robot holds")
+    battery_percent: float
+    errors: list[str]
+
+
+class FleetOut(BaseModel):
+    """GET /api/fleet: every robot in the building (one, for a lone robot)."""
+
+    robots: list[FleetRobotOut]

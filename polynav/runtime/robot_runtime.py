@@ -111,6 +111,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         *,
         config: RuntimeConfig | None = None,
         stack_config: StackConfig | None = None,
+        loop: CommandLoop | None = None,
         profile: RobotProfile | None = None,
     ) -> None:
         self.config = config or RuntimeConfig()
@@ -145,8 +146,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()
-        # The loop thread and its command queue.
-        self._loop = CommandLoop(
+        # The loop thread and its command queue; robots sharing one simulated world share one
+        # loop that ticks each of them and steps the world once (polynav.fleet.building).
+        self._loop = loop if loop is not None else CommandLoop(
             step=self._step,
             now=self.now,
             physics_period=sim.config.physics_period,
@@ -420,6 +422,13 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
     # -- the loop ------------------------------------------------------------------------------
 
     def _step(self) -> None:
+        self.tick()
+        self._sim.step()
+
+    def tick(self) -> None:
+        """Everything of one physics step but the physics: timers, the dead-man and, when due,
+        a control tick. Robots sharing one simulated world are each ticked, then the world is
+        stepped once (:mod:`polynav.fleet.building`); call it between steps only."""
         now = self.now()
         while self._timers and self._timers[0][0] <= now + _EPS:
             _, _, fn = heapq.heappop(self._timers)
@@ -433,7 +442,6 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
             self._next_control += self._control_period
             if self._next_control <= now:
                 self._next_control = now + self._control_period
-        self._sim.step()
 
     def _control(self, now: float) -> None:
         estop = self._check_estop(now)
@@ -617,6 +625,10 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
     def _refresh(self) -> None:
         """Rebuild the snapshot now, so a status read right after a command shows its effect."""
         self._snapshot = self._build_snapshot(self.now())
+
+    def refresh_status(self) -> None:
+        """Rebuild the status snapshot now (a loop shared by several robots, after a command)."""
+        self._refresh()
 
     def _floor_now(self) -> str | None:
         return self._sim.floor

@@ -1,4 +1,4 @@
-"""Contact between the robot's body and the world: ground-truth walls and people.
+"""Contact between the robot's body and the world: ground-truth walls, people, other robots.
 
 Clearance is the gap [m] between the robot's edge and the nearest obstacle, negative when they
 overlap. Against walls it is exact for the grid: each occupied cell is the full square it covers,
@@ -31,7 +31,7 @@ from polynav.maps.map import MapInfo
 
 log = logging.getLogger(__name__)
 
-Obstacle = Literal["wall", "person"]
+Obstacle = Literal["wall", "person", "robot"]
 
 
 @dataclass(frozen=True, slots=True)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -71,6 +72,10 @@ class Person:
 
     def step(self, dt: float, robot: tuple[float, float, float] | None) -> None:
         """Walk for ``dt`` [s], unless the robot (x, y, radius) [m] stands in the way."""
+        self.step_among(dt, () if robot is None else (robot,))
+
+    def step_among(self, dt: float, robots: Sequence[tuple[float, float, float]]) -> None:
+        """Walk for ``dt`` [s], unless one of the robots (x, y, radius) [m] stands in the way."""
         if self._still:
             return
         if self._pause_left > 0.0:
@@ -80,7 +85,7 @@ class Person:
             if dt <= 0.0:
                 return
         remaining = self.route.speed * dt
-        if robot is not None and self._blocked_by(*robot, remaining):
+        if any(self._blocked_by(*robot, remaining) for robot in robots):
             return
         while remaining > 0.0:
             left = float(self._lengths[self._segment]) - self._along

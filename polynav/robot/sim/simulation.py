@@ -1,12 +1,16 @@
 """The simulation: one robot in a :class:`~polynav.worlds.world.World`, on simulated time.
 
-:class:`Simulation` owns a :class:`~polynav.clock.ManualClock` and advances everything by fixed
-physics steps (``SimConfig.physics_rate``). Each step, in order:
+:class:`Simulation` is one robot *body* in a :class:`~polynav.robot.sim.scene.Scene` (the world,
+its people and the :class:`~polynav.clock.ManualClock`); alone it makes a scene of its own, and
+several bodies made on one scene are several robots in one building, stepped together (each sees
+and touches the others, see :mod:`~polynav.robot.sim.scene`). The scene advances everything by
+fixed physics steps (``SimConfig.physics_rate``). Each step, in order:
 
 1. every floor's people walk (on the robot's floor they stop for the robot, see
    :mod:`~polynav.robot.sim.people`);
 2. the base ramps toward the last drive command (zero while the e-stop is pressed) and proposes
-   its move; a move that would newly overlap a wall or a person is not made: the base stops
+   its move; a move that would newly overlap a wall, a person or another robot is not made:
+   the base stops
    dead where it stands and, unless it was already in contact, a :class:`Collision` is
    recorded (one per contact: the next counts once the robot has got clear again);
 3. odometry and the IMU take in the step's true motion, the battery drains (or charges while
@@ -24,15 +28,12 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
-from polynav.clock import ManualClock
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, Twist, angle_diff
-from polynav.maps.map import MapInfo
 from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
 from polynav.robot.sim.battery import Battery
 from polynav.robot.sim.collision import (
@@ -46,31 +47,19 @@ from polynav.robot.sim.diff_drive import DiffDrive
 from polynav.robot.sim.imu import Imu
 from polynav.robot.sim.lidar import Lidar
 from polynav.robot.sim.odometry import WheelOdometry
-from polynav.robot.sim.people import Person, as_circles
 from polynav.robot.sim.people_detector import PeopleDetector
+from polynav.robot.sim.scene import FloorState, Scene
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind
-from polynav.worlds.world import World, WorldFloor
+from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
 
-_NO_PEOPLE = np.empty((0, 3), dtype=np.float64)
 _EPS = 1e-9
 LASER_SLOT_OBJECT = "laser_slot_object"
 FAULTS = frozenset({LASER_SLOT_OBJECT})
 _SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class _FloorState:
-    """What the simulation keeps per floor: ground truth ready for the kernels, and its people."""
-
-    floor: WorldFloor
-    occupied: npt.NDArray[np.bool_]
-    info: MapInfo
-    people: list[Person]
-    chargers: tuple[Pose2D, ...]
 
 
 class Simulation:
@@ -83,11 +72,15 @@ class Simulation:
         floor: floor to start on; defaults to the world's start floor.
         pose: true start pose; defaults to the world's start pose on the start floor, or to the
             floor's initial point on another floor.
-        people: whether the floors' walkers walk (see :meth:`set_people`).
+        people: whether the floors' walkers walk (see :meth:`set_people`); a body joining a
+            ``scene`` keeps the scene's setting.
+        scene: the scene to join, with the robots already in it (several robots in one
+            building, on one clock); a scene of its own if None.
+        name: what logs call this robot.
 
     Raises:
-        InvalidRequest: unknown floor, no start pose for it, a start pose inside an obstacle, or
-            a floor map whose origin is rotated.
+        InvalidRequest: unknown floor, no start pose for it, a start pose inside an obstacle or
+            another robot, a floor map whose origin is rotated, or a scene of another world.
     """
 
     def __init__(
@@ -99,11 +92,19 @@ class Simulation:
         floor: str | None = None,
         pose: Pose2D | None = None,
         people: bool = True,
+        scene: Scene | None = None,
+        name: str = "robot",
     ) -> None:
+        if scene is None:
+            scene = Scene(world, config, people=people)
+        elif scene.world is not world:
+            raise InvalidRequest("scene", "the scene simulates another world")
         self.world = world
         self.config = config
-        self.clock = ManualClock()
-        self._floors = {f.name: _floor_state(f, config) for f in world.floors}
+        self.name = name
+        self._scene = scene
+        self.clock = scene.clock
+        self._floors = scene.floors
         self._floor = world.floor(floor or world.start_floor).name
         if pose is None:
             pose = self._default_pose(self._floor)
@@ -114,12 +115,12 @@ class Simulation:
         self._odometry = WheelOdometry(config, pose, np.random.default_rng(odometry_seed), now)
         self._imu = Imu(config, pose.theta, np.random.default_rng(imu_seed), now)
         self._battery = Battery(config, now)
-        self._people_enabled = people
         self._people_detector = PeopleDetector(config.lidar_range, config.lidar_fov)
         self.wifi = WirelessCard(world, seed)
         self._faults: set[str] = set()
         self._push = Twist()
         self._push_left = 0.0
+        self._accel = 0.0
         self._command = Twist()
         self._estop = False
         self._collisions: list[Collision] = []
@@ -131,7 +132,9 @@ class Simulation:
         self._next_imu = now
         self._wall_gap = self._check_placement(self._floor, pose)
         self.robot = SimRobot(self)
-        log.info("simulation of world %r on %s at %s, seed %d", world.name, self._floor, pose, seed)
+        scene.add(self)
+        log.info("simulation of world %r: %s on %s at %s, seed %d", world.name, name, self._floor,
+                 pose, seed)
 
     # -- what the world looks like ------------------------------------------------------------
 
@@ -139,6 +142,11 @@ class Simulation:
     def floor(self) -> str:
         """Name of the floor the robot is on."""
         return self._floor
+
+    @property
+    def scene(self) -> Scene:
+        """The world, clock and people this robot shares with the other robots in it."""
+        return self._scene
 
     @property
     def true_pose(self) -> Pose2D:
@@ -194,7 +202,7 @@ class Simulation:
 
     def people_poses(self) -> tuple[Pose2D, ...]:
         """Where the people on the robot's floor are, heading where they walk (none if off)."""
-        if not self._people_enabled:
+        if not self._scene.people_enabled:
             return ()
         return tuple(p.pose for p in self._floors[self._floor].people)
 
@@ -233,7 +241,7 @@ class Simulation:
         """The people the robot's leg tracker sees now (robot frame, see
         :mod:`~polynav.robot.sim.people_detector`); none when the walkers are off."""
         state = self._floors[self._floor]
-        people = [(p.x, p.y) for p in state.people] if self._people_enabled else []
+        people = [(p.x, p.y) for p in state.people] if self._scene.people_enabled else []
         return self._people_detector.detect(
             self.clock.now(), self._base.pose, people, state.occupied, state.info
         )
@@ -254,8 +262,9 @@ class Simulation:
         self._estop = False
 
     def set_people(self, enabled: bool) -> None:
-        """Let the walkers walk, or take them out of the world (they resume where they were)."""
-        self._people_enabled = enabled
+        """Let the walkers walk, or take them out of the world (they resume where they were);
+        for every robot in the scene."""
+        self._scene.people_enabled = enabled
 
     def teleport(self, floor: str, pose: Pose2D) -> None:
         """Move the robot to ``pose`` on ``floor``, at rest (a lift ride).
@@ -300,37 +309,21 @@ class Simulation:
     # -- time ----------------------------------------------------------------------------------
 
     def step(self, dt: float | None = None) -> None:
-        """Advance one physics period, or ``dt`` [s] in equal steps no longer than one period.
+        """Advance the scene one physics period, or ``dt`` [s] in equal steps no longer than one
+        period (every robot in the scene moves).
 
         Raises:
             InvalidRequest: ``dt`` is not positive.
         """
-        period = self.config.physics_period
-        if dt is None:
-            self._substep(period)
-            return
-        if not dt > 0.0:
-            raise InvalidRequest("dt", f"must be > 0, got {dt}")
-        n = max(1, math.ceil(dt / period - _EPS))
-        for _ in range(n):
-            self._substep(dt / n)
+        self._scene.step(dt)
 
-    def _substep(self, h: float) -> None:
+    def _move(self, h: float, now: float, people: npt.NDArray[np.float64],
+              robots: npt.NDArray[np.float64]) -> None:
+        """The body's part of a scene step before the clock moves: drive, collide, odometry,
+        IMU and battery (``people`` and ``robots``: (K, 3) discs on its floor)."""
         c = self.config
         here = self._floors[self._floor]
         base = self._base
-        # Nanosecond stamps: sums of 0.02 s would drift off the grid (2.0000000000000013).
-        now = round(self.clock.now() + h, 9)
-        if self._people_enabled:
-            disk = (base.pose.x, base.pose.y, c.robot_radius)
-            for state in self._floors.values():
-                robot = disk if state is here else None
-                for person in state.people:
-                    person.step(h, robot)
-            circles = as_circles(here.people) if here.people else _NO_PEOPLE
-        else:
-            circles = _NO_PEOPLE
-
         v_before = base.twist.linear
         if self._push_left > 0.0:
             # Pushed by hand: the wheels roll free (as under the e-stop), odometry counts it.
@@ -341,7 +334,7 @@ class Simulation:
         step = base.propose(command, h)
         distance, rotation = step.distance, step.rotation
         if distance != 0.0 or rotation != 0.0:
-            hit = self._obstacle_hit(here, step.pose, circles)
+            hit = self._obstacle_hit(here, step.pose, people, robots)
             if hit is None:
                 base.apply(step)
                 self._wall_gap = body_wall_clearance(
@@ -353,12 +346,15 @@ class Simulation:
                 distance = rotation = 0.0
                 if not self._in_contact:
                     self._collisions.append(Collision(now, base.pose, hit))
-                    log.warning("collision with a %s at t=%.3f, %s", hit, now, base.pose)
+                    log.warning("%s: collision with a %s at t=%.3f, %s", self.name, hit, now,
+                                base.pose)
                 self._in_contact = True
         else:
             base.apply(step)  # a standing base stays put; its velocity may still change
         if self._in_contact and min(
-            self._wall_gap, person_clearance(base.pose.x, base.pose.y, c.robot_radius, circles)
+            self._wall_gap,
+            person_clearance(base.pose.x, base.pose.y, c.robot_radius, people),
+            person_clearance(base.pose.x, base.pose.y, c.robot_radius, robots),
         ) >= c.collision_release_distance:
             self._in_contact = False
 
@@ -366,18 +362,23 @@ class Simulation:
         self._imu.accumulate(rotation)
         travel = abs(distance) + c.robot_radius * abs(rotation)
         self._battery.update(h, travel, charging=self.docked, stamp=now)
-        self.clock.set(now)
+        self._accel = (base.twist.linear - v_before) / h
+
+    def _sense(self, now: float, people: npt.NDArray[np.float64],
+               robots: npt.NDArray[np.float64]) -> None:
+        """The body's part of a scene step once the clock has moved: IMU and lidar when due."""
         if now >= self._next_imu - _EPS:
-            self._imu.sample(base.twist.angular, (base.twist.linear - v_before) / h, now)
+            self._imu.sample(self._base.twist.angular, self._accel, now)
             self._next_imu = _next_due(self._next_imu, self._imu_period, now)
         if now >= self._next_scan - _EPS:
-            self._take_scan(now, circles)
+            self._take_scan(now, people, robots)
             self._next_scan = _next_due(self._next_scan, self._scan_period, now)
 
     # -- internals ------------------------------------------------------------------------------
 
     def _obstacle_hit(
-        self, here: _FloorState, pose: Pose2D, circles: npt.NDArray[np.float64]
+        self, here: FloorState, pose: Pose2D, people: npt.NDArray[np.float64],
+        robots: npt.NDArray[np.float64],
     ) -> Obstacle | None:
         """What a move to ``pose`` would newly overlap, if anything.
 
@@ -391,19 +392,25 @@ class Simulation:
                                    horizon=c.collision_release_distance)
         if wall < 0.0 and wall < self._wall_gap - _EPS:
             return "wall"
-        if circles.shape[0]:
-            gap = person_clearance(pose.x, pose.y, r, circles)
-            if gap < 0.0:
-                old = person_clearance(self._base.pose.x, self._base.pose.y, r, circles)
-                if gap < old - _EPS:
-                    return "person"
+        checks: tuple[tuple[npt.NDArray[np.float64], Obstacle], ...] = (
+            (people, "person"), (robots, "robot"))
+        for circles, kind in checks:
+            if circles.shape[0]:
+                gap = person_clearance(pose.x, pose.y, r, circles)
+                if gap < 0.0:
+                    old = person_clearance(self._base.pose.x, self._base.pose.y, r, circles)
+                    if gap < old - _EPS:
+                        return kind
         return None
 
-    def _take_scan(self, now: float, circles: npt.NDArray[np.float64] | None = None) -> None:
+    def _take_scan(self, now: float, people: npt.NDArray[np.float64] | None = None,
+                   robots: npt.NDArray[np.float64] | None = None) -> None:
         here = self._floors[self._floor]
-        if circles is None:
-            circles = as_circles(here.people) if self._people_enabled and here.people else (
-                _NO_PEOPLE)
+        if people is None:
+            people = self._scene.people_circles(self._floor)
+        if robots is None:
+            robots = self._scene.robots_near(self)
+        circles = np.concatenate((people, robots)) if robots.shape[0] else people
         scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
@@ -425,6 +432,10 @@ class Simulation:
                                   horizon=c.collision_release_distance)
         if gap < 0.0:
             raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps a wall by {-gap:.3f} m")
+        for other in self._scene.bodies:
+            if other is not self and other.floor == floor and pose.distance_to(
+                    other.true_pose) < c.robot_radius + other.config.robot_radius:
+                raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps robot {other.name!r}")
         return gap
 
 def _blocked_slot(scan: LaserScan) -> LaserScan:
@@ -443,17 +454,3 @@ def _next_due(due: float, period: float, now: float) -> float:
     if due <= now + _EPS:
         due = now + period
     return due
-
-
-def _floor_state(floor: WorldFloor, config: SimConfig) -> _FloorState:
-    info = floor.map.info
-    if info.origin.theta != 0.0:
-        raise InvalidRequest("floor", f"{floor.name}: the simulator needs a map origin with zero "
-                                      "yaw")
-    people = [
-        Person(route, pause=config.person_pause, stop_distance=config.person_stop_distance)
-        for route in floor.people
-    ]
-    chargers = tuple(p.pose for p in floor.points if p.kind is PointKind.CHARGER)
-    occupied = np.ascontiguousarray(floor.map.occupied())
-    return _FloorState(floor, occupied, info, people, chargers)

@@ -1,0 +1,190 @@
+"""Fleet benchmark: N robots in one building doing random missions for a fixed simulated time.
+
+Each robot runs the full stack (ray-cast lidar that sees the other robots, localization,
+costmap, planner, controller) in one simulated world on one clock, under the fleet's traffic
+rule (narrow passages leased one robot at a time, docs/fleet.md). Whenever a robot is idle it is
+sent a fleet order (VDA 5050-shaped) to a random point of its floor that no other robot stands
+at or is bound for (any floor with ``--cross-floor``, once lifts are in). Figures: missions
+completed per simulated hour, success rate, mean traffic and lift wait, collisions, deadlocks (a
+mission that does not end within ``--mission-timeout``), real-time factor, CPU per robot.
+
+Targets (issue 11): success 100 %, collisions 0, no deadlock; 10 robots at least 3x real time
+on one core. Run with ``polynav bench fleet --robots N [--hours H] [--seed S] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import math
+import platform
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from polynav.fleet.building import Building
+from polynav.runtime.config import RuntimeConfig
+from polynav.site import Point, PointKind
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+
+BUDGET_REAL_TIME_FACTOR = 3.0  # for 10 robots on one core
+BUDGET_SUCCESS = 1.0
+
+
+def _commit() -> str | None:
+    try:
+        out = subprocess.run(["git", "rev-parse", "--short", "HEAD"],
+                             cwd=Path(__file__).resolve().parent, capture_output=True, text=True,
+                             check=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return out.stdout.strip() or None
+
+
+def _starts(store: SiteStore, world_maps: list[str], robots: int) -> list[Point]:
+    """Start points spread over the floors: general points, every other one, floor by floor,
+    so that robots do not start packed together."""
+    by_map = {name: [p for p in store.points(map_name=name) if p.kind is PointKind.GENERAL]
+              for name in world_maps}
+    spread = [p for name in world_maps for p in by_map[name][::2]]
+    spread += [p for name in world_maps for p in by_map[name][1::2]]
+    if robots > len(spread):
+        raise SystemExit(f"polynav bench fleet: {robots} robots but only {len(spread)} points")
+    return spread[:robots]
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    world = load_world(args.world)
+    with tempfile.TemporaryDirectory() as tmp, SiteStore.open(
+            Path(tmp) / "data", seed_world=world) as store:
+        maps = [f.map_name for f in world.floors]
+        starts = _starts(store, maps, args.robots)
+        building = Building(store, world, robots=args.robots, starts=starts,
+                            config=RuntimeConfig(people=args.people, seed=args.seed))
+        goals = {name: [p.name for p in store.points(map_name=name)
+                        if p.kind is PointKind.GENERAL] for name in maps}
+        rng = np.random.default_rng(args.seed)
+        bound = {serial: (p.map_name, p.name) for serial, p in zip(building.serials, starts,
+                                                                    strict=True)}
+        pending: dict[str, tuple[str, float]] = {}
+        done = succeeded = deadlocks = 0
+        failures: list[str] = []
+        building.advance(1.0)  # warm the trackers: start-up is not the steady state
+        sim_start, wall_start, cpu_start = building.now(), time.perf_counter(), time.process_time()
+        end = sim_start + args.hours * 3600.0
+        while building.now() < end:
+            for serial in building.serials:
+                if serial in pending:
+                    continue
+                here = building.agent(serial).runtime.map_name or bound[serial][0]
+                choices = maps if args.cross_floor else [here]
+                taken = {v for k, v in bound.items() if k != serial}
+                options = [(m, g) for m in choices for g in goals[m] if (m, g) not in taken]
+                target = options[int(rng.integers(len(options)))]
+                bound[serial] = target
+                pending[serial] = (building.send(serial, target[1], target[0]), building.now())
+            building.advance_until(
+                lambda: any(building.outcome(s, o) is not None
+                            or building.now() - t0 > args.mission_timeout
+                            for s, (o, t0) in pending.items()),
+                timeout=max(0.0, end - building.now()))
+            for serial, (order_id, t0) in list(pending.items()):
+                outcome = building.outcome(serial, order_id)
+                if outcome is None and building.now() - t0 > args.mission_timeout:
+                    deadlocks += 1
+                    outcome = "failed: no end within the mission timeout"
+                    building.master.cancel_order(serial)
+                if outcome is None:
+                    continue
+                del pending[serial]
+                done += 1
+                ok = outcome == "succeeded"
+                succeeded += ok
+                if not ok:
+                    failures.append(f"{serial} -> {bound[serial][0]}/{bound[serial][1]}: "
+                                    f"{outcome}")
+                if args.verbose:
+                    print(f"t={building.now():8.1f}s {serial} {bound[serial][0]}/"
+                          f"{bound[serial][1]}: {outcome}", flush=True)
+        sim_seconds = building.now() - sim_start
+        wall = time.perf_counter() - wall_start
+        cpu = time.process_time() - cpu_start
+        traffic = [a.traffic for a in building.agents]
+        waits = sum(t.waits for t in traffic)
+        collisions = sum(len(r.simulation.collisions) for r in building.runtimes)
+        building.stop()
+    return {
+        "world": args.world,
+        "robots": args.robots,
+        "people": args.people,
+        "cross_floor": args.cross_floor,
+        "seed": args.seed,
+        "sim_hours": round(sim_seconds / 3600.0, 4),
+        "missions": done,
+        "succeeded": succeeded,
+        "success_rate": round(succeeded / done, 4) if done else 0.0,
+        "missions_per_hour": round(succeeded / (sim_seconds / 3600.0), 1) if sim_seconds else 0.0,
+        "failed": failures,
+        "deadlocks": deadlocks,
+        "collisions": collisions,
+        "traffic_waits": waits,
+        "mean_traffic_wait_s": round(sum(t.wait_time for t in traffic) / waits, 2) if waits
+        else 0.0,
+        "traffic_rejections": sum(t.rejections for t in traffic),
+        "mean_lift_wait_s": None,  # no lift rides until the lift work is in (issue 11 items 1-5)
+        "real_time_factor": round(sim_seconds / wall, 2) if wall > 0 else math.inf,
+        "cpu_per_robot": round(cpu / sim_seconds / args.robots, 4) if sim_seconds else 0.0,
+        "budget_real_time_factor": BUDGET_REAL_TIME_FACTOR,
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="polynav bench fleet",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--robots", type=int, default=3, help="how many robots (default 3)")
+    parser.add_argument("--hours", type=float, default=1.0, help="simulated hours (default 1)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--world", default="demo")
+    parser.add_argument("--people", action="store_true", help="let the walkers walk")
+    parser.add_argument("--cross-floor", action="store_true",
+                        help="missions to any floor (needs lifts); default: the robot's floor")
+    parser.add_argument("--mission-timeout", type=float, default=600.0,
+                        help="a mission not ended after this many simulated seconds is a "
+                        "deadlock (default 600)")
+    parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    parser.add_argument("-v", "--verbose", action="store_true", help="print every mission")
+    args = parser.parse_args(argv)
+    if args.robots < 1:
+        parser.error("--robots must be >= 1")
+    if not args.hours > 0.0:
+        parser.error("--hours must be > 0")
+    logging.getLogger("polynav").setLevel(logging.ERROR)
+    figures = run(args)
+    print(f"{figures['robots']} robots, {figures['sim_hours']:.2f} simulated h: "
+          f"{figures['missions']} missions, {figures['succeeded']} succeeded "
+          f"({figures['success_rate'] * 100:.1f} %), {figures['missions_per_hour']:.1f} per hour")
+    print(f"collisions {figures['collisions']}, deadlocks {figures['deadlocks']}, traffic waits "
+          f"{figures['traffic_waits']} (mean {figures['mean_traffic_wait_s']:.1f} s), "
+          f"lift wait {figures['mean_lift_wait_s']}")
+    print(f"real-time factor {figures['real_time_factor']:.2f}x, CPU per robot "
+          f"{figures['cpu_per_robot'] * 100:.1f} % of a core at 1x")
+    for failure in figures["failed"]:
+        print(f"  FAILED {failure}")
+    fast_enough = figures["robots"] < 10 or (
+        figures["real_time_factor"] >= BUDGET_REAL_TIME_FACTOR)
+    passed = (figures["success_rate"] >= BUDGET_SUCCESS and figures["collisions"] == 0
+              and figures["deadlocks"] == 0 and fast_enough)
+    if args.json:
+        print(json.dumps({**figures, "pass": passed, "commit": _commit(),
+                          "machine": platform.platform()}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

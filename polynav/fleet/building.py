@@ -1,0 +1,297 @@
+"""A building of several simulated robots: one world, one clock, one loop, one fleet.
+
+``polynav run --robots N`` and ``polynav bench fleet`` build one :class:`Building`: a
+:class:`~polynav.robot.sim.scene.Scene` of the site's world with N robot bodies in it, one
+:class:`~polynav.runtime.robot_runtime.RobotRuntime` per robot (each still the single owner of its
+robot's state, DESIGN §9), a :class:`~polynav.fleet.master_control.MasterControl` with the lease
+book, and one :class:`~polynav.fleet.agent.RobotAgent` per robot, joined by an in-process
+transport.
+
+One :class:`~polynav.runtime.loop.CommandLoop` drives them all. Each physics step it ticks every
+runtime (timers, control), then, every control period, the master control and the agents, then
+steps the world once: the robots move on one clock and see one another. A command for any robot
+(its native API, a dialect) runs between steps, like a lone robot's.
+
+Robots start on the site's free start points (:func:`start_points`), one robot per point.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+from polynav.errors import InvalidRequest
+from polynav.fleet.agent import RobotAgent
+from polynav.fleet.lease import LeaseBook, LeaseBookConfig
+from polynav.fleet.master_control import MasterControl, Stop
+from polynav.fleet.messages import State
+from polynav.fleet.traffic import TrafficConfig
+from polynav.fleet.transport import InProcessTransport
+from polynav.fleet.zones import ZoneConfig, ZoneMap, find_zones
+from polynav.geometry import Pose2D, Twist
+from polynav.nav.stack import StackConfig
+from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
+from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.scene import Scene
+from polynav.robot.sim.simulation import Simulation
+from polynav.runtime.config import RuntimeConfig, SiteData
+from polynav.runtime.loop import CommandLoop
+from polynav.runtime.robot_runtime import RobotRuntime, warm_up
+from polynav.site import Point, PointKind
+from polynav.worlds.world import World
+
+log = logging.getLogger(__name__)
+
+_EPS = 1e-9
+STANDBY_PREFIX = "standby"
+"""Points whose name starts with this are standby points: robots may start there."""
+
+
+OrderState = Literal["none", "running", "succeeded", "failed"]
+
+
+@dataclass(frozen=True, slots=True)
+class FleetEntry:
+    """One robot as ``GET /api/fleet`` lists it."""
+
+    robot_id: str
+    ports: dict[str, int]
+    floor: str | None
+    map_name: str | None
+    pose: Pose2D | None
+    mode: str
+    navigation_state: str
+    order_id: str
+    order_state: OrderState
+    waiting_for: str | None
+    zones: tuple[str, ...]
+    battery_percent: float
+    stamp: float | None = None
+    errors: tuple[str, ...] = field(default=())
+
+
+def start_points(store: SiteData, world: World, *, robot_radius: float) -> list[Point]:
+    """The site's free start points: each floor's initial point, its chargers, then its standby
+    points, floor by floor (lowest level first); a point too close to one already chosen for
+    two robots to stand there is left out."""
+    maps = {f.map_name: f for f in world.floors}
+    chosen: list[Point] = []
+    order = {PointKind.INITIAL: 0, PointKind.CHARGER: 1}
+    candidates = [p for p in store.points() if p.map_name in maps and (
+        p.kind in order or p.name.startswith(STANDBY_PREFIX))]
+    candidates.sort(key=lambda p: (maps[p.map_name].level, order.get(p.kind, 2), p.name))
+    for p in candidates:
+        if all(q.map_name != p.map_name or q.pose.distance_to(p.pose) > 2.5 * robot_radius
+               for q in chosen):
+            chosen.append(p)
+    return chosen
+
+
+class Building:
+    """N simulated robots on one site (see the module docstring).
+
+    Args:
+        store: the site (maps, points, settings), shared by the robots.
+        world: the simulated ground truth.
+        robots: how many robots; at least 1 and at most the free start points.
+        config: runtime settings for every robot (robot ``i`` is seeded ``seed + i``).
+        sim_config: the simulated robots.
+        stack_config: their navigation stacks' base configuration.
+        starts: where the robots start; the site's free start points if None.
+        traffic: the traffic rule's distances and timings.
+        leases: the lease book's timings.
+        profile: the robots (body, limits, sensors), all alike; defaults to the world's
+            ``robot:`` entry, else the demo robot.
+
+    Raises:
+        InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
+            floor of the world.
+    """
+
+    def __init__(
+        self,
+        store: SiteData,
+        world: World,
+        *,
+        robots: int,
+        config: RuntimeConfig | None = None,
+        sim_config: SimConfig | None = None,
+        stack_config: StackConfig | None = None,
+        starts: Sequence[Point] | None = None,
+        traffic: TrafficConfig | None = None,
+        leases: LeaseBookConfig | None = None,
+        profile: RobotProfile | None = None,
+    ) -> None:
+        config = config or RuntimeConfig()
+        profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
+        sim_config = profile.sim_config(sim_config)
+        if robots < 1:
+            raise InvalidRequest("robots", f"must be at least 1, got {robots}")
+        points = list(starts) if starts is not None else start_points(
+            store, world, robot_radius=sim_config.robot_radius)
+        if robots > len(points):
+            names = ", ".join(f"{p.map_name}/{p.name}" for p in points) or "none"
+            raise InvalidRequest(
+                "robots", f"{robots} robots but only {len(points)} free start points ({names}); "
+                          f"add charger or '{STANDBY_PREFIX}...' points to the site")
+        floors = {f.map_name: f.name for f in world.floors}
+        for p in points[:robots]:
+            if p.map_name not in floors:
+                raise InvalidRequest("starts", f"map {p.map_name!r} is on no floor of the world")
+        warm_up()
+        self.store = store
+        self.world = world
+        self.config = config
+        self.scene = Scene(world, sim_config, people=config.people)
+        self._loop = CommandLoop(
+            step=self._step,
+            now=self.scene.clock.now,
+            physics_period=sim_config.physics_period,
+            speed=config.speed,
+            max_lag=config.max_lag,
+            after_command=self._refresh,
+            on_failure=self._brake,
+        )
+        self.transport = InProcessTransport()
+        self.master = MasterControl(self.transport, LeaseBook(leases))
+        zone_config = ZoneConfig(robot_radius=sim_config.robot_radius)
+        self.zones: dict[str, ZoneMap] = {
+            name: find_zones(name, store.load_map(name), zone_config) for name in floors
+        }
+        self.runtimes: list[RobotRuntime] = []
+        self.agents: list[RobotAgent] = []
+        self.starts = tuple(points[:robots])
+        self.ports: dict[str, dict[str, int]] = {}
+        for i, point in enumerate(self.starts):
+            serial = f"robot{i + 1}"
+            sim = Simulation(world, config=sim_config, seed=config.seed + i,
+                             floor=floors[point.map_name], pose=point.pose, scene=self.scene,
+                             name=serial)
+            runtime = RobotRuntime(store, sim, config=config, stack_config=stack_config,
+                                   loop=self._loop, profile=profile)
+            self.runtimes.append(runtime)
+            self.master.add_robot(serial)
+            self.agents.append(RobotAgent(serial, runtime, self.transport, self.zones,
+                                          traffic=traffic))
+        self._fleet_period = 1.0 / config.control_rate
+        self._next_fleet = self.scene.clock.now()
+        for runtime, point in zip(self.runtimes, self.starts, strict=True):
+            runtime.start_navigation(point.map_name, pose=point.pose)
+        log.info("building of %d robots on world %r", robots, world.name)
+
+    # -- reads ---------------------------------------------------------------------------------
+
+    @property
+    def serials(self) -> tuple[str, ...]:
+        return tuple(agent.serial_number for agent in self.agents)
+
+    def now(self) -> float:
+        return self.scene.clock.now()
+
+    def agent(self, serial: str) -> RobotAgent:
+        """The agent of robot ``serial``.
+
+        Raises:
+            InvalidRequest: no such robot.
+        """
+        for agent in self.agents:
+            if agent.serial_number == serial:
+                return agent
+        raise InvalidRequest("robot", f"no robot {serial!r} in the building")
+
+    def entries(self) -> list[FleetEntry]:
+        """Every robot as the fleet knows it (its last state message) and where it listens."""
+        out = []
+        for agent in self.agents:
+            serial = agent.serial_number
+            state = self.master.state(serial)
+            status = agent.runtime.status()  # mode is not in VDA's state; read the snapshot
+            position = state.agv_position if state is not None else None
+            errors = tuple(e.error_description for e in state.errors) if state else ()
+            out.append(FleetEntry(
+                robot_id=serial,
+                ports=dict(self.ports.get(serial, {})),
+                floor=state.floor if state is not None else status.floor,
+                map_name=position.map_id if position is not None else status.map,
+                pose=(Pose2D(position.x, position.y, position.theta) if position is not None
+                      else status.pose),
+                mode=status.mode,
+                navigation_state=state.navigation_state if state else status.navigation_state,
+                order_id=state.order_id if state is not None else "",
+                order_state=_order_state(state),
+                waiting_for=state.waiting_for if state is not None else None,
+                zones=state.zones if state is not None else (),
+                battery_percent=(state.battery_charge if state is not None
+                                 else status.battery_percent),
+                stamp=state.timestamp if state is not None else None,
+                errors=errors,
+            ))
+        return out
+
+    # -- commands ------------------------------------------------------------------------------
+
+    def send(self, serial: str, point: str, map_name: str) -> str:
+        """Send robot ``serial`` an order to ``point`` on ``map_name``; returns the order id.
+
+        Raises:
+            InvalidRequest: no such robot. NotFound: no such point.
+        """
+        self.agent(serial)
+        pose = self.store.point(map_name, point).pose
+        return self._loop.call(
+            lambda: self.master.send_order(serial, [Stop(point, map_name, pose)]))
+
+    def outcome(self, serial: str, order_id: str) -> str | None:
+        """How robot ``serial``'s order ended (``"succeeded"``, ``"failed: <why>"``), None
+        while it runs or before the robot has it."""
+        return self.agent(serial).outcome_of(order_id)
+
+    def advance(self, seconds: float) -> None:
+        """Run every robot ``seconds`` of simulated time, as fast as the machine goes."""
+        self._loop.advance_until(lambda: False, seconds)
+
+    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
+        """Run until ``done()`` holds or ``timeout`` simulated seconds pass; whether it held."""
+        return self._loop.advance_until(done, timeout)
+
+    def start(self) -> None:
+        """Run the loop on a thread, paced at ``config.speed`` × wall time."""
+        self._loop.start()
+
+    def stop(self) -> None:
+        """Stop the loop thread (idempotent)."""
+        self._loop.stop()
+
+    # -- the loop ------------------------------------------------------------------------------
+
+    def _step(self) -> None:
+        now = self.now()
+        for runtime in self.runtimes:
+            runtime.tick()
+        if now >= self._next_fleet - _EPS:
+            self.master.tick(now)
+            for agent in self.agents:
+                agent.tick(now)
+            self._next_fleet += self._fleet_period
+            if self._next_fleet <= now:
+                self._next_fleet = now + self._fleet_period
+        self.scene.step()
+
+    def _refresh(self) -> None:
+        for runtime in self.runtimes:
+            runtime.refresh_status()
+
+    def _brake(self) -> None:
+        for runtime in self.runtimes:
+            runtime.robot.drive(Twist())
+
+
+def _order_state(state: State | None) -> OrderState:
+    """``none``, ``running``, ``succeeded`` or ``failed`` from a robot's last state."""
+    if state is None or not state.order_id:
+        return "none"
+    if any(e.error_type == "orderFailed" for e in state.errors):
+        return "failed"
+    return "running" if state.node_states else "succeeded"

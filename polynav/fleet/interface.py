@@ -1,0 +1,31 @@
+"""The transport the fleet and its robots exchange messages over (DESIGN §9).
+
+A transport carries :mod:`polynav.fleet.messages` between the fleet and its robots on
+MQTT-style topics (``uagv/v2/polynav/<serial>/<kind>``). Today one process holds the whole
+building and the transport is :class:`~polynav.fleet.transport.InProcessTransport`; past one
+machine it is an MQTT client talking to a broker, and nothing else changes. Delivery is
+asynchronous as over a broker: a message published now is read by the subscriber at its next
+``drain``.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+from polynav.fleet.messages import Message
+
+
+class Inbox(Protocol):
+    """What one subscription has received and not yet read."""
+
+    def drain(self) -> list[Message]:
+        """The messages received since the last drain, oldest first."""
+        ...
+
+
+class Transport(Protocol):
+    """Publish messages to topics; subscribe to topics."""
+
+    def publish(self, topic: str, message: Message) -> None: ...
+
+    def subscribe(self, topic: str) -> Inbox: ...

@@ -1,0 +1,178 @@
+"""Master control: the site's side of the fleet (VDA 5050's name for it).
+
+It owns the :class:`~polynav.fleet.lease.LeaseBook` of the site's shared resources and talks to
+each robot only through messages on a :class:`~polynav.fleet.interface.Transport`:
+
+- it sends **orders** (a list of points to go through) and **instant actions** (cancel);
+- it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
+  with its expiry, or QUEUED; a waiter is sent GRANTED when its turn comes, REJECTED when it
+  has waited ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
+- it keeps the last **state** of each robot, which ``GET /api/fleet`` shows.
+
+It runs on the site's clock: :meth:`MasterControl.tick` is called between physics steps.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+from dataclasses import dataclass
+
+from polynav.errors import InvalidRequest, PolynavError
+from polynav.fleet import messages as m
+from polynav.fleet.interface import Inbox, Transport
+from polynav.fleet.lease import LeaseBook, LeaseEventKind
+from polynav.geometry import Pose2D
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class Stop:
+    """One stop of an order: a named point on a map, and its pose (for the order's node)."""
+
+    point: str
+    map_name: str
+    pose: Pose2D
+
+
+@dataclass(slots=True)
+class _Robot:
+    states: Inbox
+    zone_requests: Inbox
+    state: m.State | None = None
+    order_count: int = 0
+
+
+class MasterControl:
+    """The fleet's master control (see the module docstring)."""
+
+    def __init__(self, transport: Transport, leases: LeaseBook | None = None) -> None:
+        self.transport = transport
+        self.leases = leases or LeaseBook()
+        self._robots: dict[str, _Robot] = {}
+        self._headers = itertools.count(1)
+        # The request id each (zone, robot) was last asked with: a grant that comes later (the
+        # waiter's turn) answers that request.
+        self._request_ids: dict[tuple[str, str], str] = {}
+        self.zone_requests = 0
+
+    def add_robot(self, serial_number: str) -> None:
+        """Listen to a robot's state and zone requests.
+
+        Raises:
+            InvalidRequest: an empty or already known serial number.
+        """
+        if not serial_number or serial_number in self._robots:
+            raise InvalidRequest("serial_number", f"{serial_number!r} is empty or known")
+        self._robots[serial_number] = _Robot(
+            states=self.transport.subscribe(m.topic(serial_number, m.State)),
+            zone_requests=self.transport.subscribe(m.topic(serial_number, m.ZoneRequest)),
+        )
+
+    @property
+    def robots(self) -> tuple[str, ...]:
+        return tuple(self._robots)
+
+    def state(self, serial_number: str) -> m.State | None:
+        """The robot's last state, ``None`` before its first."""
+        return self._robot(serial_number).state
+
+    def send_order(self, serial_number: str, stops: list[Stop]) -> str:
+        """Send the robot an order through ``stops``; returns the order id.
+
+        Raises:
+            InvalidRequest: an unknown robot or no stops.
+        """
+        robot = self._robot(serial_number)
+        if not stops:
+            raise InvalidRequest("stops", "an order needs at least one stop")
+        robot.order_count += 1
+        order_id = f"{serial_number}-{robot.order_count}"
+        nodes = tuple(
+            m.Node(stop.point, 2 * k, m.NodePosition(stop.pose.x, stop.pose.y, stop.pose.theta,
+                                                     stop.map_name))
+            for k, stop in enumerate(stops))
+        self.transport.publish(m.topic(serial_number, m.Order),
+                               m.Order(next(self._headers), serial_number, order_id, 0, nodes))
+        log.info("order %s to %s: %s", order_id, serial_number, [s.point for s in stops])
+        return order_id
+
+    def cancel_order(self, serial_number: str) -> None:
+        """Tell the robot to cancel its order.
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        self._robot(serial_number)
+        action = m.Action(f"cancel-{next(self._headers)}", m.ActionType.CANCEL_ORDER)
+        self.transport.publish(m.topic(serial_number, m.InstantActions),
+                               m.InstantActions(next(self._headers), serial_number, (action,)))
+
+    def tick(self, now: float) -> None:
+        """Read states and zone requests, answer them, and tell robots what the lease book did."""
+        for robot in self._robots.values():
+            for state in robot.states.drain():
+                assert isinstance(state, m.State)
+                robot.state = state
+        for serial, robot in self._robots.items():
+            for request in robot.zone_requests.drain():
+                assert isinstance(request, m.ZoneRequest)
+                self._answer(serial, request, now)
+        self.leases.tick(now)
+        self._forward_events()
+
+    def _answer(self, serial: str, request: m.ZoneRequest, now: float) -> None:
+        self.zone_requests += 1
+        zone = request.zone_id
+        key = (zone, serial)
+        if request.request_type is m.ZoneRequestType.RELEASE:
+            self.leases.release(zone, serial, now=now)
+            self._request_ids.pop(key, None)
+            return
+        self._request_ids[key] = request.request_id
+        try:
+            if self.leases.lease(zone, serial) is None:
+                # A grant, now or when the robot's turn comes, is answered from the book's
+                # GRANTED event (see _forward_events), so it is answered once.
+                if self.leases.request(zone, serial, now=now,
+                                       duration=request.duration) is None:
+                    self._respond(serial, request.request_id, zone, m.GrantType.QUEUED, None)
+                return
+            lease = self.leases.renew(zone, serial, now=now, duration=request.duration)
+        except PolynavError as exc:
+            log.warning("zone request %s of %s refused: %s", request.request_id, serial, exc)
+            self._respond(serial, request.request_id, zone, m.GrantType.REVOKED, None)
+            self.leases.release(zone, serial, now=now)
+            return
+        self._respond(serial, request.request_id, zone, m.GrantType.GRANTED, lease.expires_at)
+
+    def _forward_events(self) -> None:
+        for event in self.leases.take_events():
+            key = (event.resource, event.holder)
+            request_id = self._request_ids.get(key)
+            if request_id is None or event.holder not in self._robots:
+                continue
+            if event.kind is LeaseEventKind.GRANTED and event.lease is not None:
+                self._respond(event.holder, request_id, event.resource, m.GrantType.GRANTED,
+                              event.lease.expires_at)
+            elif event.kind is LeaseEventKind.EXPIRED:
+                self._request_ids.pop(key, None)
+                self._respond(event.holder, request_id, event.resource, m.GrantType.EXPIRED,
+                              None)
+            elif event.kind is LeaseEventKind.WAIT_TIMED_OUT:
+                self._request_ids.pop(key, None)
+                self._respond(event.holder, request_id, event.resource, m.GrantType.REJECTED,
+                              None)
+
+    def _respond(self, serial: str, request_id: str, zone: str, grant: m.GrantType,
+                 expiry: float | None) -> None:
+        self.transport.publish(
+            m.topic(serial, m.ZoneResponse),
+            m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry))
+
+    def _robot(self, serial_number: str) -> _Robot:
+        robot = self._robots.get(serial_number)
+        if robot is None:
+            raise InvalidRequest("robot", f"no robot {serial_number!r} in the fleet")
+        return robot

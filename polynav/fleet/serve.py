@@ -1,0 +1,142 @@
+"""``polynav run --robots N``: a building of N simulated robots, each with its own addresses.
+
+Robot ``i`` (0-based) serves its native API on ``--port + i`` and each dialect on that dialect's
+port ``+ i``, as a building of N vendor robots has N addresses; a port of 0 stays 0 (each server
+on a free port). Every robot's ``GET /api/fleet`` lists them all. The servers share one asyncio
+loop on the main thread; the building's loop thread steps the robots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import signal
+import socket
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import uvicorn
+
+from polynav.api import ApiConfig, create_app
+from polynav.errors import InvalidRequest, PolynavError
+from polynav.fleet.building import Building
+from polynav.listen import tcp_listener
+from polynav.robot.profile import load_profile
+from polynav.runtime.config import RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+
+log = logging.getLogger(__name__)
+
+
+class _Server(uvicorn.Server):
+    """A uvicorn server that leaves signals to :func:`run` (N servers share one process)."""
+
+    @contextlib.contextmanager
+    def capture_signals(self) -> Iterator[None]:
+        yield
+
+
+def _offset(port: int, i: int) -> int:
+    return 0 if port == 0 else port + i
+
+
+def run(args: argparse.Namespace) -> int:
+    """Serve N robots until SIGINT or SIGTERM; 2 on a bad robot count, 1 on a busy port."""
+    from polynav.protocols.yunji import YunjiConfig
+    from polynav.protocols.yunji.server import YunjiThread
+
+    try:
+        if args.mapless:
+            raise InvalidRequest("mapless", "--mapless runs one robot: leave out --robots")
+        world = load_world(args.world)
+        profile = load_profile(args.robot) if args.robot is not None else world.robot
+    except PolynavError as exc:
+        print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    store = SiteStore.open(args.data, seed_world=world)
+    servers: list[_Server] = []
+    stop_requested: list[int] = []
+
+    def on_signal(signum: int, _frame: object) -> None:
+        log.info("signal %d", signum)
+        stop_requested.append(signum)
+        for server in servers:
+            server.should_exit = True
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, on_signal)
+    try:
+        try:
+            building = Building(
+                store, world, robots=args.robots,
+                config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+                profile=profile,
+            )
+        except PolynavError as exc:
+            print(f"polynav run: {exc}", file=sys.stderr)
+            return 2
+        sockets: list[socket.socket] = []
+        yunjis: list[YunjiThread] = []
+        try:
+            for i, (serial, runtime) in enumerate(zip(building.serials, building.runtimes,
+                                                      strict=True)):
+                port = _offset(args.port, i)
+                try:
+                    sock = tcp_listener(args.host, port)
+                except OSError as exc:
+                    print(f"polynav run: cannot listen on {args.host}:{port} ({serial}): {exc}",
+                          file=sys.stderr)
+                    return 1
+                sockets.append(sock)
+                ports = {"native": int(sock.getsockname()[1])}
+                if not args.no_yunji:
+                    http_port = None if args.no_yunji_http else _offset(args.yunji_http_port, i)
+                    config = YunjiConfig(host=args.host, port=_offset(args.yunji_port, i),
+                                         http_port=http_port)
+                    try:
+                        yunji = YunjiThread(runtime, config)
+                    except OSError as exc:
+                        print(f"polynav run: cannot listen (Yunji of {serial}): {exc}",
+                              file=sys.stderr)
+                        return 1
+                    yunjis.append(yunji)
+                    ports["yunji"] = yunji.port
+                    if yunji.http_port is not None:
+                        ports["yunji_http"] = yunji.http_port
+                building.ports[serial] = ports
+                app = create_app(runtime, ApiConfig(host=args.host, port=port),
+                                 fleet=building.entries)
+                servers.append(_Server(uvicorn.Config(app, log_level="warning", lifespan="off",
+                                                      ws="websockets-sansio")))
+            building.start()
+            print(f"polynav: simulating world {world.name!r} with {args.robots} robots at "
+                  f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
+            for serial, start in zip(building.serials, building.starts, strict=True):
+                ports = building.ports[serial]
+                line = (f"polynav: {serial} at {start.map_name}/{start.name}: native API "
+                        f"http://{args.host}:{ports['native']}/api")
+                if "yunji" in ports:
+                    line += f"  Yunji tcp://{args.host}:{ports['yunji']}"
+                print(line, flush=True)
+            print("polynav: Ctrl-C to stop", flush=True)
+            if not stop_requested:
+                asyncio.run(_serve_all(servers, sockets))
+        finally:
+            for yunji in yunjis:
+                yunji.stop()
+            building.stop()
+            for sock in sockets:
+                sock.close()
+    finally:
+        store.close()
+    print("polynav: stopped", flush=True)
+    return 0
+
+
+async def _serve_all(servers: list[_Server], sockets: list[socket.socket]) -> None:
+    await asyncio.gather(*(server.serve(sockets=[sock])
+                           for server, sock in zip(servers, sockets, strict=True)))

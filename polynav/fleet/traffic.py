@@ -1,0 +1,226 @@
+"""The traffic rule: one robot at a time in each narrow passage, granted as a lease.
+
+The rule, as one robot keeps it (docs/fleet.md has it for operators):
+
+1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first traffic
+   zone (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet (a VDA 5050
+   zone request); so is the zone it stands in.
+2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
+   robot stops there (its goal is paused) and waits; a robot whose goal starts inside a zone
+   it does not hold waits where it stands. Granted, it goes on.
+3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
+   it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
+   even where it stands: a parked robot is an obstacle to plan round, not a lock.
+4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
+   the robot then asks again, at the back of the queue, so that it re-plans and backs off
+   behind those who came first, and a holder cannot keep a zone past ``max_hold`` while others
+   wait (:mod:`polynav.fleet.lease`).
+
+Since a robot never waits for a zone while it stands in another (zones closer than a stop
+distance are merged into one), no two robots can each hold what the other waits for: the
+classic hold-and-wait deadlock cannot form.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from polynav.errors import ConfigError, PolynavError
+from polynav.fleet import messages as m
+from polynav.fleet.zones import ZoneMap
+from polynav.nav.attempt import NavigationState
+from polynav.planning.path import Path
+
+if TYPE_CHECKING:
+    from polynav.runtime.robot_runtime import RobotRuntime
+
+log = logging.getLogger(__name__)
+
+_KEY = "fleet.traffic."
+
+SendRequest = Callable[[str, str, m.ZoneRequestType, float], None]
+"""Send a zone request: (request id, zone id, type, duration [s])."""
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficConfig:
+    """Distances and timings of the traffic rule.
+
+    Attributes:
+        lookahead: how far along the path a zone is asked for [m].
+        stop_distance: a robot without the lease stops this far before the zone [m].
+        lease_duration: each grant or renewal lasts this long [s].
+        renew_before: a lease is renewed when less than this is left of it [s].
+        check_period: how often the rule looks at the path [s].
+    """
+
+    lookahead: float = 4.0
+    stop_distance: float = 1.0
+    lease_duration: float = 30.0
+    renew_before: float = 10.0
+    check_period: float = 0.2
+
+    def __post_init__(self) -> None:
+        for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
+                     "check_period"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        if self.stop_distance >= self.lookahead:
+            raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
+        if self.renew_before >= self.lease_duration:
+            raise ConfigError(_KEY + "renew_before", "must be shorter than lease_duration")
+
+
+@dataclass(slots=True)
+class _ZoneLease:
+    request_id: str
+    granted: bool = False
+    queued: bool = False
+    expiry: float = -math.inf
+    renew_sent: float = -math.inf
+
+
+class TrafficRule:
+    """One robot's side of the traffic rule (see the module docstring)."""
+
+    def __init__(self, holder: str, zones: dict[str, ZoneMap], config: TrafficConfig,
+                 send: SendRequest) -> None:
+        self.holder = holder
+        self.config = config
+        self._zones = zones
+        self._send = send
+        self._leases: dict[str, _ZoneLease] = {}
+        self._requests = itertools.count(1)
+        self._paused_for: str | None = None
+        self._next_check = -math.inf
+        self.waits = 0
+        self.rejections = 0
+        self.wait_time = 0.0
+        self._wait_started = 0.0
+
+    @property
+    def waiting_for(self) -> str | None:
+        """The zone the robot stands waiting for, if any."""
+        return self._paused_for
+
+    @property
+    def held(self) -> tuple[str, ...]:
+        """The zones granted to the robot, sorted."""
+        return tuple(sorted(z for z, lease in self._leases.items() if lease.granted))
+
+    def on_response(self, response: m.ZoneResponse) -> None:
+        """Take in the fleet's answer to a zone request."""
+        lease = self._leases.get(response.zone_id)
+        if lease is None or lease.request_id != response.request_id:
+            return  # an answer to a request given up since
+        grant = response.grant_type
+        if grant is m.GrantType.GRANTED:
+            lease.granted, lease.queued = True, False
+            lease.expiry = response.lease_expiry if response.lease_expiry is not None else (
+                math.inf)
+        elif grant is m.GrantType.QUEUED:
+            lease.granted, lease.queued = False, True
+        elif grant in (m.GrantType.REJECTED, m.GrantType.REVOKED, m.GrantType.EXPIRED):
+            # Lost or waited too long: forget it, and the next check asks again (at the back of
+            # the queue).
+            if grant is m.GrantType.REJECTED:
+                self.rejections += 1
+                log.warning("%s: gave up waiting for %s; asking again", self.holder,
+                            response.zone_id)
+            else:
+                log.warning("%s: lease on %s %s", self.holder, response.zone_id, grant.value)
+            del self._leases[response.zone_id]
+
+    def resume_goal(self, runtime: RobotRuntime) -> None:
+        """Resume the goal this rule paused, if any (the order changes, or the zone is ours)."""
+        if self._paused_for is None:
+            return
+        self._paused_for = None
+        self.wait_time += runtime.now() - self._wait_started
+        try:
+            runtime.resume()
+        except PolynavError:
+            log.debug("%s: nothing to resume", self.holder)
+
+    def tick(self, now: float, runtime: RobotRuntime) -> None:
+        """Ask, renew, release and wait as the rule says (every ``check_period``)."""
+        if now < self._next_check:
+            return
+        self._next_check = now + self.config.check_period
+        needed, current, ahead = self._needed(runtime)
+        for zone_id in needed:
+            if zone_id not in self._leases:
+                self._request(zone_id)
+        for zone_id, lease in list(self._leases.items()):
+            if zone_id not in needed:
+                self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
+                del self._leases[zone_id]
+            elif lease.granted and lease.expiry - now < self.config.renew_before and (
+                    now - lease.renew_sent > self.config.check_period * 5):
+                lease.renew_sent = now
+                self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
+                           self.config.lease_duration)
+        if self._paused_for is not None:
+            waited = self._leases.get(self._paused_for)
+            if self._paused_for not in needed or (waited is not None and waited.granted):
+                log.info("%s: %s granted, going on", self.holder, self._paused_for)
+                self.resume_goal(runtime)
+            return
+        blocking = None
+        inside = self._leases.get(current) if current is not None else None
+        if current is not None and inside is not None and inside.queued:
+            blocking = current, 0.0  # it starts in a zone another robot holds: it waits there
+        elif ahead is not None and ahead[1] <= self.config.stop_distance and not self._granted(
+                ahead[0]):
+            blocking = ahead
+        stack = runtime.navigation_stack
+        if (blocking is not None and stack is not None
+                and stack.navigator.state is NavigationState.RUNNING):
+            runtime.pause()
+            self._paused_for = blocking[0]
+            self._wait_started = now
+            self.waits += 1
+            log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
+
+    def _granted(self, zone_id: str) -> bool:
+        lease = self._leases.get(zone_id)
+        return lease is not None and lease.granted
+
+    def _needed(self, runtime: RobotRuntime
+                ) -> tuple[set[str], str | None, tuple[str, float] | None]:
+        """The zones the robot needs now, the zone it stands in, and the zone ahead with its
+        distance."""
+        stack = runtime.navigation_stack
+        name = runtime.map_name
+        zmap = self._zones.get(name) if name is not None else None
+        if stack is None or zmap is None:
+            return set(), None, None
+        navigator = stack.navigator
+        if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
+            return set(), None, None
+        pose = runtime.status().pose
+        needed: set[str] = set()
+        current = zmap.zone_at(pose.x, pose.y)
+        inside = zmap.zone_id(current) if current else None
+        if inside is not None:
+            needed.add(inside)
+        path: Path | None = navigator.path
+        ahead = None
+        if path is not None:
+            found = zmap.zone_ahead(path, pose.x, pose.y, lookahead=self.config.lookahead,
+                                    skip=current)
+            if found is not None:
+                ahead = (zmap.zone_id(found[0]), found[1])
+                needed.add(ahead[0])
+        return needed, inside, ahead
+
+    def _request(self, zone_id: str) -> None:
+        request_id = f"{self.holder}-{next(self._requests)}"
+        self._leases[zone_id] = _ZoneLease(request_id)
+        self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration)

@@ -1,0 +1,68 @@
+"""The in-process transport: topics and queues in memory, every message through the JSON codec.
+
+Each message is encoded on publish and decoded on drain, exactly the bytes an MQTT broker would
+carry (:mod:`polynav.fleet.codec`), so the in-process building cannot come to rely on sharing
+Python objects between the fleet and a robot. Publishing and draining are thread-safe (a deque
+per subscription).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections import deque
+
+from polynav.errors import InvalidRequest
+from polynav.fleet import codec
+from polynav.fleet.messages import Message
+
+log = logging.getLogger(__name__)
+wire = logging.getLogger("polynav.fleet.wire")
+
+
+class QueueInbox:
+    """One subscription's queue of encoded messages."""
+
+    def __init__(self, kind: str) -> None:
+        self._kind = kind
+        self._queue: deque[bytes] = deque()
+
+    def put(self, data: bytes) -> None:
+        self._queue.append(data)
+
+    def drain(self) -> list[Message]:
+        out = []
+        while self._queue:
+            out.append(codec.decode(self._kind, self._queue.popleft()))
+        return out
+
+
+class InProcessTransport:
+    """Topics in memory. ``published`` counts messages, for figures and tests."""
+
+    def __init__(self) -> None:
+        self._subscribers: dict[str, list[QueueInbox]] = {}
+        self._lock = threading.Lock()
+        self.published = 0
+
+    def subscribe(self, topic: str) -> QueueInbox:
+        """A new inbox for ``topic`` (exact match; the last segment names the message kind).
+
+        Raises:
+            InvalidRequest: an empty topic.
+        """
+        if not topic:
+            raise InvalidRequest("topic", "must not be empty")
+        inbox = QueueInbox(topic.rsplit("/", 1)[-1])
+        with self._lock:
+            self._subscribers.setdefault(topic, []).append(inbox)
+        return inbox
+
+    def publish(self, topic: str, message: Message) -> None:
+        data = codec.encode(message)
+        wire.debug("-> %s %s", topic, data)
+        with self._lock:
+            inboxes = list(self._subscribers.get(topic, ()))
+            self.published += 1
+        for inbox in inboxes:
+            inbox.put(data)

@@ -1,0 +1,183 @@
+"""Traffic zones: the narrow passages of a map, where two robots cannot pass each other.
+
+A doorway, a lift door or a narrow corridor lets one robot through at a time; two that meet in
+it head-on block each other for good (each sees the other as an obstacle and no path is left).
+The fleet therefore makes each such passage a *zone*, leased to one robot at a time
+(:mod:`polynav.fleet.lease`): a robot holds the zone's lease before it enters and gives it back
+once it has left (the traffic rule, :mod:`polynav.fleet.traffic`).
+
+Zones are found in the map itself, so a new map needs no drawing. A free cell is *narrow* when
+the free run through it, along the map's rows or along its columns, is shorter than
+``narrow_width``: a doorway in a wall is narrow across the wall and not along it; a corridor
+wide enough for two robots is not narrow at all. Runs too short for one robot (``2 × radius``)
+are no passage and are left out. Each connected group of narrow cells, grown by ``approach``
+(the room a robot coming out of the passage needs before it can pass a waiting one), is a zone;
+zones closer than ``merge_gap`` are one zone, so a robot never needs two leases at once to pass
+a door and the narrow bit right behind it.
+
+This finds passages along the map's axes, which is how buildings are drawn; a narrow passage at
+45° to the grid is not found (a documented limit, docs/fleet.md).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+from scipy import ndimage
+
+from polynav.errors import ConfigError
+from polynav.maps.map import Map
+from polynav.planning.path import Path
+
+log = logging.getLogger(__name__)
+
+_KEY = "fleet.zones."
+
+
+@dataclass(frozen=True, slots=True)
+class ZoneConfig:
+    """How narrow passages are found.
+
+    Attributes:
+        robot_radius: the robots' footprint radius [m].
+        narrow_width: a free run shorter than this [m] is a passage for one robot only.
+        approach: a zone reaches this far [m] beyond its narrow cells.
+        merge_gap: zones whose regions come closer than this [m] are one zone.
+    """
+
+    robot_radius: float = 0.25
+    narrow_width: float = 2.1
+    approach: float = 0.7
+    merge_gap: float = 1.5
+
+    def __post_init__(self) -> None:
+        for name in ("robot_radius", "narrow_width", "approach", "merge_gap"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        if self.narrow_width <= 2.0 * self.robot_radius:
+            raise ConfigError(_KEY + "narrow_width", "must be wider than one robot")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ZoneMap:
+    """The zones of one map: ``labels[iy, ix]`` is the zone number there (0: none).
+
+    Attributes:
+        map_name: the map the zones belong to.
+        grid: that map (for its frame).
+        labels: zone number per cell, 0 outside every zone.
+        count: how many zones there are (numbers 1..count).
+    """
+
+    map_name: str
+    grid: Map
+    labels: npt.NDArray[np.int32]
+    count: int
+
+    def zone_id(self, number: int) -> str:
+        """The lease book's name of zone ``number``: ``zone:<map>/<number>``."""
+        return f"zone:{self.map_name}/{number}"
+
+    def zone_at(self, x: float, y: float) -> int:
+        """The zone number at world (x, y) [m], 0 outside every zone or the map."""
+        info = self.grid.info
+        ix, iy = info.world_to_cell(x, y)
+        if not info.contains(ix, iy):
+            return 0
+        return int(self.labels[iy, ix])
+
+    def zone_ahead(self, path: Path, x: float, y: float, *, lookahead: float,
+                   skip: int = 0) -> tuple[int, float] | None:
+        """The first zone other than ``skip`` that ``path`` enters from the point nearest to
+        (x, y), within ``lookahead`` [m] along it: (zone number, distance [m]) or None.
+
+        The path is sampled every half cell, so a zone a cell wide is never stepped over.
+        """
+        points = path.points
+        if points.shape[0] == 0:
+            return None
+        d2 = (points[:, 0] - x) ** 2 + (points[:, 1] - y) ** 2
+        start = int(np.argmin(d2))
+        ahead = np.vstack(([x, y], points[start:]))
+        seg = np.hypot(*np.diff(ahead, axis=0).T)
+        along = np.concatenate(([0.0], np.cumsum(seg)))
+        # The points up to and including the first one at or past the lookahead.
+        end = min(along.shape[0], int(np.searchsorted(along, lookahead, side="left")) + 1)
+        # Resample every half cell up to the lookahead, so a zone a cell wide is never stepped
+        # over, and look every sample up at once.
+        step = 0.5 * self.grid.info.resolution
+        reach = min(lookahead, float(along[end - 1]))
+        s = np.arange(0.0, reach + step, step)
+        s = s[s <= reach]
+        xs = np.interp(s, along[:end], ahead[:end, 0])
+        ys = np.interp(s, along[:end], ahead[:end, 1])
+        cells = self.grid.info.world_to_cells(np.column_stack((xs, ys)))
+        info = self.grid.info
+        inside = ((cells[:, 0] >= 0) & (cells[:, 0] < info.width) & (cells[:, 1] >= 0)
+                  & (cells[:, 1] < info.height))
+        labels = np.zeros(s.shape[0], dtype=np.int32)
+        labels[inside] = self.labels[cells[inside, 1], cells[inside, 0]]
+        hits = np.flatnonzero((labels != 0) & (labels != skip))
+        if hits.shape[0] == 0:
+            return None
+        k = int(hits[0])
+        return int(labels[k]), float(s[k])
+
+
+def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> ZoneMap:
+    """The narrow passages of ``grid`` as zones (see the module docstring)."""
+    config = config or ZoneConfig()
+    res = grid.info.resolution
+    free = ~grid.occupied()
+    rows = _run_lengths(free) * res
+    cols = _run_lengths(free.T).T * res
+    across = np.minimum(rows, cols)
+    narrow = free & (across < config.narrow_width) & (across >= 2.0 * config.robot_radius)
+    # A passage must also let the robot's centre through: cells nearer a wall than the radius
+    # are only the passage's edges.
+    # The world ends at the grid's edge: pad with walls, so the edge bounds the clearance.
+    padded = np.pad(free, 1, constant_values=False)
+    clearance = ndimage.distance_transform_edt(padded)[1:-1, 1:-1] * res
+    narrow &= clearance > config.robot_radius
+    # Grow through free space only: a zone never leaks through a wall into the next room.
+    grow = max(1, int(round(config.approach / res)))
+    merge = max(1, int(round(0.5 * config.merge_gap / res)))
+    square = np.ones((3, 3), dtype=bool)
+    grown = ndimage.binary_dilation(narrow, structure=square, iterations=grow + merge, mask=free)
+    groups, count = ndimage.label(grown, structure=square)
+    # Shrink back by the merge margin, keeping the group numbers: groups joined by the margin
+    # stay one zone.
+    region = ndimage.binary_dilation(narrow, structure=square, iterations=grow, mask=free)
+    labels = np.where(region, groups, 0).astype(np.int32)
+    labels, count = _renumber(labels)
+    log.info("map %s: %d traffic zones", map_name, count)
+    return ZoneMap(map_name=map_name, grid=grid, labels=labels, count=count)
+
+
+def _run_lengths(free: npt.NDArray[np.bool_]) -> npt.NDArray[np.float64]:
+    """For each cell, the length (in cells) of the run of free cells along its row that holds
+    it; 0 on occupied cells."""
+    h, w = free.shape
+    out = np.zeros((h, w), dtype=np.float64)
+    padded = np.zeros((h, w + 2), dtype=np.int8)
+    padded[:, 1:-1] = free
+    edges = np.diff(padded, axis=1)
+    for iy in range(h):
+        starts = np.flatnonzero(edges[iy] == 1)
+        ends = np.flatnonzero(edges[iy] == -1)
+        for a, b in zip(starts, ends, strict=True):
+            out[iy, a:b] = b - a
+    return out
+
+
+def _renumber(labels: npt.NDArray[np.int32]) -> tuple[npt.NDArray[np.int32], int]:
+    used = np.unique(labels)
+    used = used[used != 0]
+    table = np.zeros(int(labels.max()) + 1, dtype=np.int32)
+    table[used] = np.arange(1, used.shape[0] + 1, dtype=np.int32)
+    return table[labels], int(used.shape[0])

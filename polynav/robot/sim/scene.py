@@ -1,0 +1,169 @@
+"""The shared part of a simulation: one world, one clock, its people, and every robot body in it.
+
+A :class:`Scene` is what several simulated robots have in common: the ground truth of each floor
+(walls, obstacles placed at run time), the people walking it, and the simulated clock. Each robot
+is a :class:`~polynav.robot.sim.simulation.Simulation` (a *body*: base, sensors, battery) added to
+the scene; a lone ``Simulation`` makes a scene of its own, so one robot behaves exactly as before.
+
+Robots see and touch one another: each body's lidar sees the other bodies on its floor as discs
+(``robot_radius``: for a polygon footprint, the disc that holds it, so contact between robots is
+judged a little early, never late), and a move that would newly overlap another body is not made
+(a collision with a ``"robot"``).
+
+A scene step is ordered so that every body sees the same world at the same time:
+
+1. every floor's people walk, each stopping for any robot in their way;
+2. each body in turn moves (or is stopped by a wall, a person or another robot), and its
+   odometry, IMU and battery take in the step;
+3. the clock advances;
+4. each body's IMU and lidar sample when due, on the world as it now is.
+
+With a single body this is exactly the order of the one-robot simulator.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.clock import ManualClock
+from polynav.errors import InvalidRequest
+from polynav.geometry import Pose2D
+from polynav.maps.map import MapInfo
+from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.people import Person, as_circles
+from polynav.site import PointKind
+from polynav.worlds.world import World, WorldFloor
+
+if TYPE_CHECKING:
+    from polynav.robot.sim.simulation import Simulation
+
+log = logging.getLogger(__name__)
+
+NO_CIRCLES = np.empty((0, 3), dtype=np.float64)
+_EPS = 1e-9
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FloorState:
+    """What the scene keeps per floor: ground truth ready for the kernels, and its people."""
+
+    floor: WorldFloor
+    occupied: npt.NDArray[np.bool_]
+    info: MapInfo
+    people: list[Person]
+    chargers: tuple[Pose2D, ...]
+
+
+class Scene:
+    """One world on one clock, shared by the robot bodies in it (see the module docstring).
+
+    Args:
+        world: the ground truth.
+        config: the physics settings (the step period); every body must share its period.
+        people: whether the floors' walkers walk.
+
+    Raises:
+        InvalidRequest: a floor map whose origin is rotated.
+    """
+
+    def __init__(self, world: World, config: SimConfig, *, people: bool = True) -> None:
+        self.world = world
+        self.config = config
+        self.clock = ManualClock()
+        self.floors = {f.name: floor_state(f, config) for f in world.floors}
+        self.people_enabled = people
+        self._bodies: list[Simulation] = []
+
+    @property
+    def bodies(self) -> tuple[Simulation, ...]:
+        """The robots in the scene, in the order they were added (and are stepped)."""
+        return tuple(self._bodies)
+
+    def add(self, body: Simulation) -> None:
+        """Put ``body`` into the scene (its constructor does this).
+
+        Raises:
+            InvalidRequest: its physics period differs from the scene's.
+        """
+        if not math.isclose(body.config.physics_period, self.config.physics_period):
+            raise InvalidRequest("physics_rate", "every robot in a scene steps at one rate")
+        self._bodies.append(body)
+
+    def robots_near(self, body: Simulation) -> npt.NDArray[np.float64]:
+        """(K, 3) rows of x, y, radius [m]: the other bodies on ``body``'s floor."""
+        others = [b for b in self._bodies if b is not body and b.floor == body.floor]
+        if not others:
+            return NO_CIRCLES
+        out = np.empty((len(others), 3), dtype=np.float64)
+        for k, b in enumerate(others):
+            pose = b.true_pose
+            out[k, 0], out[k, 1], out[k, 2] = pose.x, pose.y, b.config.robot_radius
+        return out
+
+    def people_circles(self, floor: str) -> npt.NDArray[np.float64]:
+        """(K, 3) rows of x, y, radius [m] of the people on ``floor`` (none while they are off)."""
+        people = self.floors[floor].people
+        return as_circles(people) if self.people_enabled and people else NO_CIRCLES
+
+    def step(self, dt: float | None = None) -> None:
+        """Advance one physics period, or ``dt`` [s] in equal steps no longer than one period.
+
+        Raises:
+            InvalidRequest: ``dt`` is not positive.
+        """
+        period = self.config.physics_period
+        if dt is None:
+            self._substep(period)
+            return
+        if not dt > 0.0:
+            raise InvalidRequest("dt", f"must be > 0, got {dt}")
+        n = max(1, math.ceil(dt / period - _EPS))
+        for _ in range(n):
+            self._substep(dt / n)
+
+    def _substep(self, h: float) -> None:
+        # Nanosecond stamps: sums of 0.02 s would drift off the grid (2.0000000000000013).
+        now = round(self.clock.now() + h, 9)
+        people: dict[str, npt.NDArray[np.float64]] = {}
+        if self.people_enabled:
+            disks: dict[str, list[tuple[float, float, float]]] = {}
+            for body in self._bodies:
+                pose = body.true_pose
+                disks.setdefault(body.floor, []).append(
+                    (pose.x, pose.y, body.config.robot_radius))
+            for name, state in self.floors.items():
+                robots = disks.get(name, [])
+                for person in state.people:
+                    person.step_among(h, robots)
+            people = {name: as_circles(state.people) if state.people else NO_CIRCLES
+                      for name, state in self.floors.items()}
+        for body in self._bodies:
+            body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+        self.clock.set(now)
+        for body in self._bodies:
+            body._sense(now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+
+
+def floor_state(floor: WorldFloor, config: SimConfig) -> FloorState:
+    """A floor's ground truth and people, ready for stepping.
+
+    Raises:
+        InvalidRequest: the floor map's origin is rotated.
+    """
+    info = floor.map.info
+    if info.origin.theta != 0.0:
+        raise InvalidRequest("floor", f"{floor.name}: the simulator needs a map origin with zero "
+                                      "yaw")
+    people = [
+        Person(route, pause=config.person_pause, stop_distance=config.person_stop_distance)
+        for route in floor.people
+    ]
+    chargers = tuple(p.pose for p in floor.points if p.kind is PointKind.CHARGER)
+    occupied = np.ascontiguousarray(floor.map.occupied())
+    return FloorState(floor, occupied, info, people, chargers)

@@ -1,0 +1,149 @@
+"""Several robots in one building, whole missions on simulated time (issue 11 item 6).
+
+Robots share one simulated world and one clock; the fleet grants narrow passages as leases
+(docs/fleet.md). Judged on ground truth: every order succeeds, no robot touches another, and no
+one waits for ever.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from polynav.errors import NotFound
+from polynav.fleet.building import Building
+from polynav.fleet.master_control import Stop
+from polynav.geometry import Pose2D
+from polynav.runtime.config import RuntimeConfig
+from polynav.site import Point, PointKind
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from polynav.worlds.world import World
+
+
+@pytest.fixture(scope="module")
+def world() -> World:
+    return load_world("demo")
+
+
+@pytest.fixture
+def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
+    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
+        yield opened
+
+
+def _all_done(building: Building) -> bool:
+    return all(agent.outcome is not None for agent in building.agents)
+
+
+def _collisions(building: Building) -> list[object]:
+    return [c for runtime in building.runtimes for c in runtime.simulation.collisions]
+
+
+def test_two_robots_meeting_at_one_door_both_arrive_one_waits_no_collision(
+        world: World, store: SiteStore) -> None:
+    # Office 1's door (x 11.0..12.2 in the wall at y = 13) is one robot wide, and the 2 m
+    # corridor outside too narrow for two robots to pass: one zone. Robot 1 stands inside the
+    # office and leaves for the lobby; robot 2, in the corridor, goes in at the same moment.
+    inside = Point("start_in_office_1", "floor1", Pose2D(11.6, 15.5, -math.pi / 2),
+                   PointKind.GENERAL)
+    corridor = Point("start_in_corridor", "floor1", Pose2D(14.8, 12.0, math.pi),
+                     PointKind.GENERAL)
+    store.add_point(Point("desk_office_1", "floor1", Pose2D(11.6, 16.5, math.pi / 2)))
+    building = Building(store, world, robots=2, starts=[inside, corridor],
+                        config=RuntimeConfig(people=False))
+    door = building.zones["floor1"].zone_at(11.6, 13.0)
+    assert door != 0
+    building.send("robot1", "lobby", "floor1")
+    building.send("robot2", "desk_office_1", "floor1")
+    granted: list[str] = []
+
+    def watch() -> bool:
+        for agent in building.agents:
+            if building.zones["floor1"].zone_id(door) in agent.traffic.held and (
+                    not granted or granted[-1] != agent.serial_number):
+                granted.append(agent.serial_number)
+        return _all_done(building)
+
+    assert building.advance_until(watch, timeout=240.0), "deadlock: an order never ended"
+    assert [a.outcome for a in building.agents] == ["succeeded", "succeeded"]
+    assert _collisions(building) == []
+    # One robot had the zone first and went on; the other stood still until it was free.
+    assert sorted(granted) == ["robot1", "robot2"]
+    first, second = granted
+    waiter = building.agent(second).traffic
+    assert waiter.waits >= 1 and waiter.wait_time > 0.0
+    assert building.agent(first).traffic.waits == 0
+    for runtime, point in zip(building.runtimes, ("lobby", "desk_office_1"), strict=True):
+        goal = store.point("floor1", point).pose
+        assert runtime.simulation.true_pose.distance_to(goal) < 0.1
+    # Every lease went back: nothing is held once the orders are done.
+    assert all(building.master.leases.leases(z) == () for z in building.master.leases.resources())
+
+
+@pytest.mark.slow
+def test_twenty_random_missions_for_three_robots_all_succeed(
+        world: World, store: SiteStore) -> None:
+    starts = ("initial", "lobby", "office_3")
+    building = Building(store, world, robots=3, config=RuntimeConfig(people=False, seed=3),
+                        starts=[store.point("floor1", name) for name in starts])
+    goals = [p.name for p in store.points(map_name="floor1") if p.kind is PointKind.GENERAL]
+    rng = np.random.default_rng(11)
+    # Where each robot is bound or stands: no robot is sent where another is or goes.
+    bound = dict(zip(building.serials, starts, strict=True))
+    pending: dict[str, str] = {}
+    results: list[str] = []
+    sent = 0
+    while len(results) < 20:
+        for serial in building.serials:
+            if serial not in pending and sent < 20:
+                taken = {goal for other, goal in bound.items() if other != serial}
+                goal = str(rng.choice([g for g in goals if g not in taken]))
+                bound[serial] = goal
+                pending[serial] = building.send(serial, goal, "floor1")
+                sent += 1
+        assert building.advance_until(
+            lambda: any(building.outcome(s, o) is not None for s, o in pending.items()),
+            timeout=600.0,
+        ), "deadlock: no order ended in 10 simulated minutes"
+        for serial, order_id in list(pending.items()):
+            result = building.outcome(serial, order_id)
+            if result is not None:
+                results.append(f"{serial} {bound[serial]}: {result}")
+                del pending[serial]
+    assert all(r.endswith(": succeeded") for r in results), results
+    assert _collisions(building) == []
+
+
+def test_an_order_canceled_by_instant_action_ends_failed_and_the_state_says_so(
+        world: World, store: SiteStore) -> None:
+    building = Building(store, world, robots=1, config=RuntimeConfig(people=False))
+    order_id = building.send("robot1", "kitchen", "floor1")
+    building.advance(3.0)
+    state = building.master.state("robot1")
+    assert state is not None and state.order_id == order_id
+    assert state.node_states == ("kitchen",) and state.navigation_state == "running"
+    assert building.outcome("robot1", order_id) is None
+    building.master.cancel_order("robot1")
+    building.advance(1.5)
+    assert building.outcome("robot1", order_id) == "failed: canceled"
+    state = building.master.state("robot1")
+    assert state is not None and [e.error_type for e in state.errors] == ["orderFailed"]
+    (entry,) = building.entries()
+    assert entry.order_state == "failed" and entry.navigation_state == "canceled"
+
+
+def test_an_order_to_a_point_the_site_lacks_fails_with_the_reason(
+        world: World, store: SiteStore) -> None:
+    building = Building(store, world, robots=1, config=RuntimeConfig(people=False))
+    with pytest.raises(NotFound):
+        building.send("robot1", "nowhere", "floor1")
+    order_id = building.master.send_order("robot1", [Stop("nowhere", "floor9", Pose2D(1, 1, 0))])
+    building.advance(0.5)
+    outcome = building.outcome("robot1", order_id)
+    assert outcome is not None and outcome.startswith("failed: node nowhere")
+    assert building.runtimes[0].status().navigation_state == "idle"

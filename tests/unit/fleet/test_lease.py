@@ -1,0 +1,258 @@
+"""The lease book: grants, renewals, releases, expiries, FIFO queues and bounded waits."""
+
+from __future__ import annotations
+
+import pytest
+
+from polynav.errors import ConfigError, InvalidRequest
+from polynav.fleet.errors import LeaseNotHeld, LeaseRefused
+from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind
+
+K = LeaseEventKind
+
+
+def kinds(book: LeaseBook) -> list[tuple[LeaseEventKind, str, str]]:
+    return [(e.kind, e.resource, e.holder) for e in book.take_events()]
+
+
+@pytest.fixture
+def book() -> LeaseBook:
+    return LeaseBook(LeaseBookConfig(default_duration=10.0, max_duration=60.0, max_wait=30.0,
+                                     max_hold=40.0))
+
+
+def test_free_resource_is_granted_at_once_with_an_expiry(book: LeaseBook) -> None:
+    lease = book.request("lift:A", "r1", now=5.0)
+    assert lease == Lease(lease_id=1, resource="lift:A", holder="r1", granted_at=5.0,
+                          expires_at=15.0)
+    assert book.lease("lift:A", "r1") == lease
+    assert kinds(book) == [(K.GRANTED, "lift:A", "r1")]
+
+
+def test_asking_again_returns_the_same_lease_unchanged(book: LeaseBook) -> None:
+    first = book.request("lift:A", "r1", now=0.0)
+    again = book.request("lift:A", "r1", now=3.0, duration=50.0)
+    assert again == first
+
+
+def test_second_holder_is_queued_and_granted_when_the_first_releases(book: LeaseBook) -> None:
+    book.request("door:1", "r1", now=0.0)
+    assert book.request("door:1", "r2", now=1.0, duration=20.0) is None
+    assert book.position("door:1", "r2") == 0
+    assert book.release("door:1", "r1", now=4.0) is True
+    lease = book.lease("door:1", "r2")
+    assert lease is not None and lease.granted_at == 4.0 and lease.expires_at == 24.0
+    # The waiter learns of its grant by asking again: the same lease comes back.
+    assert book.request("door:1", "r2", now=5.0) == lease
+    assert kinds(book) == [(K.GRANTED, "door:1", "r1"), (K.QUEUED, "door:1", "r2"),
+                           (K.RELEASED, "door:1", "r1"), (K.GRANTED, "door:1", "r2")]
+
+
+def test_waiters_are_served_in_the_order_they_came(book: LeaseBook) -> None:
+    book.request("corridor:east", "r1", now=0.0)
+    for i, holder in enumerate(["r3", "r2", "r4"]):
+        book.request("corridor:east", holder, now=1.0 + i)
+    served = []
+    t = 5.0
+    for _ in range(3):
+        (current,) = book.leases("corridor:east")
+        book.release("corridor:east", current.holder, now=t)
+        served.append(book.leases("corridor:east")[0].holder)
+        t += 1.0
+    assert served == ["r3", "r2", "r4"]
+
+
+def test_newcomer_never_overtakes_a_waiter_even_when_capacity_frees_between_calls(
+        book: LeaseBook) -> None:
+    book.request("charger:1", "r1", now=0.0)
+    book.request("charger:1", "r2", now=1.0)
+    # r1's lease lapses at t=10; r2 is granted then, before r3's request is looked at.
+    assert book.request("charger:1", "r3", now=11.0) is None
+    assert [le.holder for le in book.leases("charger:1")] == ["r2"]
+    assert book.position("charger:1", "r3") == 0
+
+
+def test_lease_not_renewed_expires_and_the_next_waiter_is_granted(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0)
+    book.request("lift:A", "r2", now=2.0)
+    book.tick(9.999)
+    assert book.lease("lift:A", "r1") is not None
+    book.tick(10.0)
+    assert book.lease("lift:A", "r1") is None
+    lease = book.lease("lift:A", "r2")
+    assert lease is not None and lease.granted_at == 10.0
+    events = book.take_events()
+    expired = [e for e in events if e.kind is K.EXPIRED]
+    assert len(expired) == 1 and expired[0].holder == "r1" and expired[0].at == 10.0
+
+
+def test_renewal_extends_the_lease_and_keeps_its_id(book: LeaseBook) -> None:
+    first = book.request("lift:A", "r1", now=0.0)
+    assert first is not None
+    renewed = book.renew("lift:A", "r1", now=8.0, duration=20.0)
+    assert renewed.lease_id == first.lease_id
+    assert renewed.granted_at == 0.0 and renewed.expires_at == 28.0
+    book.tick(27.0)
+    assert book.lease("lift:A", "r1") == renewed
+
+
+def test_renewal_never_shortens_a_lease(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0, duration=50.0)
+    assert book.renew("lift:A", "r1", now=1.0, duration=5.0).expires_at == 50.0
+
+
+def test_renewal_after_expiry_is_refused_as_lost(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0)
+    with pytest.raises(LeaseNotHeld) as err:
+        book.renew("lift:A", "r1", now=10.0)
+    assert err.value.resource == "lift:A" and err.value.holder == "r1"
+
+
+def test_renewal_of_a_lease_never_granted_is_refused(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0)
+    with pytest.raises(LeaseNotHeld):
+        book.renew("lift:A", "r2", now=1.0)
+    with pytest.raises(LeaseNotHeld):
+        book.renew("lift:B", "r1", now=1.0)
+
+
+def test_waiter_past_its_deadline_leaves_the_queue_and_is_never_granted(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0, duration=60.0)
+    book.request("lift:A", "r2", now=1.0, max_wait=5.0)
+    book.tick(6.0)
+    assert book.waiters("lift:A") == ()
+    book.release("lift:A", "r1", now=7.0)
+    assert book.leases("lift:A") == ()
+    timed_out = [e for e in book.take_events() if e.kind is K.WAIT_TIMED_OUT]
+    assert [(e.holder, e.at) for e in timed_out] == [("r2", 6.0)]
+
+
+def test_max_wait_is_capped_by_the_books_limit(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0, duration=60.0)
+    book.request("lift:A", "r2", now=0.0, max_wait=1000.0)
+    assert book.waiters("lift:A")[0].deadline == 30.0
+
+
+def test_holder_cannot_renew_past_max_hold_while_others_wait(book: LeaseBook) -> None:
+    book.request("corridor:east", "r1", now=0.0)
+    t = 0.0
+    while t < 35.0:
+        t += 5.0
+        book.renew("corridor:east", "r1", now=t)
+    book.request("corridor:east", "r2", now=t)
+    book.renew("corridor:east", "r1", now=39.0)
+    with pytest.raises(LeaseRefused):
+        book.renew("corridor:east", "r1", now=40.0)
+    # Refused, it still holds until its last expiry; then r2 is granted.
+    book.tick(49.0)
+    assert book.lease("corridor:east", "r2") is not None
+
+
+def test_alone_a_holder_may_renew_for_ever(book: LeaseBook) -> None:
+    book.request("charger:1", "r1", now=0.0)
+    for t in range(5, 500, 5):
+        book.renew("charger:1", "r1", now=float(t))
+    assert book.lease("charger:1", "r1") is not None
+
+
+def test_every_waiter_is_granted_or_told_to_give_up_within_a_bound(book: LeaseBook) -> None:
+    """A holder that renews as often as it may and waiters that keep asking: no one waits longer
+    than max_wait, and the holder cannot keep the resource past max_hold + max_duration."""
+    book.request("lift:A", "r0", now=0.0)
+    outcome: dict[str, str] = {}
+    for t10 in range(1, 2000):
+        t = t10 / 10.0
+        if t10 % 50 == 0 and book.lease("lift:A", "r0") is not None:
+            try:
+                book.renew("lift:A", "r0", now=t)
+            except LeaseRefused:
+                pass
+        if t10 in (10, 20, 30):
+            book.request("lift:A", f"w{t10}", now=t)
+        book.tick(t)
+        for e in book.take_events():
+            if e.holder != "r0" and e.kind in (K.GRANTED, K.WAIT_TIMED_OUT):
+                outcome.setdefault(e.holder, f"{e.kind.value}@{e.at}")
+                if e.kind is K.GRANTED:
+                    book.release("lift:A", e.holder, now=t)
+    assert set(outcome) == {"w10", "w20", "w30"}
+    assert all(float(v.split("@")[1]) <= 3.0 + 30.0 for v in outcome.values())
+
+
+def test_release_twice_is_harmless_and_release_cancels_a_wait(book: LeaseBook) -> None:
+    book.request("door:1", "r1", now=0.0)
+    book.request("door:1", "r2", now=0.0)
+    book.request("door:1", "r3", now=0.0)
+    assert book.release("door:1", "r2", now=1.0) is True
+    assert book.position("door:1", "r3") == 0
+    assert book.release("door:1", "r1", now=2.0) is True
+    assert book.release("door:1", "r1", now=2.0) is False
+    assert book.release("nowhere", "r1", now=2.0) is False
+    assert [le.holder for le in book.leases("door:1")] == ["r3"]
+    assert (K.WAIT_CANCELLED, "door:1", "r2") in kinds(book)
+
+
+def test_capacity_lets_several_hold_at_once(book: LeaseBook) -> None:
+    book.set_capacity("lift:A", 2)
+    assert book.request("lift:A", "r1", now=0.0) is not None
+    assert book.request("lift:A", "r2", now=0.0) is not None
+    assert book.request("lift:A", "r3", now=0.0) is None
+    with pytest.raises(InvalidRequest):
+        book.set_capacity("lift:A", 1)
+    book.release("lift:A", "r1", now=1.0)
+    assert {le.holder for le in book.leases("lift:A")} == {"r2", "r3"}
+
+
+def test_release_all_frees_every_lease_and_wait_of_a_holder(book: LeaseBook) -> None:
+    book.request("a", "r1", now=0.0)
+    book.request("b", "r1", now=0.0)
+    book.request("c", "r2", now=0.0)
+    book.request("c", "r1", now=0.0)
+    assert book.release_all("r1", now=1.0) == ("a", "b", "c")
+    assert book.held_by("r1") == ()
+    assert book.waiters("c") == ()
+
+
+def test_held_by_and_next_deadline(book: LeaseBook) -> None:
+    assert book.next_deadline() is None
+    book.request("b", "r1", now=0.0, duration=20.0)
+    book.request("a", "r1", now=0.0, duration=30.0)
+    book.request("a", "r2", now=1.0, max_wait=4.0)
+    assert [le.resource for le in book.held_by("r1")] == ["a", "b"]
+    assert book.next_deadline() == 5.0
+    assert book.resources() == ("a", "b")
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"resource": "", "holder": "r1"}, "resource"),
+    ({"resource": "  ", "holder": "r1"}, "resource"),
+    ({"resource": "a", "holder": ""}, "holder"),
+    ({"resource": "a", "holder": "r1", "duration": 0.0}, "duration"),
+    ({"resource": "a", "holder": "r1", "duration": -1.0}, "duration"),
+    ({"resource": "a", "holder": "r1", "duration": 61.0}, "duration"),
+    ({"resource": "a", "holder": "r1", "duration": float("nan")}, "duration"),
+    ({"resource": "a", "holder": "r1", "max_wait": 0.0}, "max_wait"),
+])
+def test_bad_requests_are_refused_without_changing_the_book(
+        book: LeaseBook, kwargs: dict[str, object], field: str) -> None:
+    with pytest.raises(InvalidRequest) as err:
+        book.request(now=0.0, **kwargs)  # type: ignore[arg-type]
+    assert err.value.field == field
+    assert book.resources() == () and book.take_events() == []
+
+
+def test_time_running_backwards_is_refused(book: LeaseBook) -> None:
+    book.tick(10.0)
+    with pytest.raises(InvalidRequest) as err:
+        book.request("a", "r1", now=9.0)
+    assert err.value.field == "now"
+
+
+@pytest.mark.parametrize("kwargs", [
+    {"default_duration": 0.0}, {"max_wait": -1.0}, {"max_hold": 0.0},
+    {"default_duration": 100.0, "max_duration": 50.0},
+])
+def test_bad_config_names_the_key(kwargs: dict[str, float]) -> None:
+    with pytest.raises(ConfigError) as err:
+        LeaseBookConfig(**kwargs)
+    assert err.value.key.startswith("fleet.lease.")

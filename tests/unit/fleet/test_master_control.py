@@ -1,0 +1,114 @@
+"""Master control over the in-process transport: orders out, zone requests answered."""
+
+from __future__ import annotations
+
+import pytest
+
+from polynav.errors import InvalidRequest
+from polynav.fleet import messages as m
+from polynav.fleet.lease import LeaseBook, LeaseBookConfig
+from polynav.fleet.master_control import MasterControl, Stop
+from polynav.fleet.transport import InProcessTransport
+from polynav.geometry import Pose2D
+
+
+class Robot:
+    """The robot's end of the transport, scripted."""
+
+    def __init__(self, transport: InProcessTransport, serial: str) -> None:
+        self.serial = serial
+        self.transport = transport
+        self.orders = transport.subscribe(m.topic(serial, m.Order))
+        self.actions = transport.subscribe(m.topic(serial, m.InstantActions))
+        self.responses = transport.subscribe(m.topic(serial, m.ZoneResponse))
+
+    def ask(self, request_id: str, zone: str,
+            kind: m.ZoneRequestType = m.ZoneRequestType.ACCESS) -> None:
+        self.transport.publish(m.topic(self.serial, m.ZoneRequest),
+                               m.ZoneRequest(1, self.serial, request_id, zone, kind, 10.0))
+
+    def answers(self) -> list[tuple[str, m.GrantType, float | None]]:
+        out = []
+        for r in self.responses.drain():
+            assert isinstance(r, m.ZoneResponse)
+            out.append((r.request_id, r.grant_type, r.lease_expiry))
+        return out
+
+
+@pytest.fixture
+def setup() -> tuple[MasterControl, Robot, Robot]:
+    transport = InProcessTransport()
+    master = MasterControl(transport, LeaseBook(LeaseBookConfig(max_wait=20.0)))
+    master.add_robot("r1")
+    master.add_robot("r2")
+    return master, Robot(transport, "r1"), Robot(transport, "r2")
+
+
+def test_order_reaches_only_its_robot(setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, r2 = setup
+    order_id = master.send_order("r1", [Stop("office_1", "floor1", Pose2D(1.0, 2.0, 0.5))])
+    (order,) = r1.orders.drain()
+    assert isinstance(order, m.Order) and order.order_id == order_id
+    assert order.nodes[0].node_id == "office_1"
+    assert order.nodes[0].node_position == m.NodePosition(1.0, 2.0, 0.5, "floor1")
+    assert r2.orders.drain() == []
+    master.cancel_order("r1")
+    (actions,) = r1.actions.drain()
+    assert isinstance(actions, m.InstantActions)
+    assert actions.actions[0].action_type is m.ActionType.CANCEL_ORDER
+
+
+def test_zone_is_granted_queued_then_granted_to_the_waiter_on_release(
+        setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, r2 = setup
+    r1.ask("a", "zone:floor1/1")
+    r2.ask("b", "zone:floor1/1")
+    master.tick(1.0)
+    assert r1.answers() == [("a", m.GrantType.GRANTED, 11.0)]
+    assert r2.answers() == [("b", m.GrantType.QUEUED, None)]
+    r1.ask("a", "zone:floor1/1", m.ZoneRequestType.RELEASE)
+    master.tick(2.0)
+    assert r2.answers() == [("b", m.GrantType.GRANTED, 12.0)]
+
+
+def test_renewal_extends_and_silence_expires(setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, _ = setup
+    r1.ask("a", "zone:floor1/1")
+    master.tick(0.0)
+    r1.ask("a", "zone:floor1/1")
+    master.tick(5.0)
+    assert r1.answers() == [("a", m.GrantType.GRANTED, 10.0), ("a", m.GrantType.GRANTED, 15.0)]
+    master.tick(15.0)
+    assert r1.answers() == [("a", m.GrantType.EXPIRED, None)]
+
+
+def test_a_waiter_is_rejected_after_max_wait(setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, r2 = setup
+    r1.ask("a", "zone:floor1/1")
+    r2.ask("b", "zone:floor1/1")
+    master.tick(0.0)
+    for t in range(1, 21):
+        if t % 5 == 0:
+            r1.ask("a", "zone:floor1/1")  # r1 renews, keeping the zone
+        master.tick(float(t))
+    assert ("b", m.GrantType.REJECTED, None) in r2.answers()
+
+
+def test_state_is_kept_per_robot(setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, _ = setup
+    state = m.State(1, "r1", 3.0, "", 0, "", (), False, False, "AUTOMATIC", None, 90.0)
+    r1.transport.publish(m.topic("r1", m.State), state)
+    assert master.state("r1") is None
+    master.tick(3.0)
+    assert master.state("r1") == state and master.state("r2") is None
+
+
+def test_unknown_or_duplicate_robots_are_refused(
+        setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, _, _ = setup
+    with pytest.raises(InvalidRequest):
+        master.add_robot("r1")
+    with pytest.raises(InvalidRequest):
+        master.send_order("r9", [Stop("a", "floor1", Pose2D(0.0, 0.0, 0.0))])
+    with pytest.raises(InvalidRequest):
+        master.send_order("r1", [])

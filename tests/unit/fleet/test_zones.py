@@ -1,0 +1,63 @@
+"""Traffic zones found in a map: doorways are zones, wide corridors and rooms are not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from polynav.errors import ConfigError
+from polynav.fleet.zones import ZoneConfig, find_zones
+from polynav.maps.map import Map
+from polynav.planning.path import Path
+
+RES = 0.05
+
+
+def _two_rooms(door: float) -> Map:
+    """Two 4 m x 4 m rooms side by side (x 0..4 and 4.1..8.1), a ``door`` [m] wide gap in the
+    wall between them at y 1.5..1.5+door; walls 0.1 m."""
+    w, h = int(8.2 / RES), int(4.2 / RES)
+    occ = np.zeros((h, w), dtype=bool)
+    occ[:2, :] = occ[-2:, :] = True
+    occ[:, :2] = occ[:, -2:] = True
+    wall = int(4.05 / RES)
+    occ[:, wall:wall + 2] = True
+    lo, hi = int(1.5 / RES), int((1.5 + door) / RES)
+    occ[lo:hi, wall:wall + 2] = False
+    return Map.from_occupied(occ, resolution=RES)
+
+
+def test_a_doorway_one_robot_wide_is_one_zone() -> None:
+    zones = find_zones("m", _two_rooms(1.0))
+    assert zones.count == 1
+    assert zones.zone_at(4.1, 2.0) == 1
+    assert zones.zone_at(4.1 - 0.5, 2.0) == 1  # the approach on either side
+    assert zones.zone_at(2.0, 3.5) == 0 and zones.zone_at(6.0, 0.5) == 0
+    assert zones.zone_id(1) == "zone:m/1"
+
+
+def test_a_doorway_two_robots_wide_is_no_zone() -> None:
+    assert find_zones("m", _two_rooms(2.5)).count == 0
+
+
+def test_a_two_metre_corridor_is_a_zone_but_a_wider_one_is_not() -> None:
+    # Two robots of 0.5 m cannot pass each other in 2 m with room to spare.
+    assert find_zones("m", _two_rooms(2.0)).count == 1
+    assert find_zones("m", _two_rooms(2.0), ZoneConfig(narrow_width=1.3)).count == 0
+
+
+def test_zone_ahead_on_a_path_through_the_door_and_its_distance() -> None:
+    zones = find_zones("m", _two_rooms(1.0))
+    path = Path(np.array([[1.0, 2.0], [7.0, 2.0]]))
+    found = zones.zone_ahead(path, 1.0, 2.0, lookahead=5.0)
+    assert found is not None
+    zone, distance = found
+    assert zone == 1 and 2.2 < distance < 3.1
+    assert zones.zone_ahead(path, 1.0, 2.0, lookahead=2.0) is None
+    assert zones.zone_ahead(path, 4.1, 2.0, lookahead=5.0, skip=1) is None
+
+
+def test_bad_zone_config_names_the_key() -> None:
+    with pytest.raises(ConfigError) as err:
+        ZoneConfig(narrow_width=0.4, robot_radius=0.25)
+    assert err.value.key == "fleet.zones.narrow_width"
