@@ -10,12 +10,15 @@ from __future__ import annotations
 from collections.abc import Iterable
 from types import ModuleType
 
-from polynav.protocols.galileo import auth, status
+from polynav.protocols.galileo import auth, goals, navigation, status, tasks
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
 MODULES: tuple[ModuleType, ...] = (
     auth,
     status,
+    tasks,
+    navigation,
+    goals,
 )
 
 

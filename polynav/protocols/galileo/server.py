@@ -74,6 +74,7 @@ class GalileoServer:
         if self._http is not None:
             await self._http.close()
             self._http = None
+        self.ctx.close()
 
 
 async def serve(runtime: RobotRuntime, config: GalileoConfig | None = None) -> GalileoServer:

@@ -68,11 +68,11 @@ class Harness:
             query["token"] = self.token
         return self.http.request(method, url, params=query, json=json, **kwargs)
 
-    def get(self, path: str, **params: Any) -> httpx.Response:
-        return self.request("GET", path, params=params)
+    def get(self, url: str, /, **params: Any) -> httpx.Response:
+        return self.request("GET", url, params=params)
 
-    def delete(self, path: str, **params: Any) -> httpx.Response:
-        return self.request("DELETE", path, params=params)
+    def delete(self, url: str, /, **params: Any) -> httpx.Response:
+        return self.request("DELETE", url, params=params)
 
     def post(self, path: str, body: Any = None, **kwargs: Any) -> httpx.Response:
         return self.request("POST", path, json=body, **kwargs)
