@@ -172,11 +172,8 @@ TODO_HTTP_B = {
 
 # WebSocket entries without a test yet (owner: galileo).
 TODO_WS = {
-    "GET /{topicName}",
-    "GET /galileo/status",
     "GET /bw_env_sensors/EnvSensorData",
     "GET /bw_env_sensors/AirSensorData",
-    "GET /cmd_vel",
 }
 
 TODO = TODO_HTTP_A | TODO_HTTP_B | TODO_WS
