@@ -104,13 +104,15 @@ class StopRoute:
     walls: tuple[tuple[float, float], ...] = ()
     areas: tuple[Box, ...] = ()
     stored: bool = True
+    map_points: bool = False
 
     def to_geometry(self) -> dict[str, Any]:
         return {
             "kind": KIND,
             "polyline": [list(p) for p in self.polyline],
             "polyline_text": self.polyline_text,
-            "stops": [
+            # None: the stops are the map's points whenever read (the default route).
+            "stops": None if self.map_points else [
                 {"point": s.point, "label": s.label, "z": s.z, "error_x": s.error_x,
                  "error_y": s.error_y, "direction": s.direction, "owned": s.owned}
                 for s in self.stops
@@ -125,6 +127,7 @@ class StopRoute:
         g = record.geometry
         if not isinstance(g, dict) or g.get("kind") != KIND:
             return None
+        stops = g["stops"]
         return cls(
             map_name=record.map_name,
             name=record.name,
@@ -134,10 +137,11 @@ class StopRoute:
                 Stop(s["point"], s.get("label", ""), float(s.get("z", 0.0)),
                      float(s.get("error_x", 0.1)), float(s.get("error_y", 0.1)),
                      int(s.get("direction", 0)), bool(s.get("owned", False)))
-                for s in g["stops"]
+                for s in stops or ()
             ),
             walls=tuple((float(w[0]), float(w[1])) for w in g["walls"]),
             areas=tuple((float(a[0]), float(a[1]), float(a[2]), float(a[3])) for a in g["areas"]),
+            map_points=stops is None,
         )
 
 
@@ -200,15 +204,19 @@ class RouteBook:
         """
         for route in self._stored(map_name):
             if route.name == name:
-                return route
+                return replace(route, stops=self._map_stops(map_name)) if route.map_points \
+                    else route
         if name == DEFAULT_ROUTE:
-            stops = tuple(
-                Stop(p.name, p.name)
-                for p in self.store.points(map_name=map_name)
-                if p.kind is not PointKind.CHARGER
-            )
-            return StopRoute(map_name, name, stops=stops, stored=False)
+            return StopRoute(map_name, name, stops=self._map_stops(map_name), stored=False,
+                             map_points=True)
         raise NotFound("path", f"{map_name}/{name}")
+
+    def _map_stops(self, map_name: str) -> tuple[Stop, ...]:
+        return tuple(
+            Stop(p.name, p.name)
+            for p in self.store.points(map_name=map_name)
+            if p.kind is not PointKind.CHARGER
+        )
 
     def stop_points(self, route: StopRoute) -> list[Point]:
         """The points of ``route``'s stops, in order.
@@ -268,7 +276,9 @@ class RouteBook:
         with self._lock:
             route = self._existing_or_new(map_name, name)
             points = {p.name: p for p in self.store.points(map_name=map_name)}
-            previous_owned = {s.point for s in route.stops if s.owned}
+            previous_owned = set() if route.map_points else {
+                s.point for s in route.stops if s.owned
+            }
             planned: list[tuple[Stop, Point, bool]] = []  # (stop, point, exists)
             names: set[str] = set()
             for index, item in enumerate(stops):
@@ -300,7 +310,8 @@ class RouteBook:
                     self.store.update_point(map_name, point.name, point)
                 else:
                     self.store.add_point(point)
-            new_route = replace(route, stops=tuple(s for s, _, _ in planned), stored=True)
+            new_route = replace(route, stops=tuple(s for s, _, _ in planned), stored=True,
+                                map_points=False)
             saved = self._put(new_route)
             self._drop_unused(map_name, previous_owned - names)
             return saved
@@ -313,8 +324,8 @@ class RouteBook:
         """
         with self._lock:
             route = self.route(map_name, name)
-            owned = {s.point for s in route.stops if s.owned}
-            saved = self._put(replace(route, stops=(), stored=True))
+            owned = {s.point for s in route.stops if s.owned and not route.map_points}
+            saved = self._put(replace(route, stops=(), stored=True, map_points=False))
             self._drop_unused(map_name, owned)
             return saved
 
@@ -349,7 +360,8 @@ class RouteBook:
             others = [r for r in self.store.routes(map_name) if r.name != name]
             self._sync_keepouts(map_name, old=[route], new=[])
             self.store.set_routes(map_name, others)
-            self._drop_unused(map_name, {s.point for s in route.stops if s.owned})
+            if not route.map_points:
+                self._drop_unused(map_name, {s.point for s in route.stops if s.owned})
 
     # -- internals ------------------------------------------------------------------------------
 
@@ -397,7 +409,7 @@ class RouteBook:
         """Delete the points in ``candidates`` that no route's stop uses any more."""
         if not candidates:
             return
-        used = {s.point for r in self._stored(map_name) for s in r.stops}
+        used = {s.point for r in self._stored(map_name) if not r.map_points for s in r.stops}
         for name in sorted(candidates - used):
             try:
                 self.store.delete_point(map_name, name)

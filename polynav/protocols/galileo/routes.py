@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from types import ModuleType
 
-from polynav.protocols.galileo import auth, goals, navigation, status, tasks
+from polynav.protocols.galileo import areas, auth, goals, navigation, paths, status, tasks
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
 MODULES: tuple[ModuleType, ...] = (
@@ -19,6 +19,8 @@ MODULES: tuple[ModuleType, ...] = (
     tasks,
     navigation,
     goals,
+    paths,
+    areas,
 )
 
 
