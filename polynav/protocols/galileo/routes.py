@@ -10,7 +10,18 @@ from __future__ import annotations
 from collections.abc import Iterable
 from types import ModuleType
 
-from polynav.protocols.galileo import areas, auth, goals, navigation, paths, status, tasks
+from polynav.protocols.galileo import (
+    areas,
+    auth,
+    charge,
+    goals,
+    local_moves,
+    loop,
+    navigation,
+    paths,
+    status,
+    tasks,
+)
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
 MODULES: tuple[ModuleType, ...] = (
@@ -21,6 +32,9 @@ MODULES: tuple[ModuleType, ...] = (
     goals,
     paths,
     areas,
+    charge,
+    loop,
+    local_moves,
 )
 
 

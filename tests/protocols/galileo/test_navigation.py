@@ -42,7 +42,7 @@ def _wait_task(g: Harness, task_id: str, timeout: float = 120.0) -> dict[str, An
         state.update(g.ok("GET", "/task", params={"id": task_id}))
         return state["state"] in final
 
-    assert g.runtime.advance_until(done, timeout), state
+    assert g.advance_until(done, timeout), state
     return state
 
 
