@@ -17,6 +17,8 @@ from polynav.protocols.galileo import (
     goals,
     local_moves,
     loop,
+    map_files,
+    mapping,
     navigation,
     paths,
     status,
@@ -35,6 +37,8 @@ MODULES: tuple[ModuleType, ...] = (
     charge,
     loop,
     local_moves,
+    mapping,
+    map_files,
 )
 
 
