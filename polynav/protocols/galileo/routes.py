@@ -14,6 +14,7 @@ from polynav.protocols.galileo import (
     areas,
     auth,
     charge,
+    coverage,
     goals,
     local_moves,
     loop,
@@ -39,6 +40,7 @@ MODULES: tuple[ModuleType, ...] = (
     local_moves,
     mapping,
     map_files,
+    coverage,
 )
 
 

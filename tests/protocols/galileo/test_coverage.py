@@ -125,7 +125,6 @@ TODO_HTTP_B = {
     "GET /api/v1/navigation/start_nav_local_move_io",
     "GET /api/v1/navigation/wind_info",
     "GET /api/v1/navigation/landmarks",
-    "POST /api/v1/navigation/coverage_path",
 }
 
 # WebSocket entries without a test yet (owner: galileo).
