@@ -22,6 +22,7 @@ from polynav.protocols.galileo import (
     mapping,
     navigation,
     paths,
+    sensors,
     status,
     tasks,
 )
@@ -41,6 +42,7 @@ MODULES: tuple[ModuleType, ...] = (
     mapping,
     map_files,
     coverage,
+    sensors,
 )
 
 

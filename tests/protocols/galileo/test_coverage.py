@@ -123,8 +123,6 @@ TODO_HTTP_B = {
     "DELETE /api/v1/navigation/point_connections",
     "POST /api/v1/navigation/multi_map_task",
     "GET /api/v1/navigation/start_nav_local_move_io",
-    "GET /api/v1/navigation/wind_info",
-    "GET /api/v1/navigation/landmarks",
 }
 
 # WebSocket entries without a test yet (owner: galileo).
