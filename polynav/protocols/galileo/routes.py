@@ -14,6 +14,7 @@ from polynav.protocols.galileo import (
     areas,
     auth,
     charge,
+    connections,
     coverage,
     goals,
     local_moves,
@@ -43,6 +44,7 @@ MODULES: tuple[ModuleType, ...] = (
     map_files,
     coverage,
     sensors,
+    connections,
 )
 
 

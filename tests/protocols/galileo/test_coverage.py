@@ -118,9 +118,6 @@ TODO_HTTP_A = {
 
 # galileo-http-b entries without a test yet (owner: galileo).
 TODO_HTTP_B = {
-    "GET /api/v1/navigation/point_connections",
-    "POST /api/v1/navigation/point_connections",
-    "DELETE /api/v1/navigation/point_connections",
     "POST /api/v1/navigation/multi_map_task",
     "GET /api/v1/navigation/start_nav_local_move_io",
 }
