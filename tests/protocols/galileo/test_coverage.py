@@ -118,7 +118,6 @@ TODO_HTTP_A = {
 
 # galileo-http-b entries without a test yet (owner: galileo).
 TODO_HTTP_B = {
-    "POST /api/v1/navigation/multi_map_task",
     "GET /api/v1/navigation/start_nav_local_move_io",
 }
 
@@ -172,10 +171,15 @@ def test_every_covered_http_entry_is_served() -> None:
     assert unserved == []
 
 
+#: Served beside the entries on purpose: /token without the prefix (A-02), and
+#: multi_map_task by GET as well as POST (its method is not stated, A-12).
+ALIASES = {"GET /token", "GET /api/v1/navigation/multi_map_task"}
+
+
 def test_every_served_endpoint_is_an_entry() -> None:
     entries = {k.split(" @")[0] for k in spec.HTTP_A | spec.HTTP_B | spec.TASKS}
     extra = sorted(
         f"{method} {path}" for method, path in routes.table()
-        if f"{method} {path}" not in entries and path != "/token"
+        if f"{method} {path}" not in entries | ALIASES
     )
     assert extra == [], "served endpoints that are no entry of the lists"
