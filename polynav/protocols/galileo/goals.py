@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import logging
 
-from polynav.errors import InvalidRequest
+from polynav.errors import Conflict, InvalidRequest
 from polynav.geometry import Pose2D, wrap_angle
 from polynav.protocols.galileo import crossing
 from polynav.protocols.galileo import session as sessions
@@ -35,17 +35,25 @@ def nav_to_target(ctx: Context, map_name: str, path: str, index: int) -> NavActi
                      index=index, on_attempt=lambda a: ctx.remember_target(a, target))
 
 
-def nav_to_pose(ctx: Context, pose: Pose2D) -> NavAction:
+def nav_to_pose(ctx: Context, pose: Pose2D, map_name: str | None = None) -> NavAction:
     target = Target(TARGET_WITHOUT_ID)
-    return NavAction(pose=pose, on_attempt=lambda a: ctx.remember_target(a, target))
+    return NavAction(pose=pose, map_name=map_name,
+                     on_attempt=lambda a: ctx.remember_target(a, target))
 
 
 def plan_actions(ctx: Context, map_name: str, final: NavAction) -> list[Action]:
-    """``final`` alone on the current map, else the crossing of maps that leads to it."""
+    """``final`` alone on the current map; on another map, the crossing of the site's direct
+    connections that leads to it, else ``final`` alone for the runtime's multi-map router to
+    route (through lifts), which refuses a map it cannot reach."""
     here = sessions.current_map(ctx)
     if map_name == here:
         return [final]
-    return [*crossing.actions_between(ctx, here, map_name), final]
+    try:
+        return [*crossing.actions_between(ctx, here, map_name), final]
+    except Conflict:
+        log.info("galileo: no direct connections from %s to %s: the runtime routes", here,
+                 map_name)
+        return [final]
 
 
 @ROUTES.post("/navigation/start_nav_task")
@@ -58,7 +66,7 @@ def start_nav_task(ctx: Context, params: Params) -> Reply:
     ctx.store.map_record(map_name)
     if path is not None:
         sessions.routes(ctx).route(map_name, path)
-    actions = plan_actions(ctx, map_name, nav_to_pose(ctx, pose))
+    actions = plan_actions(ctx, map_name, nav_to_pose(ctx, pose, map_name))
     return book(ctx).run(NAVIGATION_TASK, actions)
 
 
