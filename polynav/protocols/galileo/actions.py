@@ -21,6 +21,7 @@ from typing import Any
 
 from polynav.errors import Conflict, PolynavError
 from polynav.geometry import Pose2D, wrap_angle
+from polynav.nav.attempt import GoalOptions
 from polynav.protocols.galileo.messages import TaskState
 from polynav.runtime import events
 from polynav.runtime.robot_runtime import RobotRuntime
@@ -110,6 +111,7 @@ class NavAction(Action):
     index: int | None = None
     attempt_id: int | None = None
     on_attempt: Callable[[int], None] | None = None
+    options: GoalOptions | None = None
 
     def __post_init__(self) -> None:
         self.type = "nav_action"
@@ -131,9 +133,11 @@ class NavAction(Action):
 
     def start(self, runtime: RobotRuntime) -> None:
         if self.point is not None:
-            self.attempt_id = runtime.go_to(point=self.point, map_name=self.map_name)
+            self.attempt_id = runtime.go_to(point=self.point, map_name=self.map_name,
+                                            options=self.options)
         else:
-            self.attempt_id = runtime.go_to(pose=self.pose, map_name=self.map_name)
+            self.attempt_id = runtime.go_to(pose=self.pose, map_name=self.map_name,
+                                            options=self.options)
         if self.on_attempt is not None:
             self.on_attempt(self.attempt_id)
 

@@ -11,7 +11,7 @@ import logging
 
 from polynav.errors import Conflict, InvalidRequest
 from polynav.geometry import Pose2D, wrap_angle
-from polynav.protocols.galileo import crossing
+from polynav.protocols.galileo import crossing, follow
 from polynav.protocols.galileo import session as sessions
 from polynav.protocols.galileo.actions import Action, NavAction
 from polynav.protocols.galileo.context import TARGET_WITHOUT_ID, Context, Target
@@ -41,13 +41,17 @@ def nav_to_pose(ctx: Context, pose: Pose2D, map_name: str | None = None) -> NavA
                      on_attempt=lambda a: ctx.remember_target(a, target))
 
 
-def plan_actions(ctx: Context, map_name: str, final: NavAction) -> list[Action]:
-    """``final`` alone on the current map; on another map, the crossing of the site's direct
-    connections that leads to it, else ``final`` alone for the runtime's multi-map router to
-    route (through lifts), which refuses a map it cannot reach."""
+def plan_actions(ctx: Context, map_name: str, final: NavAction, path: str | None = None
+                 ) -> list[Action]:
+    """``final`` on the current map (after the legs along the drawn path, when the robot
+    follows drawn paths); on another map, the crossing of the site's direct connections that
+    leads to it, else ``final`` alone for the runtime's multi-map router to route (through
+    lifts), which refuses a map it cannot reach."""
     here = sessions.current_map(ctx)
     if map_name == here:
-        return [final]
+        legs = follow.waypoint_actions(ctx, map_name, path or sessions.current_path(ctx, here),
+                                       final.pose)
+        return [*legs, final]
     try:
         return [*crossing.actions_between(ctx, here, map_name), final]
     except Conflict:
@@ -66,7 +70,7 @@ def start_nav_task(ctx: Context, params: Params) -> Reply:
     ctx.store.map_record(map_name)
     if path is not None:
         sessions.routes(ctx).route(map_name, path)
-    actions = plan_actions(ctx, map_name, nav_to_pose(ctx, pose, map_name))
+    actions = plan_actions(ctx, map_name, nav_to_pose(ctx, pose, map_name), path)
     return book(ctx).run(NAVIGATION_TASK, actions)
 
 
@@ -82,7 +86,7 @@ def move_to_index(ctx: Context, params: Params) -> Reply:
     path = params.text("path", None) or sessions.current_path(ctx, map_name)
     final = nav_to_target(ctx, map_name, path, index)  # NotFound / InvalidRequest first
     sessions.require_goals_allowed(ctx)
-    actions = plan_actions(ctx, map_name, final)
+    actions = plan_actions(ctx, map_name, final, path)
     return book(ctx).run(NAVIGATION_TASK, actions)
 
 
