@@ -106,8 +106,8 @@ class TaskBook:
 
     def running(self, kind: str | None = None) -> Task | None:
         """The working or paused task (of ``kind``), if any."""
-        with self._lock:
-            for task in reversed(list(self._tasks.values())):
+        with self._lock:  # the running task is nearly always the newest: no copy, no full scan
+            for task in reversed(self._tasks.values()):
                 if task.state in (TaskState.WORKING, TaskState.PAUSED) and (
                     kind is None or task.kind == kind
                 ):
@@ -116,7 +116,7 @@ class TaskBook:
 
     def last(self, kind: str) -> Task | None:
         with self._lock:
-            for task in reversed(list(self._tasks.values())):
+            for task in reversed(self._tasks.values()):
                 if task.kind == kind:
                     return task
         return None
