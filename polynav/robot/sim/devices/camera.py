@@ -28,7 +28,7 @@ VIEWS = {"front": 0.0, "back": math.pi}
 FORMATS = {"png": "PNG", "jpeg": "JPEG"}
 
 _CEILING = np.array([200, 205, 215], dtype=np.float64)
-_FLOOR = np.array([120, 110, 100], dtype=np.float64)
+_FLOOR = np.array([110, 112, 118], dtype=np.float64)
 _WALL = np.array([225, 215, 190], dtype=np.float64)
 
 
