@@ -116,6 +116,7 @@ def _run(args: argparse.Namespace) -> int:
         )
         runtime.start()
         yunji = None
+        galileo = None
         try:
             if not args.no_yunji:
                 from polynav.protocols.yunji import YunjiConfig
@@ -129,6 +130,19 @@ def _run(args: argparse.Namespace) -> int:
                     print(f"polynav run: cannot listen (Yunji, ports {args.yunji_port}, "
                           f"{http_port}): {exc}", file=sys.stderr)
                     return 1
+            if not args.no_galileo:
+                from polynav.protocols.galileo import GalileoConfig
+                from polynav.protocols.galileo.server import GalileoThread
+
+                try:
+                    galileo = GalileoThread(runtime, GalileoConfig(
+                        host=args.host, port=args.galileo_port, ws_port=args.galileo_ws_port,
+                        require_token=args.galileo_require_token,
+                    ))
+                except OSError as exc:
+                    print(f"polynav run: cannot listen (Galileo, ports {args.galileo_port}, "
+                          f"{args.galileo_ws_port}): {exc}", file=sys.stderr)
+                    return 1
             base = f"http://{host}:{port}"
             print(f"polynav: simulating world {world.name!r} at {args.speed:g}x, data in "
                   f"{Path(args.data).resolve()}", flush=True)
@@ -139,10 +153,14 @@ def _run(args: argparse.Namespace) -> int:
                 if yunji.http_port is not None:
                     print(f"polynav: Yunji HTTP http://{host}:{yunji.http_port}/api/...",
                           flush=True)
+            if galileo is not None:
+                print(f"polynav: Galileo API http://{host}:{galileo.port}/api/v1", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             if not stop_requested:
                 server.run(sockets=[sock])
         finally:
+            if galileo is not None:
+                galileo.stop()
             if yunji is not None:
                 yunji.stop()
             runtime.stop()
@@ -260,6 +278,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")
     run.add_argument("--yunji-http-port", type=int, default=8808,
                      help="Yunji legacy HTTP port, 0 for any free one (default: %(default)s)")
+    run.add_argument("--galileo-port", type=int, default=3546,
+                     help="Galileo HTTP API port (default: %(default)s)")
+    run.add_argument("--galileo-ws-port", type=int, default=3547,
+                     help="Galileo WebSocket port (default: %(default)s)")
+    run.add_argument("--no-galileo", action="store_true", help="do not serve the Galileo API")
+    run.add_argument("--galileo-require-token", action="store_true",
+                     help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",
                      help="do not serve the Yunji legacy HTTP form")
     maps = sub.add_parser("map", help="list, import or export ROS maps of the site",

@@ -1,0 +1,121 @@
+"""The Galileo adapter's servers around one runtime: HTTP (3546) now; WebSocket (3547) and UDP
+discovery (22002) join here. Transport only (STYLE R4): the handlers live in the route modules.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import hashlib
+import logging
+import threading
+
+from polynav.protocols.galileo import routes
+from polynav.protocols.galileo.auth import TokenBook, load_settings
+from polynav.protocols.galileo.config import GalileoConfig
+from polynav.protocols.galileo.context import Context, site_store
+from polynav.protocols.galileo.http import HttpListener, create_app
+from polynav.runtime.robot_runtime import RobotRuntime
+
+log = logging.getLogger(__name__)
+
+#: The Galileo HTTP API version polynav answers to (the spec's examples are 5.0–6.x).
+API_VERSION = "6.1.5"
+
+
+def identity(seed: str) -> tuple[str, str]:
+    """A stable robot id (76 upper-case hex digits, like the vendor's) and a locally
+    administered MAC address, both derived from ``seed`` (the data directory)."""
+    digest = hashlib.sha512(seed.encode("utf-8")).hexdigest().upper()
+    robot_id = (digest + hashlib.sha256(seed.encode("utf-8")).hexdigest().upper())[:76]
+    octets = [int(digest[i : i + 2], 16) for i in range(0, 12, 2)]
+    octets[0] = (octets[0] | 0x02) & 0xFE  # locally administered, unicast
+    return robot_id, ":".join(f"{o:02x}" for o in octets)
+
+
+def make_context(runtime: RobotRuntime, config: GalileoConfig) -> Context:
+    data_dir = site_store(runtime).data_dir
+    config_file = config.config_file or data_dir / "galileo" / "config.json"
+    settings = load_settings(config_file)
+    robot_id, mac = identity(str(data_dir.resolve()))
+    return Context(
+        runtime=runtime,
+        config=config,
+        tokens=TokenBook(settings, require_token=config.require_token),
+        robot_id=config.robot_id or robot_id,
+        mac=mac,
+        version=API_VERSION,
+        data_dir=data_dir,
+    )
+
+
+class GalileoServer:
+    """The listening Galileo servers; build with :func:`serve`, end with :meth:`close`."""
+
+    def __init__(self, runtime: RobotRuntime, config: GalileoConfig) -> None:
+        self.config = config
+        self.ctx = make_context(runtime, config)
+        self._http: HttpListener | None = None
+
+    @property
+    def port(self) -> int:
+        """The HTTP port actually bound."""
+        assert self._http is not None
+        return self._http.port
+
+    async def start(self) -> None:
+        app = create_app(self.ctx, routes.table())
+        http = HttpListener(app, self.config.host, self.config.port)
+        await http.start()
+        self._http = http
+        log.info("galileo: HTTP on %s:%d (token checking %s)", self.config.host, http.port,
+                 "on" if self.ctx.tokens.checking else "off")
+
+    async def close(self) -> None:
+        if self._http is not None:
+            await self._http.close()
+            self._http = None
+
+
+async def serve(runtime: RobotRuntime, config: GalileoConfig | None = None) -> GalileoServer:
+    """Start the Galileo servers for ``runtime`` on the running event loop."""
+    server = GalileoServer(runtime, config or GalileoConfig())
+    try:
+        await server.start()
+    except BaseException:
+        await server.close()
+        raise
+    return server
+
+
+class GalileoThread:
+    """The Galileo servers on their own event loop in a daemon thread (``polynav run``)."""
+
+    def __init__(self, runtime: RobotRuntime, config: GalileoConfig) -> None:
+        self._loop = asyncio.new_event_loop()
+        self._thread = threading.Thread(
+            target=self._loop.run_forever, name="polynav-galileo", daemon=True
+        )
+        self._thread.start()
+        try:
+            self.server = asyncio.run_coroutine_threadsafe(
+                serve(runtime, config), self._loop
+            ).result()
+        except BaseException:
+            self._shutdown()
+            raise
+
+    @property
+    def port(self) -> int:
+        return self.server.port
+
+    def stop(self) -> None:
+        asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()
+        self._shutdown()
+
+    def _shutdown(self) -> None:
+        asyncio.run_coroutine_threadsafe(
+            self._loop.shutdown_default_executor(), self._loop
+        ).result()
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        self._thread.join()
+        self._loop.close()

@@ -1,0 +1,135 @@
+"""A real Galileo server on 127.0.0.1 port 0 over a real runtime on the seeded demo site.
+
+Determinism (as the Yunji suite): the runtime's loop thread is NOT started. The servers run on
+their own event-loop thread; runtime commands from handlers run at once under the runtime's
+lock, and the test advances simulated time itself (``runtime.advance``) between requests, so
+every run sees the same simulated history whatever the machine's speed.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import threading
+from collections.abc import Callable, Coroutine, Iterator
+from pathlib import Path
+from typing import Any, TypeVar
+
+import httpx
+import pytest
+
+from polynav.protocols.galileo import GalileoConfig, serve
+from polynav.protocols.galileo.server import GalileoServer
+from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from polynav.worlds.world import World
+
+T = TypeVar("T")
+HTTP_TIMEOUT = 20.0
+
+
+class LoopThread:
+    """An asyncio loop on a daemon thread, for servers the blocking test code talks to."""
+
+    def __init__(self) -> None:
+        self.loop = asyncio.new_event_loop()
+        self.thread = threading.Thread(target=self.loop.run_forever, daemon=True)
+        self.thread.start()
+
+    def run(self, coro: Coroutine[Any, Any, T]) -> T:
+        return asyncio.run_coroutine_threadsafe(coro, self.loop).result(timeout=60)
+
+    def close(self) -> None:
+        self.run(self.loop.shutdown_default_executor())
+        self.loop.call_soon_threadsafe(self.loop.stop)
+        self.thread.join(timeout=10)
+        self.loop.close()
+
+
+class Harness:
+    """The runtime, the servers, and an HTTP client for ``/api/v1`` (token added when set)."""
+
+    def __init__(self, runtime: RobotRuntime, server: GalileoServer, loop: LoopThread) -> None:
+        self.runtime = runtime
+        self.server = server
+        self.loop = loop
+        self.base = f"http://127.0.0.1:{server.port}"
+        self.http = httpx.Client(base_url=self.base, timeout=HTTP_TIMEOUT)
+        self.token: str | None = None
+
+    def request(self, method: str, path: str, *, params: dict[str, Any] | None = None,
+                json: Any = None, **kwargs: Any) -> httpx.Response:
+        """``method`` on ``/api/v1`` + ``path`` (a path starting ``/token`` or ``http`` is used
+        as is)."""
+        url = path if path.startswith(("/api/", "/token")) else "/api/v1" + path
+        query = dict(params or {})
+        if self.token is not None and "token" not in query:
+            query["token"] = self.token
+        return self.http.request(method, url, params=query, json=json, **kwargs)
+
+    def get(self, path: str, **params: Any) -> httpx.Response:
+        return self.request("GET", path, params=params)
+
+    def delete(self, path: str, **params: Any) -> httpx.Response:
+        return self.request("DELETE", path, params=params)
+
+    def post(self, path: str, body: Any = None, **kwargs: Any) -> httpx.Response:
+        return self.request("POST", path, json=body, **kwargs)
+
+    def put(self, path: str, body: Any = None, **kwargs: Any) -> httpx.Response:
+        return self.request("PUT", path, json=body, **kwargs)
+
+    def ok(self, method: str, path: str, **kwargs: Any) -> Any:
+        """The JSON of a 200 reply (fails the test on another status)."""
+        response = self.request(method, path, **kwargs)
+        assert response.status_code == 200, (method, path, response.status_code, response.text)
+        return response.json()
+
+    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
+        """Advance simulated time until ``done()`` (checked between 0.1 s steps)."""
+        return self.runtime.advance_until(done, timeout)
+
+
+@pytest.fixture(scope="session")
+def world() -> World:
+    return load_world("demo")
+
+
+@pytest.fixture
+def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
+    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
+        yield opened
+
+
+@pytest.fixture
+def runtime(world: World, store: SiteStore) -> RobotRuntime:
+    return RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+
+
+def galileo_config(**changes: Any) -> GalileoConfig:
+    """A config for tests: ephemeral ports, no announcements unless asked."""
+    options: dict[str, Any] = {"port": 0, "ws_port": 0, "announce": False}
+    options.update(changes)
+    return GalileoConfig(**options)
+
+
+@contextlib.contextmanager
+def serving(runtime: RobotRuntime, config: GalileoConfig | None = None) -> Iterator[Harness]:
+    """The Galileo servers for ``runtime`` on their own loop thread; closed at the end."""
+    loop = LoopThread()
+    server = loop.run(serve(runtime, config or galileo_config()))
+    runtime.advance(0.5)  # out of the start-up BUSY
+    h = Harness(runtime, server, loop)
+    try:
+        yield h
+    finally:
+        h.http.close()
+        loop.run(server.close())
+        loop.close()
+
+
+@pytest.fixture
+def galileo(runtime: RobotRuntime) -> Iterator[Harness]:
+    with serving(runtime) as h:
+        yield h
