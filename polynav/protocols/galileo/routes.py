@@ -10,12 +10,21 @@ from __future__ import annotations
 from collections.abc import Iterable
 from types import ModuleType
 
-from polynav.protocols.galileo import auth, status
+from polynav.protocols.galileo import (
+    auth,
+    status,
+    system_calibration,
+    system_info,
+    system_io,
+)
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
 MODULES: tuple[ModuleType, ...] = (
     auth,
     status,
+    system_info,
+    system_calibration,
+    system_io,
 )
 
 
