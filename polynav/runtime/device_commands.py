@@ -14,6 +14,7 @@ the devices.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
@@ -44,6 +45,9 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 AXES = ("slide", "jacking", "jacking_rotation")
+GREETING = "欢迎光临"  # "welcome": what greeting mode says (its audio can be replaced)
+GREETING_RANGE = 2.0  # [m] a person this near is greeted
+
 IO_BANKS = ("io", "expansion_io", "voice_io")
 CAMERA_VIEWS = ("front", "back")
 
@@ -68,12 +72,43 @@ class Peripherals:
         self.snapshots = MediaFolder(root / "media" / "photos", ".jpg")
         self.videos = MediaFolder(root / "media" / "videos", ".mkv")
         self.recorder = VideoRecorder(devices.camera, self.videos)
+        self.greeting = False
+        self._greeted: set[int] = set()
 
     def tick(self, now: float) -> None:
         """One control period (called by the runtime's loop)."""
         robot = self._runtime.robot
         self.devices.observe(now, robot.read_odometry(), robot.read_scan())
         self.recorder.tick(now)
+        if self.greeting:
+            self._greet(now)
+
+    def set_greeting(self, on: bool) -> None:
+        """Greeting mode: say :data:`GREETING` to each person who comes within
+        :data:`GREETING_RANGE` (once per person while they stay in view).
+
+        Raises:
+            Conflict: no data directory (the greeting's audio lives there).
+        """
+        self._files()
+
+        def run(now: float) -> None:
+            self.greeting = on
+            self._greeted.clear()
+
+        self._run(run)
+
+    def _greet(self, now: float) -> None:
+        people = self._runtime.robot.read_people()
+        in_view = {p.track_id for p in people}
+        self._greeted &= in_view  # someone who left and comes back is greeted again
+        near = [p.track_id for p in people
+                if p.track_id not in self._greeted and math.hypot(p.x, p.y) <= GREETING_RANGE]
+        if near and not self.devices.speaker.playing(now):
+            self._greeted.update(near)
+            self.voice.play(GREETING, int(round(now * 1000.0)))
+            self.devices.speaker.say(now, GREETING, speech_duration(GREETING))
+            log.info("greeting %d people at t=%.2f", len(near), now)
 
     def _run(self, fn: Callable[[float], T]) -> T:
         runtime = self._runtime

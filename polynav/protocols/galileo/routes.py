@@ -16,6 +16,7 @@ from polynav.protocols.galileo import (
     system_calibration,
     system_info,
     system_io,
+    system_voice,
 )
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
@@ -25,6 +26,7 @@ MODULES: tuple[ModuleType, ...] = (
     system_info,
     system_calibration,
     system_io,
+    system_voice,
 )
 
 

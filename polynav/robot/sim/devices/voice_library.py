@@ -251,8 +251,9 @@ class VoiceLibrary:
     # -- aliases ---------------------------------------------------------------------------
 
     def set_aliases(self, aliases: Mapping[str, str], *, replace_all: bool) -> dict[str, str]:
-        """Replace every alias, or update the given ones (whose texts get their voice made
-        anew in the current package); returns the whole table.
+        """Replace every alias (the texts shown instead, nothing else changes), or update the
+        given ones, whose original texts then sound as their replacements in the current
+        package; returns the whole table.
 
         Raises:
             InvalidRequest: a key or value that is not a non-empty string.
@@ -262,10 +263,11 @@ class VoiceLibrary:
                 raise InvalidRequest("alias", f"{key!r}: {value!r} is not text -> text")
         table = dict(aliases) if replace_all else {**self.aliases(), **aliases}
         if not replace_all:
+            # The original text now sounds as its replacement: its audio is made anew.
             folder = self._package_dir(self.current)
-            for value in aliases.values():
-                self._remove_audio(folder, value)
-                _write_atomic(folder / (text_md5(value) + ".wav"), synthesize(value))
+            for key, value in aliases.items():
+                self._remove_audio(folder, key)
+                _write_atomic(folder / (text_md5(key) + ".wav"), synthesize(value))
         _write_atomic(self._aliases_file, json.dumps(table, ensure_ascii=False).encode())
         return table
 
