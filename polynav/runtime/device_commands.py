@@ -301,12 +301,20 @@ class Peripherals:
 
         return self._run(run)
 
-    def start_video(self, view: str, duration: float, name: str | None) -> DeviceJob:
-        """Raises: InvalidRequest: bad duration, view or name. Conflict: a recording runs, or
-        no data directory."""
+    def start_video(self, view: str, duration: float, name: str | None) -> tuple[DeviceJob, str]:
+        """Start recording; the job and the name the video will be saved under.
+
+        Raises:
+            InvalidRequest: bad duration, view or name. Conflict: a recording runs, or no
+                data directory.
+        """
         self._files()
-        return self._run(lambda now: self.recorder.start(now, view=view, duration=duration,
-                                                         name=name))
+
+        def run(now: float) -> tuple[DeviceJob, str]:
+            job = self.recorder.start(now, view=view, duration=duration, name=name)
+            return job, self.recorder.current_name or ""
+
+        return self._run(run)
 
     def video_job(self, job_id: str) -> DeviceJob | None:
         return self._run(lambda now: self.recorder.job(job_id))

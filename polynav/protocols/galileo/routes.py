@@ -13,9 +13,11 @@ from types import ModuleType
 from polynav.protocols.galileo import (
     auth,
     status,
+    system_actuators,
     system_calibration,
     system_info,
     system_io,
+    system_media,
     system_voice,
 )
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
@@ -27,6 +29,8 @@ MODULES: tuple[ModuleType, ...] = (
     system_calibration,
     system_io,
     system_voice,
+    system_media,
+    system_actuators,
 )
 
 

@@ -28,18 +28,6 @@ TODO_HTTP_A = {
     "GET /api/v1/system/tracking_mode",
     "PUT /api/v1/system/tracking_mode",
     "GET /api/v1/system/is_online",
-    "GET /api/v1/system/saved_images/",
-    "POST /api/v1/system/saved_images",
-    "DELETE /api/v1/system/saved_images/",
-    "GET /api/v1/system/saved_videos/",
-    "POST /api/v1/system/saved_videos",
-    "DELETE /api/v1/system/saved_videos/",
-    "GET /api/v1/system/slide_pose",
-    "GET /api/v1/system/slide_move_to",
-    "GET /api/v1/system/jacking_pose",
-    "GET /api/v1/system/jacking_move_to",
-    "GET /api/v1/system/jacking_angle",
-    "GET /api/v1/system/jacking_angle_move_to",
     "GET /api/v1/system/uwb_track",
     "PUT /api/v1/system/uwb_track",
     "GET /api/v1/system/restart_router",
@@ -191,6 +179,7 @@ def test_every_served_endpoint_is_an_entry() -> None:
     entries = {k.split(" @")[0] for k in spec.HTTP_A | spec.HTTP_B}
     extra = sorted(
         f"{method} {path}" for method, path in routes.table()
-        if f"{method} {path}" not in entries and path != "/token"
+        # A ``{param}`` tail is the path form of an entry's parameter (galileo-http-a A-20).
+        if f"{method} {path.split('{')[0]}" not in entries and path != "/token"
     )
     assert extra == [], "served endpoints that are no entry of the lists"

@@ -83,9 +83,9 @@ def test_a_photo_and_a_video_land_in_the_data_directory(runtime: RobotRuntime) -
     p = runtime.peripherals
     name = p.take_photo("front", None)
     assert p.photos.path(name).read_bytes()[:4] == b"\x89PNG"
-    job = p.start_video("front", 2.0, None)
+    job, stem = p.start_video("front", 2.0, None)
     runtime.advance(2.1)
     assert p.video_job(job.job_id).state is JobState.COMPLETE  # type: ignore[union-attr]
-    assert p.videos.names() == [p.recorder.saved[job.job_id]]
+    assert p.videos.names() == [p.recorder.saved[job.job_id]] == [stem]
     snapshot = p.ptz_snapshot()
     assert snapshot.suffix == ".jpg" and snapshot.parent == p.photos.root

@@ -130,6 +130,11 @@ class VideoRecorder:
     def recording(self) -> bool:
         return self._recording is not None
 
+    @property
+    def current_name(self) -> str | None:
+        """The file name (without extension) of the video being recorded."""
+        return self._recording.name if self._recording is not None else None
+
     def tick(self, now: float) -> None:
         rec = self._recording
         if rec is None:
