@@ -18,6 +18,7 @@ from polynav.protocols.galileo import (
     system_info,
     system_io,
     system_media,
+    system_network,
     system_voice,
 )
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
@@ -31,6 +32,7 @@ MODULES: tuple[ModuleType, ...] = (
     system_voice,
     system_media,
     system_actuators,
+    system_network,
 )
 
 
