@@ -155,6 +155,9 @@ def _run(args: argparse.Namespace) -> int:
                           flush=True)
             if galileo is not None:
                 print(f"polynav: Galileo API http://{host}:{galileo.port}/api/v1", flush=True)
+                if galileo.ws_port is not None:
+                    print(f"polynav: Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>",
+                          flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             if not stop_requested:
                 server.run(sockets=[sock])

@@ -23,6 +23,11 @@ _MAX_LOCAL_DISTANCE = 10.0
 
 
 class MotionCommands(RuntimeParts):
+    @property
+    def local_move_active(self) -> bool:
+        """Whether a local move is under way (task runners wait for it to end)."""
+        return self._motion.local_move_active
+
     def teleop(self, linear: float, angular: float) -> None:
         """Drive at ``linear`` [m/s], ``angular`` [rad/s] (clamped to the settings) for
         ``teleop_timeout`` seconds; repeat the command to keep moving (dead-man).

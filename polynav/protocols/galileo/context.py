@@ -90,6 +90,17 @@ class Context:
         with self.lock:
             return self.targets.get(attempt_id)
 
+    def close(self) -> None:
+        """Release what the modules' states hold (event subscriptions): each state with a
+        ``close()`` method is closed."""
+        with self.lock:
+            states = list(self._states.values())
+            self._states.clear()
+        for value in states:
+            close = getattr(value, "close", None)
+            if callable(close):
+                close()
+
     def state(self, key: str, factory: Callable[[], T]) -> T:
         """A route module's own state, made by ``factory`` on first use (thread-safe)."""
         with self.lock:

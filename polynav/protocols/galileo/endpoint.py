@@ -9,9 +9,9 @@ RouteList()`` and decorates its handlers::
 Paths are written as the vendor's document writes them (without ``/api/v1``); the list adds the
 prefix. :mod:`polynav.protocols.galileo.routes` gathers every module's list, so a new module is
 added there by one line. A handler converts units and terms, calls one runtime command (or reads
-the snapshot or the store) and returns the vendor reply: a JSON-ready ``dict``/``list``, or a
-Starlette ``Response`` for files. polynav exceptions propagate; the HTTP layer maps them
-(:mod:`polynav.protocols.galileo.errors`).
+the snapshot or the store) and returns the vendor reply: a JSON-ready ``dict``/``list``
+(``None``: JSON ``null``), or a Starlette ``Response`` for files. polynav exceptions
+propagate; the HTTP layer maps them (:mod:`polynav.protocols.galileo.errors`).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
 PREFIX = "/api/v1"
 
-Reply = dict[str, Any] | list[Any] | Response
+Reply = dict[str, Any] | list[Any] | Response | None
 Handler = Callable[["Context", "Params"], Reply]
 
 

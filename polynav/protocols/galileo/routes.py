@@ -11,7 +11,14 @@ from collections.abc import Iterable
 from types import ModuleType
 
 from polynav.protocols.galileo import (
+    areas,
     auth,
+    charge,
+    goals,
+    local_moves,
+    loop,
+    navigation,
+    paths,
     status,
     system_actuators,
     system_calibration,
@@ -20,12 +27,21 @@ from polynav.protocols.galileo import (
     system_media,
     system_network,
     system_voice,
+    tasks,
 )
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
 
 MODULES: tuple[ModuleType, ...] = (
     auth,
     status,
+    tasks,
+    navigation,
+    goals,
+    paths,
+    areas,
+    charge,
+    loop,
+    local_moves,
     system_info,
     system_calibration,
     system_io,

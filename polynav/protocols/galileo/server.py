@@ -1,5 +1,5 @@
-"""The Galileo adapter's servers around one runtime: HTTP (3546) now; WebSocket (3547) and UDP
-discovery (22002) join here. Transport only (STYLE R4): the handlers live in the route modules.
+"""The Galileo adapter's servers around one runtime: HTTP (3546), UDP discovery (22002) and the
+WebSocket (3547). Transport only (STYLE R4): the handlers live in the route modules.
 """
 
 from __future__ import annotations
@@ -13,7 +13,9 @@ from polynav.protocols.galileo import routes
 from polynav.protocols.galileo.auth import TokenBook, load_settings
 from polynav.protocols.galileo.config import GalileoConfig
 from polynav.protocols.galileo.context import Context, site_store
+from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import HttpListener, create_app
+from polynav.protocols.galileo.ws import WsListener
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -55,6 +57,13 @@ class GalileoServer:
         self.config = config
         self.ctx = make_context(runtime, config)
         self._http: HttpListener | None = None
+        self._announcer: Announcer | None = None
+        self._ws: WsListener | None = None
+
+    @property
+    def ws_port(self) -> int | None:
+        """The WebSocket port actually bound, if it serves."""
+        return None if self._ws is None else self._ws.port
 
     @property
     def port(self) -> int:
@@ -69,11 +78,36 @@ class GalileoServer:
         self._http = http
         log.info("galileo: HTTP on %s:%d (token checking %s)", self.config.host, http.port,
                  "on" if self.ctx.tokens.checking else "off")
+        if self.config.ws_port is not None:
+            ws = WsListener(self.ctx, self.config.host, self.config.ws_port)
+            await ws.start()
+            self._ws = ws
+            log.info("galileo: WebSocket on %s:%d", self.config.host, ws.port)
+        if self.config.announce:
+            ctx = self.ctx
+            payload = announcement(robot_id=ctx.robot_id, port=http.port, mac=ctx.mac,
+                                   version=ctx.version)
+            announcer = Announcer(
+                lambda: payload, address=self.config.broadcast_address,
+                port=self.config.udp_port, interval=self.config.announce_interval,
+                source=self.config.host,
+            )
+            announcer.start()
+            self._announcer = announcer
+            log.info("galileo: announcing on udp %s:%d", self.config.broadcast_address,
+                     self.config.udp_port)
 
     async def close(self) -> None:
+        if self._announcer is not None:
+            await self._announcer.close()
+            self._announcer = None
+        if self._ws is not None:
+            await self._ws.close()
+            self._ws = None
         if self._http is not None:
             await self._http.close()
             self._http = None
+        self.ctx.close()
 
 
 async def serve(runtime: RobotRuntime, config: GalileoConfig | None = None) -> GalileoServer:
@@ -107,6 +141,10 @@ class GalileoThread:
     @property
     def port(self) -> int:
         return self.server.port
+
+    @property
+    def ws_port(self) -> int | None:
+        return self.server.ws_port
 
     def stop(self) -> None:
         asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()

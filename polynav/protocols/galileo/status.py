@@ -42,6 +42,7 @@ from polynav.protocols.galileo.messages import (
     VisualStatus,
 )
 from polynav.protocols.galileo.params import Params
+from polynav.protocols.galileo.tasks import book
 from polynav.runtime.status import StatusSnapshot
 
 log = logging.getLogger(__name__)
@@ -154,7 +155,8 @@ def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict
         "gbaStatus": int(GbaStatus.IDLE),
         "chargeStatus": int(charge_status(snap, target)),
         "loopStatus": int(
-            LoopStatus.LOOPING if snap.patrol_state == "running" else LoopStatus.OFF
+            LoopStatus.LOOPING if snap.patrol_state == "running" or looping(ctx)
+            else LoopStatus.OFF
         ),
         "power": pack_voltage(ctx),
     }
@@ -170,6 +172,11 @@ def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict
         "busyStatus": 1 if snap.mode == "busy" else 0,
     })
     return body
+
+
+def looping(ctx: Context) -> bool:
+    """Whether a Galileo loop task runs."""
+    return book(ctx).running("loop") is not None
 
 
 def pack_voltage(ctx: Context) -> float:

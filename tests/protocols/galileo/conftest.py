@@ -68,11 +68,11 @@ class Harness:
             query["token"] = self.token
         return self.http.request(method, url, params=query, json=json, **kwargs)
 
-    def get(self, path: str, **params: Any) -> httpx.Response:
-        return self.request("GET", path, params=params)
+    def get(self, url: str, /, **params: Any) -> httpx.Response:
+        return self.request("GET", url, params=params)
 
-    def delete(self, path: str, **params: Any) -> httpx.Response:
-        return self.request("DELETE", path, params=params)
+    def delete(self, url: str, /, **params: Any) -> httpx.Response:
+        return self.request("DELETE", url, params=params)
 
     def post(self, path: str, body: Any = None, **kwargs: Any) -> httpx.Response:
         return self.request("POST", path, json=body, **kwargs)
@@ -86,9 +86,16 @@ class Harness:
         assert response.status_code == 200, (method, path, response.status_code, response.text)
         return response.json()
 
-    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
-        """Advance simulated time until ``done()`` (checked between 0.1 s steps)."""
-        return self.runtime.advance_until(done, timeout)
+    def advance_until(self, done: Callable[[], bool], timeout: float, step: float = 0.1
+                      ) -> bool:
+        """Advance simulated time until ``done()``, checked between ``step`` s steps (a check
+        that makes HTTP requests would be slow at every physics step)."""
+        deadline = self.runtime.now() + timeout
+        while not done():
+            if self.runtime.now() >= deadline:
+                return False
+            self.runtime.advance(step)
+        return True
 
 
 @pytest.fixture(scope="session")

@@ -1,0 +1,189 @@
+"""The WebSocket topics: what each one sends (ROS messages as JSON) and at what rate.
+
+Galileo's WebSocket serves ROS topics by name (galileo-tasks-bt-ws §8). polynav serves the ones
+a client of a navigation robot reads, in the ROS message's JSON form (field names of the ROS
+message, nested messages as objects, ``header`` = ``{seq, stamp: {secs, nsecs}, frame_id}``):
+
+==================================  ====================================  ==================
+topic                               message                               rate [Hz, runtime]
+==================================  ====================================  ==================
+``/galileo/status``                 GalileoStatus (galileo-http-a §1.6)   10 (runtime status)
+``/odom``                           ``nav_msgs/Odometry``                 20
+``/scan``                           ``sensor_msgs/LaserScan``             10
+``/tracked_pose``                   ``geometry_msgs/PoseStamped``         10
+``/map``                            ``nav_msgs/OccupancyGrid``            on subscribe and on
+                                                                          a change of map
+``/bw_env_sensors/EnvSensorData``   env sensor reading                    1
+``/bw_env_sensors/AirSensorData``   air sensor reading                    1
+==================================  ====================================  ==================
+
+``/cmd_vel`` takes ``geometry_msgs/Twist`` messages from the client (teleop; 6.2.1+). Times
+are the runtime's clock (simulated time in simulation). A topic whose source is missing on this
+robot sends nothing.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from polynav.errors import InvalidRequest, PolynavError
+from polynav.geometry import Pose2D, yaw_to_quaternion
+from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.status import galileo_status
+
+log = logging.getLogger(__name__)
+
+Render = Callable[[Context, int], dict[str, Any] | None]
+
+
+@dataclass(frozen=True, slots=True)
+class Topic:
+    """A topic the WebSocket serves.
+
+    Attributes:
+        name: the path (``/galileo/status``).
+        rate: messages per second of the runtime's clock; 0: only when ``changed`` says so.
+        render: the message (given the connection's sequence number), ``None`` when there is
+            nothing to send now.
+        changed: for ``rate == 0``: a key that changes when a new message is due.
+        publish: handles a message the client sends (``/cmd_vel``).
+    """
+
+    name: str
+    rate: float
+    render: Render | None = None
+    changed: Callable[[Context], object] | None = None
+    publish: Callable[[Context, Any], None] | None = None
+
+
+def header(seq: int, stamp: float, frame_id: str) -> dict[str, Any]:
+    stamp = max(0.0, stamp)
+    secs = int(stamp)
+    return {"seq": seq, "stamp": {"secs": secs, "nsecs": min(999_999_999,
+                                                             int((stamp - secs) * 1e9))},
+            "frame_id": frame_id}
+
+
+def ros_pose(pose: Pose2D) -> dict[str, Any]:
+    x, y, z, w = yaw_to_quaternion(pose.theta)
+    return {"position": {"x": float(pose.x), "y": float(pose.y), "z": 0.0},
+            "orientation": {"x": x, "y": y, "z": z, "w": w}}
+
+
+def vector(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> dict[str, float]:
+    return {"x": float(x), "y": float(y), "z": float(z)}
+
+
+def _status(ctx: Context, seq: int) -> dict[str, Any]:
+    return galileo_status(ctx)
+
+
+def _odom(ctx: Context, seq: int) -> dict[str, Any] | None:
+    runtime = ctx.runtime
+    try:
+        odom = runtime.run_between_ticks(runtime.robot.read_odometry)
+    except PolynavError as exc:  # powered off
+        log.debug("galileo: no odometry: %s", exc)
+        return None
+    covariance = [0.0] * 36
+    return {
+        "header": header(seq, odom.stamp, "odom"),
+        "child_frame_id": "base_link",
+        "pose": {"pose": ros_pose(odom.pose), "covariance": covariance},
+        "twist": {"twist": {"linear": vector(odom.twist.linear),
+                            "angular": vector(z=odom.twist.angular)},
+                  "covariance": covariance},
+    }
+
+
+def _scan(ctx: Context, seq: int) -> dict[str, Any] | None:
+    runtime = ctx.runtime
+    try:
+        scan = runtime.run_between_ticks(runtime.robot.read_scan)
+    except PolynavError as exc:
+        log.debug("galileo: no scan: %s", exc)
+        return None
+    if scan is None:
+        return None
+    n = len(scan.ranges)
+    # JSON has no infinity: a beam with no return is reported as range_max + 1 (above
+    # range_max, which ROS consumers treat as "no return").
+    ranges = [float(r) if math.isfinite(r) else scan.range_max + 1.0 for r in scan.ranges]
+    return {
+        "header": header(seq, scan.stamp, "laser"),
+        "angle_min": float(scan.angle_min),
+        "angle_max": float(scan.angle_min + scan.angle_increment * max(0, n - 1)),
+        "angle_increment": float(scan.angle_increment),
+        "time_increment": 0.0,
+        "scan_time": 0.1,
+        "range_min": float(scan.range_min),
+        "range_max": float(scan.range_max),
+        "ranges": ranges,
+        "intensities": [],
+    }
+
+
+def _tracked_pose(ctx: Context, seq: int) -> dict[str, Any]:
+    snap = ctx.runtime.status()
+    return {"header": header(seq, snap.stamp, "map"), "pose": ros_pose(snap.pose)}
+
+
+def _map_key(ctx: Context) -> object:
+    snap = ctx.runtime.status()
+    return snap.map or snap.floor
+
+
+def _map(ctx: Context, seq: int) -> dict[str, Any] | None:
+    snap = ctx.runtime.status()
+    name = snap.map
+    if name is None and snap.floor is not None:
+        name = ctx.store.floor(snap.floor).map_name
+    if name is None:
+        return None
+    grid = ctx.store.load_map(name)
+    info = grid.info
+    return {
+        "header": header(seq, snap.stamp, "map"),
+        "info": {
+            "map_load_time": header(0, snap.stamp, "")["stamp"],
+            "resolution": float(info.resolution),
+            "width": int(info.width),
+            "height": int(info.height),
+            "origin": ros_pose(info.origin),
+        },
+        "data": grid.data.reshape(-1).tolist(),
+    }
+
+
+def _cmd_vel(ctx: Context, message: Any) -> None:
+    """A ``geometry_msgs/Twist``: ``linear.x`` [m/s] and ``angular.z`` [rad/s] drive."""
+    if not isinstance(message, dict):
+        raise InvalidRequest("cmd_vel", "a Twist is a JSON object")
+    linear, angular = message.get("linear"), message.get("angular")
+    if not isinstance(linear, dict) or not isinstance(angular, dict):
+        raise InvalidRequest("cmd_vel", "a Twist has 'linear' and 'angular' objects")
+    vx, wz = linear.get("x", 0.0), angular.get("z", 0.0)
+    for name, value in (("linear.x", vx), ("angular.z", wz)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(
+            value
+        ):
+            raise InvalidRequest(f"cmd_vel.{name}", f"must be a finite number, got {value!r}")
+    ctx.runtime.teleop(float(vx), float(wz))
+
+
+TOPICS: dict[str, Topic] = {
+    t.name: t
+    for t in (
+        Topic("/galileo/status", 10.0, _status),
+        Topic("/odom", 20.0, _odom),
+        Topic("/scan", 10.0, _scan),
+        Topic("/tracked_pose", 10.0, _tracked_pose),
+        Topic("/map", 0.0, _map, changed=_map_key),
+        Topic("/cmd_vel", 0.0, publish=_cmd_vel),
+    )
+}
+
