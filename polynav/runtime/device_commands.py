@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import logging
 import math
+import threading
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar
@@ -31,6 +32,7 @@ from polynav.robot.devices import (
     DeviceSet,
     EnvReading,
     IoPorts,
+    JobState,
     PtzPose,
 )
 from polynav.robot.sim.devices.media import MediaFolder, VideoRecorder
@@ -45,6 +47,7 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 AXES = ("slide", "jacking", "jacking_rotation")
+MAX_JOBS = 512  # finished device jobs remembered, newest kept
 GREETING = "欢迎光临"  # "welcome": what greeting mode says (its audio can be replaced)
 GREETING_RANGE = 2.0  # [m] a person this near is greeted
 
@@ -74,6 +77,11 @@ class Peripherals:
         self.recorder = VideoRecorder(devices.camera, self.videos)
         self.greeting = False
         self._greeted: set[int] = set()
+        # Jobs as of the last tick, readable from any thread without waiting for the loop
+        # (adapters poll them in tight loops); running ones are refreshed every tick.
+        self._jobs: dict[str, DeviceJob] = {}
+        self._running: dict[str, Callable[[float], DeviceJob | None]] = {}
+        self._jobs_lock = threading.Lock()
 
     def tick(self, now: float) -> None:
         """One control period (called by the runtime's loop)."""
@@ -82,6 +90,32 @@ class Peripherals:
         self.recorder.tick(now)
         if self.greeting:
             self._greet(now)
+        self._refresh_jobs(now)
+
+    def job(self, job_id: str) -> DeviceJob | None:
+        """A device job as of the last tick (or its start), from any thread, without waiting.
+        """
+        with self._jobs_lock:
+            return self._jobs.get(job_id)
+
+    def _watch(self, job: DeviceJob, read: Callable[[float], DeviceJob | None]) -> DeviceJob:
+        with self._jobs_lock:
+            self._jobs[job.job_id] = job
+            self._running[job.job_id] = read
+            while len(self._jobs) > MAX_JOBS:
+                del self._jobs[next(iter(self._jobs))]
+        return job
+
+    def _refresh_jobs(self, now: float) -> None:
+        with self._jobs_lock:
+            for job_id, read in list(self._running.items()):
+                job = read(now)
+                if job is None:
+                    del self._running[job_id]
+                    continue
+                self._jobs[job_id] = job
+                if job.state is not JobState.WORKING:
+                    del self._running[job_id]
 
     def set_greeting(self, on: bool) -> None:
         """Greeting mode: say :data:`GREETING` to each person who comes within
@@ -231,16 +265,22 @@ class Peripherals:
     ) -> DeviceJob:
         """Raises: InvalidRequest: see :meth:`~polynav.robot.devices.Axis.move`."""
         axis = self.axis(name)
-        return self._run(lambda now: axis.move(now, mode, target=target, speed=speed,
-                                               duration=duration))
 
-    def axis_job(self, name: str, job_id: str) -> DeviceJob | None:
-        axis = self.axis(name)
-        return self._run(lambda now: axis.job(now, job_id))
+        def run(now: float) -> DeviceJob:
+            job = axis.move(now, mode, target=target, speed=speed, duration=duration)
+            self._refresh_jobs(now)  # the move it replaced ends CANCELLED
+            return self._watch(job, lambda t: axis.job(t, job.job_id))
+
+        return self._run(run)
 
     def stop_axis(self, name: str) -> None:
         axis = self.axis(name)
-        self._run(axis.stop)
+
+        def run(now: float) -> None:
+            axis.stop(now)
+            self._refresh_jobs(now)
+
+        self._run(run)
 
     # -- calibration -----------------------------------------------------------------------
 
@@ -312,15 +352,20 @@ class Peripherals:
 
         def run(now: float) -> tuple[DeviceJob, str]:
             job = self.recorder.start(now, view=view, duration=duration, name=name)
+            self._watch(job, lambda t: self.recorder.job(job.job_id))
             return job, self.recorder.current_name or ""
 
         return self._run(run)
 
-    def video_job(self, job_id: str) -> DeviceJob | None:
-        return self._run(lambda now: self.recorder.job(job_id))
-
     def stop_video(self) -> bool:
-        return self._run(self.recorder.stop)
+        """Stop recording and save the file; whether a recording ran."""
+
+        def run(now: float) -> bool:
+            stopped = self.recorder.stop(now)
+            self._refresh_jobs(now)
+            return stopped
+
+        return self._run(run)
 
     def ptz(self, fn: Callable[[float], T]) -> T:
         """Run ``fn(now)`` against the PTZ camera between ticks."""

@@ -60,7 +60,7 @@ def _move(ctx: Context, axis: str, name: str, action: str, mode: AxisMode, targe
     task = tasks(ctx).add(
         name,
         {"type": action, "mode": int(mode), "pose": target, "speed": speed, "time": 0},
-        lambda: peripherals.axis_job(axis, job.job_id),
+        lambda: peripherals.job(job.job_id),
         lambda: peripherals.stop_axis(axis),
     )
     return task_object(task)

@@ -98,7 +98,7 @@ def post_saved_videos(ctx: Context, params: Params) -> Reply:
         "video_task",
         {"type": VIDEO_ACTION, "topic": params.text("topic", DEFAULT_TOPIC),
          "duration": duration, "filename": stem},
-        lambda: peripherals.video_job(job.job_id),
+        lambda: peripherals.job(job.job_id),
         peripherals.stop_video,
     )
     return task_object(task)

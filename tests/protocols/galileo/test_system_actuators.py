@@ -35,8 +35,10 @@ def test_the_slide_homes_then_moves_to_the_ratio(galileo: Harness) -> None:
     galileo.runtime.advance(6.0)  # 0.3 m at the default 0.05 m/s
     assert galileo.ok("GET", "/system/slide_pose") == pytest.approx(
         {"zero_status": 1, "current_pose": 0.3, "pose_ratio": 0.5})
-    done = device_task(galileo.server.ctx, task["id"])
-    assert done is not None and done["state"] == "COMPLETE" and done["progress"] == 1.0
+    galileo.runtime.advance(0.1)
+    done = galileo.ok("GET", "/task", params={"id": task["id"]})  # the task API reads it
+    assert done["state"] == "COMPLETE" and done["progress"] == 1.0
+    assert device_task(galileo.server.ctx, task["id"]) == done
     for params in ({"pose": 1.5e3}, {"pose": -0.1}, {}, {"pose": "high"},
                    {"pose": 0.5, "speed": -1}):
         assert galileo.get("/system/slide_move_to", **params).status_code == 400, params

@@ -43,11 +43,11 @@ def test_speech_plays_for_its_duration_on_simulated_time(runtime: RobotRuntime) 
 def test_the_slide_moves_on_the_clock_through_the_runtime(runtime: RobotRuntime) -> None:
     p = runtime.peripherals
     job = p.move_axis("slide", AxisMode.RATIO, target=0.5, speed=0.1)
-    assert p.axis_job("slide", job.job_id).state is JobState.WORKING  # type: ignore[union-attr]
+    assert p.job(job.job_id).state is JobState.WORKING  # type: ignore[union-attr]
     runtime.advance(12.0)  # 0.17 m home at 0.03 m/s, then 0.3 m at 0.1 m/s
     state = p.axis_state("slide")
     assert state.homed and state.ratio == pytest.approx(0.5)
-    assert p.axis_job("slide", job.job_id).state is JobState.COMPLETE  # type: ignore[union-attr]
+    assert p.job(job.job_id).state is JobState.COMPLETE  # type: ignore[union-attr]
 
 
 def test_all_or_none_of_several_outputs_are_set(runtime: RobotRuntime) -> None:
@@ -85,7 +85,7 @@ def test_a_photo_and_a_video_land_in_the_data_directory(runtime: RobotRuntime) -
     assert p.photos.path(name).read_bytes()[:4] == b"\x89PNG"
     job, stem = p.start_video("front", 2.0, None)
     runtime.advance(2.1)
-    assert p.video_job(job.job_id).state is JobState.COMPLETE  # type: ignore[union-attr]
+    assert p.job(job.job_id).state is JobState.COMPLETE  # type: ignore[union-attr]
     assert p.videos.names() == [p.recorder.saved[job.job_id]] == [stem]
     snapshot = p.ptz_snapshot()
     assert snapshot.suffix == ".jpg" and snapshot.parent == p.photos.root
