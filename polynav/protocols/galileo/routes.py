@@ -22,6 +22,7 @@ from polynav.protocols.galileo import (
     status,
     system_actuators,
     system_calibration,
+    system_config,
     system_info,
     system_io,
     system_media,
@@ -49,6 +50,7 @@ MODULES: tuple[ModuleType, ...] = (
     system_media,
     system_actuators,
     system_network,
+    system_config,
 )
 
 

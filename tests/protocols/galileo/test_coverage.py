@@ -21,9 +21,6 @@ from tests.protocols.galileo import spec
 
 # galileo-http-a entries without a test yet (owner: gsys).
 TODO_HTTP_A = {
-    "GET /api/v1/system/config",
-    "POST /api/v1/system/config",
-    "DELETE /api/v1/system/config",
     "GET /api/v1/system/onvif_cameras @2332-2360",
     "GET /api/v1/system/onvif_cameras @2362-2562",
     "GET /api/v1/system/onvif_camera/stream",
