@@ -14,6 +14,7 @@ from polynav.protocols.galileo import (
     areas,
     auth,
     charge,
+    fs,
     goals,
     local_moves,
     loop,
@@ -27,6 +28,7 @@ from polynav.protocols.galileo import (
     system_io,
     system_media,
     system_network,
+    system_onvif,
     system_voice,
     tasks,
 )
@@ -51,6 +53,8 @@ MODULES: tuple[ModuleType, ...] = (
     system_actuators,
     system_network,
     system_config,
+    system_onvif,
+    fs,
 )
 
 

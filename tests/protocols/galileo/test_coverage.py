@@ -19,29 +19,8 @@ import tests.protocols.galileo as package
 from polynav.protocols.galileo import routes
 from tests.protocols.galileo import spec
 
-# galileo-http-a entries without a test yet (owner: gsys).
-TODO_HTTP_A = {
-    "GET /api/v1/system/onvif_cameras @2332-2360",
-    "GET /api/v1/system/onvif_cameras @2362-2562",
-    "GET /api/v1/system/onvif_camera/stream",
-    "GET /api/v1/system/onvif_camera/move",
-    "GET /api/v1/system/onvif_camera/goto_preset",
-    "GET /api/v1/system/onvif_camera/move_speed",
-    "GET /api/v1/system/onvif_camera/snapshot",
-    "GET /api/v1/system/onvif_camera/temperature",
-    "GET /api/v1/system/onvif_camera/pose",
-    "GET /api/v1/fs/file_api",
-    "POST /api/v1/fs/file_api",
-    "PUT /api/v1/fs/file_api",
-    "DELETE /api/v1/fs/file_api",
-    "GET /api/v1/fs/dir_api",
-    "POST /api/v1/fs/dir_api",
-    "DELETE /api/v1/fs/dir_api",
-    "GET /api/v1/fs/get_file_info",
-    "POST /api/v1/fs/copy",
-    "POST /api/v1/fs/delete",
-    "POST /api/v1/fs/cut",
-}
+# galileo-http-a entries without a test yet (owner: gsys): none left.
+TODO_HTTP_A: set[str] = set()
 
 # galileo-http-b entries without a test yet (owner: galileo).
 TODO_HTTP_B = {
