@@ -38,6 +38,7 @@ from polynav.robot.devices import (
 from polynav.robot.sim.devices.media import MediaFolder, VideoRecorder
 from polynav.robot.sim.devices.speaker import speech_duration
 from polynav.robot.sim.devices.voice_library import VoiceLibrary, VoiceRecord
+from polynav.runtime.event_log import EventLog
 
 if TYPE_CHECKING:
     from polynav.runtime.robot_runtime import RobotRuntime
@@ -77,6 +78,7 @@ class Peripherals:
         self.recorder = VideoRecorder(devices.camera, self.videos)
         self.greeting = False
         self._greeted: set[int] = set()
+        self.event_log = EventLog(runtime.bus)
         # Jobs as of the last tick, readable from any thread without waiting for the loop
         # (adapters poll them in tight loops); running ones are refreshed every tick.
         self._jobs: dict[str, DeviceJob] = {}

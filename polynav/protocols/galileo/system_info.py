@@ -7,8 +7,8 @@ Decisions (``docs/galileo.md``):
 * ``/system/info`` reports the rates the (simulated) sensors publish at: odometry at the physics
   rate, the IMU at its rate; the cameras stream nothing (they take pictures on request), so
   their rates are ``0``. ``slam_type`` is ``"lidar"``.
-* ``/system/log`` is the robot's event log: the runtime events since the adapter first served
-  it, oldest first, one line each, at most :data:`LOG_LINES`.
+* ``/system/log`` is the robot's event log (:mod:`polynav.runtime.event_log`): the latest
+  runtime events since power-on, oldest first, one line each.
 * ``PUT /system/speed`` drives by teleop; the runtime's dead-man stops the robot when no new
   command comes (A-37). ``speed_y`` is refused unless 0: the base is differential.
 * ``shutdown`` and ``restart_robot`` power the robot off (and on) through the runtime's power
@@ -28,7 +28,6 @@ import logging
 import os
 import tempfile
 import threading
-from collections import deque
 from pathlib import Path
 from typing import Any
 
@@ -37,13 +36,10 @@ from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
 from polynav.protocols.galileo.status import galileo_status
-from polynav.runtime.event_bus import Subscription
 
 log = logging.getLogger(__name__)
 
 ROUTES = RouteList()
-
-LOG_LINES = 500
 
 #: self-test field -> the self-check parts that must pass for it.
 SELF_TEST_PARTS = {
@@ -77,29 +73,10 @@ def get_info(ctx: Context, params: Params) -> Reply:
     }
 
 
-class EventLog:
-    """The runtime's events as log lines, from a bus subscription."""
-
-    def __init__(self, subscription: Subscription) -> None:
-        self._subscription = subscription
-        self._lines: deque[str] = deque(maxlen=LOG_LINES)
-        self._lock = threading.Lock()
-
-    def text(self) -> str:
-        with self._lock:
-            for event in self._subscription.get_nowait():
-                fields = {k: v for k, v in event.to_dict().items() if k not in ("stamp", "kind")}
-                self._lines.append(f"[{event.stamp:.3f}] {event.kind} "
-                                   + json.dumps(fields, default=str, ensure_ascii=False))
-            return "\n".join(self._lines)
-
-
 @ROUTES.get("/system/log")
 def get_log(ctx: Context, params: Params) -> Reply:
     """E-05: ``{"log": text}``."""
-    events = ctx.state("galileo.system_log",
-                       lambda: EventLog(ctx.runtime.bus.subscribe(maxlen=LOG_LINES)))
-    return {"log": events.text()}
+    return {"log": ctx.runtime.peripherals.event_log.text()}
 
 
 @ROUTES.get("/system/speed", inline=True)

@@ -42,7 +42,8 @@ def test_info_reports_battery_rates_estop_and_identity(galileo: Harness) -> None
 
 
 def test_the_log_lists_runtime_events(galileo: Harness) -> None:
-    assert isinstance(galileo.ok("GET", "/system/log")["log"], str)
+    first = galileo.ok("GET", "/system/log")["log"]
+    assert isinstance(first, str)
     galileo.runtime.start_navigation("floor1")
     galileo.runtime.advance(0.2)
     text = galileo.ok("GET", "/system/log")["log"]

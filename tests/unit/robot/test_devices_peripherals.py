@@ -89,3 +89,11 @@ def test_a_photo_and_a_video_land_in_the_data_directory(runtime: RobotRuntime) -
     assert p.videos.names() == [p.recorder.saved[job.job_id]] == [stem]
     snapshot = p.ptz_snapshot()
     assert snapshot.suffix == ".jpg" and snapshot.parent == p.photos.root
+
+
+def test_the_event_log_covers_events_from_before_anyone_read_it(runtime: RobotRuntime) -> None:
+    runtime.start_navigation("ground")
+    runtime.advance(0.1)
+    text = runtime.peripherals.event_log.text()
+    assert "mode_changed" in text and '"new": "navigating"' in text
+    assert text.splitlines()[0].startswith("[")
