@@ -295,6 +295,12 @@ def _print(args: argparse.Namespace, figures: dict[str, Any]) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:2] == ["--dialect", "galileo"]:  # its own load and reference (api_galileo.py)
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from api_galileo import main as galileo_main
+
+        return galileo_main(argv[2:])
     parser = argparse.ArgumentParser(prog="polynav bench api", description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", choices=("native", "yunji"),
                         default=["native", "yunji"], help="which servers (default: all)")

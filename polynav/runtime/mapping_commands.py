@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 
 from polynav.errors import Conflict, NotFound
+from polynav.geometry import Pose2D
 from polynav.maps.map import Map
 from polynav.runtime.config import Mode
 from polynav.runtime.exploration import Exploration
@@ -67,6 +68,14 @@ class MappingCommands(RuntimeParts):
             Conflict: not mapping.
         """
         return self._call(lambda: self._require_mapping().live_map())
+
+    def mapping_trajectory(self) -> list[Pose2D]:
+        """The robot's path while mapping (the scan poses, optimised).
+
+        Raises:
+            Conflict: not mapping.
+        """
+        return self._call(lambda: self._require_mapping().trajectory())
 
     def save_mapping(self, name: str, *, overwrite: bool = False) -> object:
         """Save the map built so far under ``name`` (ROS map files in the site store); mapping

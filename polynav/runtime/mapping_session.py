@@ -62,6 +62,10 @@ class MappingSession:
         self._pose = estimate
         self.scans += 1
 
+    def trajectory(self) -> list[Pose2D]:
+        """The poses of the scans taken so far, on the map being built (optimised)."""
+        return self._slam.trajectory()
+
     def live_map(self) -> Map:
         """The map so far (rendered again only after new scans)."""
         nodes = self._slam.node_count

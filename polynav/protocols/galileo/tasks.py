@@ -125,18 +125,23 @@ class TaskBook:
     # -- commands (handler threads) ---------------------------------------------------------------
 
     def run(self, name: str, actions: Sequence[Action], *, loop_flag: bool = False,
-            kind: str = "navigation") -> dict[str, Any]:
+            kind: str = "navigation", raise_errors: bool = True, preempt: bool = True
+            ) -> dict[str, Any]:
         """Create a task and start it, cancelling the running one; its rendered state.
 
         Raises:
-            the first action's error (the task is then kept, in ERROR) as a polynav error.
+            Conflict: the first action could not start (the task is kept, in ``ERROR``), unless
+                ``raise_errors`` is off: the task in ``ERROR`` is returned then.
+
+        ``preempt`` off leaves the running task alone (a task that does not move the robot).
         """
         task = Task(name, list(actions), loop_flag=loop_flag, kind=kind)
         if not task.actions:
             raise Conflict("a task needs at least one action")
 
         def begin() -> None:
-            self._cancel_running()
+            if preempt:
+                self._cancel_running()
             with self._lock:
                 self._tasks[task.id] = task
                 self._forget_old()
@@ -146,7 +151,7 @@ class TaskBook:
             self._ensure_polling()
 
         self._runtime.run_between_ticks(begin)
-        if task.state is TaskState.ERROR:
+        if task.state is TaskState.ERROR and raise_errors:
             current = task.actions[task.index]
             raise Conflict(current.result or "the task could not start")
         return task.snapshot

@@ -24,31 +24,8 @@ TODO_HTTP_A: set[str] = set()
 
 # galileo-http-b entries without a test yet (owner: galileo).
 TODO_HTTP_B = {
-    "GET /api/v1/map/start",
-    "GET /api/v1/map/stop",
-    "GET /api/v1/map/update",
-    "GET /api/v1/map/pose",
-    "GET /api/v1/map/current_map_image",
-    "POST /api/v1/map/current_map_image",
-    "GET /api/v1/map/current_map_png",
-    "GET /api/v1/map/track",
-    "GET /api/v1/navigation/saved_maps",
-    "GET /api/v1/navigation/robot_tracks",
-    "GET /api/v1/navigation/map_pgm",
-    "GET /api/v1/navigation/map_png",
-    "GET /api/v1/navigation/current_map",
-    "GET /api/v1/navigation/upload_map",
-    "GET /api/v1/navigation/download_map",
-    "GET /api/v1/navigation/download_map_from_robot",
-    "POST /api/v1/navigation/upload_map_to_robot",
-    "GET /api/v1/navigation/point_connections",
-    "POST /api/v1/navigation/point_connections",
-    "DELETE /api/v1/navigation/point_connections",
     "POST /api/v1/navigation/multi_map_task",
     "GET /api/v1/navigation/start_nav_local_move_io",
-    "GET /api/v1/navigation/wind_info",
-    "GET /api/v1/navigation/landmarks",
-    "POST /api/v1/navigation/coverage_path",
 }
 
 # WebSocket entries without a test yet (owner: galileo).
