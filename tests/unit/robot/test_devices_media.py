@@ -72,8 +72,18 @@ def test_the_video_file_is_matroska_with_one_mjpeg_track_and_clusters_of_key_fra
     assert b"matroska" in header
     parts = _elements(body)
     ids = [eid for eid, _ in parts]
-    assert ids[:2] == [matroska.INFO, matroska.TRACKS]
-    assert b"V_MJPEG" in parts[1][1]
+    assert ids[:3] == [matroska.SEEK_HEAD, matroska.INFO, matroska.TRACKS]
+    assert b"V_MJPEG" in parts[2][1]
+    # The seek head points at Info, Tracks and the first Cluster.
+    offsets, position = {}, 0
+    for eid, payload in parts:
+        offsets.setdefault(eid, position)
+        position += len(matroska.element(eid, payload))
+    seeks = {}
+    for _, seek in _elements(parts[0][1]):
+        (_, sid), (_, spos) = _elements(seek)
+        seeks[int.from_bytes(sid, "big")] = int.from_bytes(spos, "big")
+    assert seeks == {k: offsets[k] for k in (matroska.INFO, matroska.TRACKS, matroska.CLUSTER)}
     clusters = [payload for eid, payload in parts if eid == matroska.CLUSTER]
     assert len(clusters) == 3  # a new cluster every 30 s
     blocks = []

@@ -2,10 +2,11 @@
 
 Matroska is EBML: each element is an ID, a variable-length size and a payload (RFC 8794; the
 Matroska element IDs from RFC 9559). The file here holds the EBML header, then one Segment with
-``Info`` (timestamps in milliseconds, the duration), ``Tracks`` (one ``V_MJPEG`` video track)
-and ``Cluster`` elements of ``SimpleBlock`` frames, a new cluster every ``CLUSTER_SPAN``
-milliseconds because a block's timestamp is a signed 16-bit offset from its cluster's. Every
-frame is a key frame (JPEG frames stand alone). Players (ffmpeg, VLC, mpv) open such files.
+a ``SeekHead`` (where the next elements are), ``Info`` (timestamps in milliseconds, the
+duration), ``Tracks`` (one ``V_MJPEG`` video track) and ``Cluster`` elements of
+``SimpleBlock`` frames, a new cluster every ``CLUSTER_SPAN`` milliseconds because a block's
+timestamp is a signed 16-bit offset from its cluster's. Every frame is a key frame (JPEG frames
+stand alone). Players (ffmpeg, VLC, mpv) open such files.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ INFO = 0x1549A966
 TRACKS = 0x1654AE6B
 CLUSTER = 0x1F43B675
 SIMPLE_BLOCK = 0xA3
+SEEK_HEAD = 0x114D9B74
 
 
 def element_id(value: int) -> bytes:
@@ -49,7 +51,9 @@ def text(eid: int, value: str) -> bytes:
 
 def mjpeg_mkv(frames: Sequence[tuple[int, bytes]], width: int, height: int) -> bytes:
     """A Matroska file of JPEG ``frames``: (timestamp [ms] from the start, JPEG bytes)."""
-    duration = float(frames[-1][0] + 1) if frames else 0.0
+    # The last frame shows for as long as the one before it did.
+    step = frames[-1][0] - frames[-2][0] if len(frames) > 1 else 1
+    duration = float(frames[-1][0] + step) if frames else 0.0
     header = element(EBML, b"".join((
         uint(0x4286, 1), uint(0x42F7, 1), uint(0x42F2, 4), uint(0x42F3, 8),
         text(0x4282, "matroska"), uint(0x4287, 4), uint(0x4285, 2),
@@ -78,4 +82,22 @@ def mjpeg_mkv(frames: Sequence[tuple[int, bytes]], width: int, height: int) -> b
                               + jpeg))
     if blocks:
         clusters.append(element(CLUSTER, uint(0xE7, base or 0) + b"".join(blocks)))
-    return header + element(SEGMENT, info + tracks + b"".join(clusters))
+    # The index of the top-level elements, first in the segment, as most readers expect;
+    # fixed-width positions keep its own size independent of the values.
+    targets = [(INFO, info), (TRACKS, tracks)] + ([(CLUSTER, clusters[0])] if clusters else [])
+    seek_head = _seek_head([(eid, 0) for eid, _ in targets])
+    position, entries = len(seek_head), []
+    for eid, body in targets:
+        entries.append((eid, position))
+        position += len(body)
+    seek_head = _seek_head(entries)
+    return header + element(SEGMENT, seek_head + info + tracks + b"".join(clusters))
+
+
+def _seek_head(entries: Sequence[tuple[int, int]]) -> bytes:
+    """A SeekHead: each element ID with its position [bytes] from the segment's payload."""
+    return element(SEEK_HEAD, b"".join(
+        element(0x4DBB, element(0x53AB, element_id(eid))
+                + element(0x53AC, position.to_bytes(8, "big")))
+        for eid, position in entries
+    ))
