@@ -120,25 +120,25 @@ def _kept(ctx: Context) -> KeptConfig:
                      lambda: KeptConfig(ctx.data_dir / "galileo" / "system_config.json"))
 
 
-def _check(key: str, value: Any) -> Any:
-    """``value`` as ``key``'s type. Raises InvalidRequest: the wrong type or value."""
+def _check(params: Params, key: str) -> Any:
+    """``key``'s value in its type (a JSON value, or its text in the query string).
+
+    Raises:
+        InvalidRequest: the wrong type or value.
+    """
     kind = KEPT[key].kind if key in KEPT else float
     if kind is bool:
-        if not isinstance(value, bool):
-            raise InvalidRequest(key, f"must be true or false, got {value!r}")
-        return value
-    if kind in (int, float):
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InvalidRequest(key, f"must be a number, got {value!r}")
-        if kind is int and not float(value).is_integer():
-            raise InvalidRequest(key, f"must be an integer, got {value!r}")
-        return kind(value)
+        return params.boolean(key)
+    if kind is int:
+        return params.integer(key)
+    if kind is float:
+        return params.number(key)
     if kind is str:
-        if not isinstance(value, str):
-            raise InvalidRequest(key, f"must be a string, got {value!r}")
+        value = params.text(key)
         if key == "slam_type" and value != "lidar":
             raise InvalidRequest(key, "polynav navigates by lidar: only \"lidar\"")
         return value
+    value = params.structure(key)
     if not isinstance(value, list) or not all(
         isinstance(m, dict) and isinstance(m.get("map"), str) and isinstance(m.get("path"), str)
         for m in value
@@ -163,8 +163,7 @@ def get_config(ctx: Context, params: Params) -> Reply:
 @ROUTES.post("/system/config")
 def post_config(ctx: Context, params: Params) -> Reply:
     """E-29: change any of the keys; the whole config after."""
-    given = {k: v for k, v in params.values.items() if k in SETTINGS or k in KEPT}
-    checked = {k: _check(k, v) for k, v in given.items()}
+    checked = {k: _check(params, k) for k in params.values if k in SETTINGS or k in KEPT}
     changes: dict[str, object] = {}
     for key, value in checked.items():
         if key in SETTINGS:

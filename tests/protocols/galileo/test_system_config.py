@@ -50,7 +50,7 @@ def test_changing_config_changes_the_robot_all_or_nothing(galileo: Harness) -> N
     {"lf_linear_v": 0.3, "robot_radius": 5.0},
     {"lf_linear_v": 0.3, "slam_type": "camera"},
     {"lf_linear_v": 0.3, "maps": ["floor1"]},
-    {"lf_linear_v": 0.3, "auto_charge": "yes"},
+    {"lf_linear_v": 0.3, "auto_charge": "perhaps"},
     {"lf_linear_v": 0.3, "navigation_speed": 0.5},
     {"lf_kp": 3.0, "wifi_ssid": "nowhere", "wifi_password": "x"},
 ])
@@ -59,6 +59,14 @@ def test_bad_config_changes_nothing(galileo: Harness, body: dict[str, object]) -
     reply = galileo.post("/system/config", body)
     assert reply.status_code == 400 and reply.json()["status"] == "error"
     assert galileo.ok("GET", "/system/config") == before
+
+
+def test_config_keys_in_the_query_string_are_parsed(galileo: Harness) -> None:
+    reply = galileo.request("POST", "/system/config",
+                            params={"lf_kp": "2.5", "auto_charge": "true", "lf_linear_v": "0.5"})
+    assert reply.status_code == 200, reply.text
+    body = reply.json()
+    assert (body["lf_kp"], body["auto_charge"], body["lf_linear_v"]) == (2.5, True, 0.5)
 
 
 def test_a_key_goes_back_to_its_default(galileo: Harness) -> None:
