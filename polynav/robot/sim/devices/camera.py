@@ -27,30 +27,40 @@ WALL_HEIGHT = 1.2  # [m] of wall filling the image height at 1 m
 VIEWS = {"front": 0.0, "back": math.pi}
 FORMATS = {"png": "PNG", "jpeg": "JPEG"}
 
-_CEILING = np.array([200, 205, 215], dtype=np.float64)
-_FLOOR = np.array([110, 112, 118], dtype=np.float64)
 _WALL = np.array([225, 215, 190], dtype=np.float64)
+# Ceiling over floor, the view with no wall in it.
+_EMPTY = np.empty((HEIGHT, WIDTH, 3), dtype=np.uint8)
+_EMPTY[: HEIGHT // 2] = (200, 205, 215)
+_EMPTY[HEIGHT // 2:] = (110, 112, 118)
+_ROWS = np.arange(HEIGHT)[:, None]
 
 
 def render(scan: LaserScan | None, *, heading: float, caption: str) -> Image.Image:
     """The view along ``heading`` [rad, robot frame] as the scan sees it."""
-    image = np.empty((HEIGHT, WIDTH, 3), dtype=np.float64)
-    image[: HEIGHT // 2] = _CEILING
-    image[HEIGHT // 2:] = _FLOOR
+    image = _EMPTY.copy()  # the caption is drawn into it
     if scan is not None and scan.ranges.shape[0]:
         bearings = heading + FOV * (0.5 - (np.arange(WIDTH) + 0.5) / WIDTH)  # left to right
-        beams = scan.angles + scan.sensor_pose.theta
-        # The beam nearest each bearing (angles wrap).
-        diff = np.angle(np.exp(1j * (bearings[:, None] - beams[None, :])))
-        nearest = np.argmin(np.abs(diff), axis=1)
-        ranges = scan.ranges[nearest].astype(np.float64)
+        # The beam nearest each bearing: beams are evenly spaced, so it is arithmetic; a
+        # bearing outside a partial sweep sees nothing.
+        n = scan.ranges.shape[0]
+        offset = bearings - scan.sensor_pose.theta - scan.angle_min
+        steps = np.rint(offset / scan.angle_increment).astype(np.int64)
+        full = abs(n * scan.angle_increment) >= 2 * math.pi - 1e-6
+        index = np.mod(steps, n) if full else np.clip(steps, 0, n - 1)
+        ranges = scan.ranges[index].astype(np.float64)
+        if not full:
+            ranges[(steps < 0) | (steps >= n)] = np.inf
         depth = ranges * np.cos(bearings - heading)
-        for col in np.nonzero(np.isfinite(depth) & (depth > 0.05))[0]:
-            half = min(HEIGHT / 2, 0.5 * HEIGHT * WALL_HEIGHT / depth[col])
-            shade = 1.0 / (1.0 + 0.15 * depth[col])
-            top, bottom = int(HEIGHT / 2 - half), int(HEIGHT / 2 + half)
-            image[top:bottom, col] = _WALL * shade
-    picture = Image.fromarray(np.clip(image, 0, 255).astype(np.uint8), "RGB")
+        seen = np.isfinite(depth) & (depth > 0.05)
+        safe = np.where(seen, depth, 1.0)
+        half = np.where(seen, np.minimum(HEIGHT / 2, 0.5 * HEIGHT * WALL_HEIGHT / safe), 0.0)
+        top = (HEIGHT / 2 - half).astype(np.int64)
+        bottom = (HEIGHT / 2 + half).astype(np.int64)
+        wall = (_ROWS >= top[None, :]) & (_ROWS < bottom[None, :])
+        shade = 1.0 / (1.0 + 0.15 * safe)  # farther walls darker
+        colours = (_WALL[None, :] * shade[:, None]).astype(np.uint8)  # one per column
+        image = np.where(wall[:, :, None], colours[None, :, :], _EMPTY)
+    picture = Image.fromarray(image, "RGB")
     ImageDraw.Draw(picture).text((4, 4), caption, fill=(20, 20, 20))
     return picture
 
