@@ -72,7 +72,10 @@ def task_object(task: _Task) -> dict[str, Any]:
     job = task.job()
     state = _STATE[job.state] if job is not None else TaskState.ERROR
     progress = float(job.progress) if job is not None else 0.0
-    action = {"id": task.action_id, **task.action, "progress": progress}
+    # The fields of the example (seed lines 2014-2068), plus the ``state`` and ``result`` every
+    # action carries in the task model (galileo-tasks-bt-ws §2.4).
+    action = {"id": task.action_id, **task.action, "progress": progress,
+              "state": state.value, "result": job.reason if job is not None else "lost"}
     return {
         "id": task.task_id,
         "name": task.name,

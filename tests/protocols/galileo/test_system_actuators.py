@@ -28,6 +28,7 @@ def test_the_slide_homes_then_moves_to_the_ratio(galileo: Harness) -> None:
     action = task["current_task"]
     assert (action["type"], action["mode"], action["pose"], action["speed"], action["time"]) == (
         "slide_action", 3, 0.5, 0.0, 0)
+    assert (action["state"], action["result"]) == ("WORKING", "")
     assert task["sub_tasks"] == [action]
     galileo.runtime.advance(6.0)  # homing: 0.17 m at 0.03 m/s
     mid = galileo.ok("GET", "/system/slide_pose")
@@ -74,3 +75,17 @@ def test_the_jacking_turns_to_an_angle_in_either_frame(galileo: Harness) -> None
     assert galileo.get("/system/jacking_angle", frame_id="odom").status_code == 400
     assert galileo.get("/system/jacking_angle_move_to").status_code == 400
     assert galileo.get("/system/jacking_angle_move_to", angle="nan").status_code == 400
+
+
+def test_a_faulty_axis_reads_zero_status_minus_one_and_its_task_errors(galileo: Harness) -> None:
+    task = galileo.ok("GET", "/system/slide_move_to", params={"pose": 1.0})
+    galileo.runtime.advance(1.0)
+    slide = galileo.runtime.peripherals.devices.slide
+    galileo.runtime.run_between_ticks(
+        lambda: slide.set_fault(galileo.runtime.now(), "motor overcurrent"))  # type: ignore[attr-defined]
+    galileo.runtime.advance(0.2)
+    assert galileo.ok("GET", "/system/slide_pose")["zero_status"] == -1
+    failed = galileo.ok("GET", "/task", params={"id": task["id"]})
+    assert failed["state"] == "ERROR"
+    assert failed["current_task"]["state"] == "ERROR"
+    assert failed["current_task"]["result"] == "motor overcurrent"

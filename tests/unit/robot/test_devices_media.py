@@ -155,3 +155,11 @@ def test_stopping_a_video_saves_what_was_recorded(tmp_path: Path) -> None:
     with pytest.raises(InvalidRequest):
         recorder.start(20.0, view="side", duration=1.0, name=None)
     assert not recorder.recording
+
+
+def test_a_partial_sweep_shows_nothing_outside_its_field_of_view() -> None:
+    # A 180-degree lidar facing forward, a wall 1 m away all round its sweep.
+    ranges = np.full(180, 1.0, dtype=np.float32)
+    scan = LaserScan(0.0, -math.pi / 2, math.pi / 180, 0.1, 20.0, ranges)
+    assert _wall_rows(SimCamera(lambda: scan).capture(0.0, view="front", fmt="png")) > 200
+    assert _wall_rows(SimCamera(lambda: scan).capture(0.0, view="back", fmt="png")) == 0
