@@ -17,7 +17,7 @@ from typing import Any
 
 from starlette.responses import Response
 
-from polynav.errors import InvalidRequest
+from polynav.errors import InvalidRequest, NotFound
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
@@ -47,8 +47,13 @@ def _view(params: Params) -> str:
 def _listing_or_file(folder: MediaFolder, params: Params, media_type: str) -> Reply:
     if "file_timestamp" not in params or not str(params.values["file_timestamp"]):
         return folder.names()
-    path = folder.path(params.text("file_timestamp"))
-    return Response(path.read_bytes(), media_type=media_type)
+    name = params.text("file_timestamp")
+    path = folder.path(name)
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:  # deleted since it was found
+        raise NotFound("file", name) from None
+    return Response(data, media_type=media_type)
 
 
 def _delete(folder: MediaFolder, params: Params) -> dict[str, Any]:

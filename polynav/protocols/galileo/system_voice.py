@@ -66,12 +66,17 @@ def get_tts_records(ctx: Context, params: Params) -> Reply:
     package = check_package_name(params.text("package_name"))
     if "text" in params:
         text = params.text("text")
-        path = peripherals.voice_library(lambda lib: lib.audio_path(package, text))
-        return Response(path.read_bytes(),
-                        media_type=_MEDIA_TYPES.get(path.suffix, "application/octet-stream"))
+        # Read between ticks too, so a concurrent replace or delete cannot pull it away.
+        suffix, data = peripherals.voice_library(lambda lib: _read(lib, package, text))
+        return Response(data, media_type=_MEDIA_TYPES.get(suffix, "application/octet-stream"))
     archive = peripherals.voice_library(lambda lib: lib.export(package))
     return Response(archive, media_type="application/zip", headers={
         "Content-Disposition": f"attachment; filename*=UTF-8''{quote(package, safe='')}.zip"})
+
+
+def _read(lib: VoiceLibrary, package: str, text: str) -> tuple[str, bytes]:
+    path = lib.audio_path(package, text)
+    return path.suffix, path.read_bytes()
 
 
 @ROUTES.post("/system/tts/records")
