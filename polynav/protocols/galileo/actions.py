@@ -133,7 +133,7 @@ class NavAction(Action):
         if self.point is not None:
             self.attempt_id = runtime.go_to(point=self.point, map_name=self.map_name)
         else:
-            self.attempt_id = runtime.go_to(pose=self.pose)
+            self.attempt_id = runtime.go_to(pose=self.pose, map_name=self.map_name)
         if self.on_attempt is not None:
             self.on_attempt(self.attempt_id)
 

@@ -8,7 +8,7 @@
 
 Numbers may be separated by spaces or TABs; blank lines are skipped. A malformed line raises
 :class:`~polynav.errors.InvalidRequest` naming the parameter and the line, before anything is
-stored. Numbers are written in their shortest round-trip form (``14.3``, ``0``).
+stored. Numbers are written to 15 significant digits, shortest form (``14.3``, ``0``).
 """
 
 from __future__ import annotations
@@ -24,10 +24,10 @@ MAX_LINES = 100_000
 
 
 def number_text(value: float) -> str:
-    """``value`` as the shortest text that reads back the same (``1.0`` -> ``1``)."""
-    if float(value).is_integer() and abs(value) < 1e15:
-        return str(int(value))
-    return repr(float(value))
+    """``value`` to 15 significant digits (what a double holds for sure: it keeps every digit
+    the vendor's examples have and hides the last-bit noise of angle wrapping, 0.3 for
+    0.2999999999999998), shortest form (``1.0`` -> ``1``)."""
+    return format(float(value), ".15g")
 
 
 def _lines(field: str, text: str) -> Iterable[tuple[int, str]]:
