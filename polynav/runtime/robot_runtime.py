@@ -67,10 +67,12 @@ from polynav.robot import sim as sim_kernels
 from polynav.robot.interface import Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.devices import simulated_devices
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
+from polynav.runtime.device_commands import Peripherals
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
@@ -171,6 +173,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
+        self.peripherals = Peripherals(
+            self, simulated_devices(sim, seed=self.config.seed), getattr(store, "data_dir", None)
+        )
         self.queries = SiteQueries(self)
         self._snapshot = self._build_snapshot(self._clock.now())
 
@@ -472,6 +477,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
             self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
         self._check_battery(now)
         self.device.tick(now, commanded)
+        self.peripherals.tick(now)
         self._refresh()
 
     def _map_tick(self, now: float, estop: bool) -> Twist | None:

@@ -60,6 +60,7 @@ async def read_params(request: Request) -> Params:
         InvalidRequest: the body is not JSON, or too large.
     """
     values: dict[str, Any] = dict(request.query_params.items())
+    values.update(request.path_params)  # ``/system/saved_images/{file_timestamp}`` (A-20)
     content_type = request.headers.get("content-type", "").split(";")[0].strip().lower()
     files: dict[str, UploadedFile] = {}
     body: Any = None

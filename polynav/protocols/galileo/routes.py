@@ -16,6 +16,7 @@ from polynav.protocols.galileo import (
     charge,
     connections,
     coverage,
+    fs,
     goals,
     local_moves,
     loop,
@@ -25,6 +26,15 @@ from polynav.protocols.galileo import (
     paths,
     sensors,
     status,
+    system_actuators,
+    system_calibration,
+    system_config,
+    system_info,
+    system_io,
+    system_media,
+    system_network,
+    system_onvif,
+    system_voice,
     tasks,
 )
 from polynav.protocols.galileo.endpoint import Endpoint, RouteList
@@ -45,6 +55,16 @@ MODULES: tuple[ModuleType, ...] = (
     coverage,
     sensors,
     connections,
+    system_info,
+    system_calibration,
+    system_io,
+    system_voice,
+    system_media,
+    system_actuators,
+    system_network,
+    system_config,
+    system_onvif,
+    fs,
 )
 
 

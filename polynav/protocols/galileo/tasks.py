@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from polynav.errors import Conflict, NotFound, PolynavError
+from polynav.protocols.galileo import system_tasks
 from polynav.protocols.galileo.actions import FINAL, Action, Outcomes
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
@@ -282,4 +283,10 @@ def get_task(ctx: Context, params: Params) -> Reply:
     task_id = params.text("id", None)
     if task_id is None:
         return tasks.all()
-    return tasks.get(task_id)
+    try:
+        return tasks.get(task_id)
+    except NotFound:
+        device = system_tasks.device_task(ctx, task_id)  # a slide, jacking or video task
+        if device is None:
+            raise
+        return device
