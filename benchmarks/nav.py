@@ -11,8 +11,9 @@ outcome.
 Two closest approaches are measured. ``closest_person_m`` is over every instant, whoever moved:
 the simulated walkers do not steer round the robot, so one may walk past a robot that stands
 still. ``closest_person_approached_m`` counts only the instants when the robot itself was closing
-in on that person (its own velocity towards them above ``APPROACH_SPEED``): the distance the
-robot chose, which is what the social-distance target judges.
+in on that person (the gap shrinking, and the robot's own velocity towards them above
+``APPROACH_SPEED``): the distance the robot chose, which is what the social-distance target
+judges.
 
 The real-time factor is simulated seconds per second of this process's CPU time
 (``time.process_time``): on a shared, loaded machine wall time measures the neighbours; the
@@ -118,17 +119,22 @@ def _drive(driver: SimDriver, timeout: float) -> _Leg:
     end = driver.now + timeout
     wall = time.perf_counter()
     cpu = time.process_time()
+    last_gaps: list[float] = []
     while not driver.stack.navigator.state.finished and driver.now < end:
         driver.step()
         true = driver.sim.true_pose
         speed = driver.sim.true_twist.linear
         c, s = math.cos(true.theta), math.sin(true.theta)
-        for person in driver.sim.people_poses():
+        gaps = []
+        for k, person in enumerate(driver.sim.people_poses()):
             dx, dy = person.x - true.x, person.y - true.y
             d = math.hypot(dx, dy)
+            gaps.append(d)
             leg.closest_person = min(leg.closest_person, d)
-            if d > 0.0 and speed * (dx * c + dy * s) / d > APPROACH_SPEED:
+            closing = k < len(last_gaps) and d < last_gaps[k]
+            if closing and d > 0.0 and speed * (dx * c + dy * s) / d > APPROACH_SPEED:
                 leg.closest_approached = min(leg.closest_approached, d)
+        last_gaps = gaps
         estimate = driver.stack.estimate
         leg.localization_error_max = max(
             leg.localization_error_max,

@@ -310,7 +310,7 @@ class Navigator:
         if self._phase is _Phase.RECOVER:
             twist = self._tick_recovery(pose, now)
             if twist is not None:
-                return twist
+                return self._wait.slow(pose, twist)  # backing up into someone is no recovery
         if self._phase is _Phase.WAIT:
             step = self._wait.tick(pose, velocity, now, dt, self._path, self._plan_path)
             if step.expired:
@@ -481,7 +481,11 @@ class Navigator:
             self._failures = 0
             self._failure_pose = None
         self._wait.moved(pose, reset)
-        return self._wait.slow(pose, command.twist)
+        twist = self._wait.slow(pose, command.twist, now)
+        if self._wait.held(now):  # people stand where the robot would go: wait for them
+            self._wait_for_people(pose, now)
+            return Twist()
+        return twist
 
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
         """Count a failure; give up after too many in a row, else recover and re-plan."""
