@@ -47,8 +47,9 @@ from polynav.localization.interface import LocalizationState
 from polynav.maps import movingai
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.nav.attempt import NavigationState
-from polynav.nav.stack import StackConfig
+from polynav.nav.stack import StackConfig, stack_config_for
 from polynav.planning.grid_planner import GridPlanner
+from polynav.robot.profile import RobotProfile, load_profile
 from polynav.runtime.sim_driver import SimDriver, simulate
 from polynav.worlds.from_map import FromMapOptions, load_plan, plan_world, to_world
 
@@ -146,21 +147,26 @@ def _drive(driver: SimDriver, timeout: float) -> _Leg:
     return leg
 
 
-def run_map(path: Path, goals: int, walkers: int, seed: int) -> dict[str, Any]:
-    """Drive one world's goals in turn; its figures.
+def run_map(path: Path, goals: int, walkers: int, seed: int,
+            profile: RobotProfile | None = None) -> dict[str, Any]:
+    """Drive one world's goals in turn with ``profile``'s robot (default: the demo robot); its
+    figures.
 
     Raises:
         PolynavError: the map does not make a world (no room for the robot, or for two points).
     """
-    options = FromMapOptions(points=goals, walkers=walkers, seed=seed)
+    profile = profile or load_profile()
+    options = FromMapOptions(points=goals, walkers=walkers, seed=seed,
+                             robot_radius=profile.circumscribed_radius)
     planned = plan_world(path.stem, load_plan(path, options), options, allow_fewer=True)
     world = to_world(planned, options)
     floor = world.floors[0]
-    stack = StackConfig()
+    stack = stack_config_for(profile)
     top_speed = stack.controller.max_linear_velocity
     static = Costmap.from_map(floor.map, CostmapConfig(obstacle_layer=False))
     planner = GridPlanner(stack.planner)
-    driver = simulate(world, seed=seed, people=walkers > 0, stack_config=stack)
+    driver = simulate(world, seed=seed, people=walkers > 0, stack_config=stack,
+                      sim_config=profile.sim_config())
     driver.run(1.0)  # warm the kernels and the tracker: start-up is not the steady state
     reached = 0
     efficiencies: list[float] = []
@@ -300,7 +306,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--walkers", type=int, default=3)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    parser.add_argument("--robot", default=None,
+                        help="robot profile: a robot.yaml or a built-in name (default: demo)")
     args = parser.parse_args(argv)
+    try:
+        profile = load_profile(args.robot)
+    except PolynavError as exc:
+        print(f"polynav bench nav: {exc}", file=sys.stderr)
+        return 2
     maps, left_out = find_maps(args.maps, args.max_cells) if args.maps.is_dir() else ([], [])
     if args.limit is not None:
         maps = maps[: args.limit]
@@ -320,7 +333,7 @@ def main(argv: list[str] | None = None) -> int:
     skipped: list[str] = []
     for path in maps:
         try:
-            row = run_map(path, args.goals, args.walkers, args.seed)
+            row = run_map(path, args.goals, args.walkers, args.seed, profile)
         except PolynavError as exc:
             skipped.append(f"{path.name}: {exc}")
             print(f"{path.name:28s} skipped: {exc}", flush=True)
@@ -346,7 +359,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"targets {'met' if overall['pass'] else 'missed: ' + ', '.join(overall['missed'])}")
     if args.json:
         print(json.dumps({
-            "seed": args.seed, "goals_per_map": args.goals, "walkers_per_map": args.walkers,
+            "seed": args.seed, "robot": profile.name, "goals_per_map": args.goals,
+            "walkers_per_map": args.walkers,
             "maps": rows, "skipped": skipped, "left_out": left_out, "overall": overall,
             "commit": _commit(), "machine": platform.platform(),
         }))

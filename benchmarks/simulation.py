@@ -15,11 +15,14 @@ import json
 import math
 import platform
 import subprocess
+import sys
 import time
 from pathlib import Path
 from typing import Any
 
+from polynav.errors import PolynavError
 from polynav.nav.attempt import NavigationState
+from polynav.robot.profile import RobotProfile, load_profile
 from polynav.runtime.sim_driver import simulate
 from polynav.worlds import load_world
 
@@ -41,8 +44,9 @@ def _commit() -> str | None:
 
 
 def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
-             timeout: float) -> dict[str, Any]:
-    """Every named point of every floor, in turn, with one seed; its figures."""
+             timeout: float, profile: RobotProfile | None = None) -> dict[str, Any]:
+    """Every named point of every floor, in turn, with one seed; its figures (the robot of
+    ``profile``, else of the world's ``robot:`` entry, else the demo robot)."""
     world = load_world(world_name)
     goals = succeeded = collisions = 0
     error_sum = 0.0
@@ -54,7 +58,8 @@ def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
         start = next(
             (p.pose for p in floor.points if p.kind.value == "initial"), floor.points[0].pose
         )
-        driver = simulate(world, seed=seed, floor=floor_name, pose=start, people=people)
+        driver = simulate(world, seed=seed, floor=floor_name, pose=start, people=people,
+                          profile=profile)
         # Warm the kernels and the tracker before timing: start-up is not the steady state.
         driver.run(1.0)
         sim_start, wall_start = driver.now, time.perf_counter()
@@ -99,14 +104,22 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--floors", nargs="*", help="floor names (default: all)")
     parser.add_argument("--no-people", action="store_true", help="keep the walkers still")
     parser.add_argument("--timeout", type=float, default=180.0, help="sim seconds per goal")
+    parser.add_argument("--robot", default=None,
+                        help="robot profile: a robot.yaml or a built-in name (default: the "
+                             "world's, else demo)")
     args = parser.parse_args(argv)
     if args.seeds < 1:
         parser.error("--seeds must be >= 1")
+    try:
+        profile = load_profile(args.robot) if args.robot is not None else None
+    except PolynavError as exc:
+        print(f"polynav bench sim: {exc}", file=sys.stderr)
+        return 2
 
     runs = []
     for seed in range(args.seed, args.seed + args.seeds):
         print(f"-- seed {seed}{'' if args.no_people else ', walkers on'}")
-        run = run_seed(args.world, args.floors, seed, not args.no_people, args.timeout)
+        run = run_seed(args.world, args.floors, seed, not args.no_people, args.timeout, profile)
         runs.append(run)
         print(f"seed {seed}: goals {run['goals']}, succeeded {run['succeeded']}, "
               f"collisions {run['collisions']}, real-time factor {run['real_time_factor']:.1f}x")
@@ -123,6 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         print(json.dumps({
             "world": args.world,
+            "robot": profile.name if profile is not None else None,
             "people": not args.no_people,
             "seeds": [r["seed"] for r in runs],
             "goals": goals,

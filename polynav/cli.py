@@ -28,6 +28,8 @@ if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
 
 log = logging.getLogger(__name__)
 
+EXIT_BAD_INPUT = 2
+
 BENCH_AREAS = ("planner", "sim", "api", "slam", "nav")
 _BENCH_FILES = {
     "planner": "planner.py", "sim": "simulation.py", "api": "api.py", "slam": "slam.py",
@@ -72,6 +74,7 @@ def _run(args: argparse.Namespace) -> int:
 
     from polynav.api import ApiConfig, create_app
     from polynav.listen import tcp_listener
+    from polynav.robot.profile import load_profile
     from polynav.runtime.config import RuntimeConfig
     from polynav.runtime.robot_runtime import RobotRuntime
     from polynav.store.site_store import SiteStore
@@ -93,7 +96,13 @@ def _run(args: argparse.Namespace) -> int:
         signal.signal(sig, on_signal)
 
     api_config = ApiConfig(host=args.host, port=args.port)
-    world = load_world(args.world)
+    try:
+        world = load_world(args.world)
+        profile = load_profile(args.robot) if args.robot is not None else world.robot
+    except PolynavError as exc:
+        # A bad profile or world is the user's to fix: one line naming the field, exit 2.
+        print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     store = SiteStore.open(args.data, seed_world=world)
     try:
         for warning in site_mismatches(store, world):
@@ -102,7 +111,10 @@ def _run(args: argparse.Namespace) -> int:
             store,
             world,
             config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+            profile=profile,
         )
+        if args.mapless:
+            runtime.start_mapless()  # goals are then poses in the odometry frame
         app = create_app(runtime, api_config)
         try:
             sock = tcp_listener(api_config.host, api_config.port)
@@ -130,8 +142,8 @@ def _run(args: argparse.Namespace) -> int:
                           f"{http_port}): {exc}", file=sys.stderr)
                     return 1
             base = f"http://{host}:{port}"
-            print(f"polynav: simulating world {world.name!r} at {args.speed:g}x, data in "
-                  f"{Path(args.data).resolve()}", flush=True)
+            print(f"polynav: simulating robot {runtime.profile.name!r} in world {world.name!r} at "
+                  f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
             print(f"polynav: native API {base}/api  (docs {base}/docs, "
                   f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
             if yunji is not None:
@@ -255,6 +267,12 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--mapless", action="store_true",
+                     help="navigate without a map from the start: goals are poses in the odometry "
+                          "frame (POST /api/navigation/goal with x, y, theta)")
+    run.add_argument("--robot", default=None,
+                     help="robot profile: a robot.yaml or a built-in name (demo, delivery, "
+                          "research-base); default: the world's robot, else demo")
     run.add_argument("--yunji-port", type=int, default=31001,
                      help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")

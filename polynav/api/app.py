@@ -12,10 +12,12 @@ from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
     localization,
+    mapless,
     mapping,
     maps,
     navigation,
     points,
+    robot,
     settings,
     status,
     ws,
@@ -25,7 +27,10 @@ from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
 
-ROUTERS = (status, maps, points, navigation, localization, mapping, control, settings, ws)
+ROUTERS = (
+    status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
+    ws,
+)
 
 
 def _operation_id(route: APIRoute) -> str:

@@ -9,12 +9,12 @@ comes from the caller), so it runs the same on simulated time and on the wall cl
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.geometry import Pose2D, Twist
-from polynav.localization.interface import LocalizationEstimate
+from polynav.localization.interface import LocalizationEstimate, Localizer
 from polynav.localization.pose_tracker import PoseTracker, PoseTrackerConfig
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.layers.people import PeopleLayer
@@ -24,6 +24,7 @@ from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import Robot
+from polynav.robot.profile import RobotProfile
 
 log = logging.getLogger(__name__)
 
@@ -42,6 +43,44 @@ class StackConfig:
     people: PeopleConfig = field(default_factory=PeopleConfig)
 
 
+# Obstacles raise costs this far [m] beyond the body's circumscribed radius, so paths keep off
+# walls by a margin even for a rectangle's corners.
+INFLATION_MARGIN = 0.3
+
+
+def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> StackConfig:
+    """``base`` (default: the defaults) built for ``profile``'s robot.
+
+    The costmap's inscribed radius is the body's inscribed radius and inflation reaches at least
+    ``INFLATION_MARGIN`` past its circumscribed radius (Nav2's convention: a centre nearer than
+    the inscribed radius to an obstacle is certainly a collision, one nearer than the
+    circumscribed radius possibly, depending on the heading). The controller drives at the
+    profile's cruise speeds and accelerations, never above its limits. Operator settings
+    (:meth:`polynav.runtime.settings.RobotSettings.stack_config`) then apply on top.
+    """
+    base = base or StackConfig()
+    cruise, limits = profile.cruise, profile.limits
+    ctl = base.controller
+    controller = replace(
+        ctl,
+        max_linear_velocity=cruise.linear_velocity,
+        max_angular_velocity=cruise.angular_velocity,
+        linear_acceleration=cruise.linear_acceleration,
+        linear_deceleration=cruise.linear_deceleration,
+        angular_acceleration=cruise.angular_acceleration,
+        min_regulated_speed=min(ctl.min_regulated_speed, cruise.linear_velocity),
+        min_approach_velocity=min(ctl.min_approach_velocity, cruise.linear_velocity),
+        min_rotation_speed=min(ctl.min_rotation_speed, limits.max_angular_velocity),
+    )
+    cm = base.costmap
+    costmap = replace(
+        cm,
+        robot_radius=profile.inscribed_radius,
+        inflation_radius=max(cm.inflation_radius, profile.circumscribed_radius + INFLATION_MARGIN),
+    )
+    return replace(base, controller=controller, costmap=costmap)
+
+
 class NavigationStack:
     """Localization + costmap + navigator for one robot on one map."""
 
@@ -52,12 +91,16 @@ class NavigationStack:
         *,
         config: StackConfig | None = None,
         on_event: EventSink | None = None,
+        localizer: Localizer | None = None,
     ) -> None:
         self.config = config or StackConfig()
         self.robot = robot
         self.map = grid
-        self.localizer = PoseTracker(self.config.localization)
-        self.localizer.set_map(grid)
+        # Scan-to-map tracking on ``grid`` unless another localizer is given (navigation
+        # without a map localizes in the odometry frame, :mod:`polynav.nav.mapless`).
+        self.localizer: Localizer = localizer or PoseTracker(self.config.localization)
+        if localizer is None:
+            self.localizer.set_map(grid)
         people = self.config.people
         self._people_layer = PeopleLayer(
             grid.info, radius=people.social_distance, cost=people.layer_cost

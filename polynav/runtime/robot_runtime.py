@@ -61,10 +61,11 @@ from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
-from polynav.nav.stack import NavigationStack, StackConfig
+from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
 from polynav.robot.interface import Robot
+from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
@@ -75,6 +76,7 @@ from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
@@ -95,7 +97,7 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
+class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -109,6 +111,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         *,
         config: RuntimeConfig | None = None,
         stack_config: StackConfig | None = None,
+        profile: RobotProfile | None = None,
     ) -> None:
         self.config = config or RuntimeConfig()
         self.store = store
@@ -116,8 +119,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._sim = sim
         self._robot = sim.robot
         self._clock = sim.clock
-        self._base_stack_config = stack_config or StackConfig()
-        self._settings = RobotSettings.from_stored(store.settings())
+        self.profile = profile or load_profile(DEFAULT_PROFILE)
+        self._base_stack_config = stack_config_for(self.profile, stack_config)
+        self._settings = RobotSettings.from_stored(store.settings(), self.profile)
         self._settings_dirty = False
         self._settings_lock = threading.Lock()
         self._mode = Mode.FREE
@@ -125,6 +129,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._map_name: str | None = None
         self._grid: Map | None = None
         self._keepouts: tuple[Keepout, ...] = ()
+        self._mapless = False
         self._motion = DirectMotion(self._robot, self.config.teleop_timeout)
         self._software_estop = False
         self._estop = EStopWatcher(self._robot.estop_pressed())
@@ -176,6 +181,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         config: RuntimeConfig | None = None,
         sim_config: SimConfig | None = None,
         stack_config: StackConfig | None = None,
+        profile: RobotProfile | None = None,
     ) -> RobotRuntime:
         """A runtime on the simulator, the robot standing at the world's start pose, FREE.
 
@@ -183,15 +189,20 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
             store: the site (maps, points, keepouts, settings).
             world: the simulated ground truth; its floors' maps should be the site's maps.
             config: runtime settings (seed, speed, rates).
-            sim_config: the simulated robot; defaults to :class:`SimConfig`.
-            stack_config: the navigation stack's base configuration; settings override it.
+            sim_config: the simulated robot's other settings (physics, battery, people);
+                defaults to :class:`SimConfig`.
+            stack_config: the navigation stack's base configuration; the profile and then the
+                settings override it.
+            profile: the robot (body, limits, sensors); defaults to the world's ``robot:``
+                entry, else the demo robot. The simulator and the stack are both built from it.
         """
         config = config or RuntimeConfig()
         warm_up()
+        profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
         sim = Simulation(
-            world, config=sim_config or SimConfig(), seed=config.seed, people=config.people
+            world, config=profile.sim_config(sim_config), seed=config.seed, people=config.people
         )
-        return cls(store, sim, config=config, stack_config=stack_config)
+        return cls(store, sim, config=config, stack_config=stack_config, profile=profile)
 
     # -- reads (any thread, never wait) --------------------------------------------------------
 
@@ -304,6 +315,9 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
 
         def run() -> None:
             stack = self._require_navigating()
+            if self._mapless:
+                raise Conflict("navigating without a map: the frame is odometry's, there is no "
+                               "map pose to set (start navigation on a map first)")
             if self._goal_active():
                 raise Conflict("a goal is active: cancel it before setting the initial pose")
             assert self._map_name is not None
@@ -339,9 +353,11 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
 
         Raises:
             InvalidRequest: unknown name, wrong type or out of range (``field`` names it).
+            BeyondProfile: a speed above the robot profile's limits, a planning footprint
+                below its body.
         """
         with self._settings_lock:
-            new = self._settings.apply(changes)
+            new = self._settings.apply(changes, self.profile)
             stored = new.to_dict()
             self.store.update_settings({key: stored[key] for key in changes})
 
@@ -520,6 +536,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._set_mode(Mode.BUSY)
         self._attempts.new_session()
         now = self.now()
+        self._mapless = False
         self._map_name = name
         self._grid = grid
         self._keepouts = keepouts
@@ -541,6 +558,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._cancel_goal()
         self._halt_motion()
         self._stack = None
+        self._mapless = False
         self._map_name = None
         self._grid = None
         self._keepouts = ()
@@ -550,11 +568,15 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands):
         self._check_localization(self.now())
 
     def _new_stack(self) -> NavigationStack:
-        assert self._grid is not None
         config = self._settings.stack_config(self._base_stack_config)
         if config.control_rate != self.config.control_rate:
             config = replace(config, control_rate=self.config.control_rate)
-        stack = NavigationStack(self._robot, self._grid, config=config, on_event=self._on_nav_event)
+        if self._mapless:
+            stack = self._new_mapless_stack(config)
+        else:
+            assert self._grid is not None
+            stack = NavigationStack(self._robot, self._grid, config=config,
+                                    on_event=self._on_nav_event)
         if self._keepouts:
             stack.costmap.set_keepouts(self._keepouts)
         stack.software_estop = self._software_estop

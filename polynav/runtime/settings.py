@@ -13,11 +13,12 @@ Ranges (inclusive, SI units):
 ==========================  ===========  =======
 setting                     range        default
 ==========================  ===========  =======
-max_linear_velocity         0.1 .. 1.0   0.6 m/s (1.0 is the simulated base's limit)
-max_angular_velocity        0.2 .. 3.0   1.5 rad/s
+max_linear_velocity         0.1 .. 3.0   0.6 m/s (at most the robot profile's limit)
+max_angular_velocity        0.2 .. 6.0   1.5 rad/s (at most the robot profile's limit)
 xy_goal_tolerance           0.01 .. 0.25 0.05 m (below the controller's 0.3 m lookahead)
 yaw_goal_tolerance          0.01 .. 1.0  0.05 rad
-robot_radius                0.1 .. 0.6   0.25 m (the planning footprint; inflation follows)
+robot_radius                0.1 .. 0.6   0.25 m (the planning footprint; inflation follows;
+                                         at least the profile body's inscribed radius)
 obstacle_slowdown_distance  0.2 .. 5.0   1.5 m
 obstacle_stop_distance      0.05 .. 2.0  0.35 m (at most obstacle_slowdown_distance)
 low_battery_percent         1 .. 90      20 %
@@ -27,6 +28,13 @@ led_red, led_green, led_blue  0 .. 100   0, 100, 0 % (its colour; not all 0)
 social_distance             0.3 .. 3.0   0.8 m (kept from people where there is room)
 people_patience             1 .. 600     60 s (waiting for people to make way, then fail)
 ==========================  ===========  =======
+
+The defaults are the demo robot's; :meth:`RobotSettings.defaults_for` gives another robot's
+(its profile's cruise speeds and inscribed radius). Given the robot's profile, :meth:`apply`
+also refuses speeds above the profile's limits and a planning footprint smaller than the body
+(:class:`BeyondProfile`, a 422 over the native API: the document's ranges are the same for every
+robot, the profile's are narrower), since a planner that believes the robot thinner than it is
+steers it into walls.
 """
 
 from __future__ import annotations
@@ -39,12 +47,27 @@ from dataclasses import asdict, dataclass, fields, replace
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.maps.costmap import CostmapConfig
 from polynav.nav.stack import StackConfig
+from polynav.robot.profile import RobotProfile
 
 log = logging.getLogger(__name__)
 
+
+class BeyondProfile(ConfigError, InvalidRequest):
+    """A setting the robot's profile forbids: a speed above its limits, a planning footprint
+    below its body. ``field`` (and ``key``) is the setting's name.
+
+    A :class:`ConfigError` first (the native API's 422 ``invalid_setting``), and an
+    :class:`InvalidRequest` for the dialects that map only those (an invalid request, as an
+    out-of-range value is)."""
+
+    def __init__(self, field: str, reason: str) -> None:
+        Exception.__init__(self, f"{field}: {reason}")
+        self.key = self.field = field
+        self.reason = reason
+
 SETTING_RANGES: dict[str, tuple[float, float]] = {
-    "max_linear_velocity": (0.1, 1.0),
-    "max_angular_velocity": (0.2, 3.0),
+    "max_linear_velocity": (0.1, 3.0),
+    "max_angular_velocity": (0.2, 6.0),
     "xy_goal_tolerance": (0.01, 0.25),
     "yaw_goal_tolerance": (0.01, 1.0),
     "robot_radius": (0.1, 0.6),
@@ -90,11 +113,26 @@ class RobotSettings:
         except InvalidRequest as exc:
             raise ConfigError(f"runtime.settings.{exc.field}", exc.reason) from exc
 
-    def apply(self, changes: Mapping[str, object]) -> RobotSettings:
+    @classmethod
+    def defaults_for(cls, profile: RobotProfile) -> RobotSettings:
+        """The default settings of ``profile``'s robot: its cruise speeds, and its inscribed
+        radius as the planning footprint (within the settings' ranges)."""
+        lo, hi = SETTING_RANGES["robot_radius"]
+        return replace(
+            cls(),
+            max_linear_velocity=profile.cruise.linear_velocity,
+            max_angular_velocity=profile.cruise.angular_velocity,
+            robot_radius=min(hi, max(lo, profile.inscribed_radius)),
+        )
+
+    def apply(
+        self, changes: Mapping[str, object], profile: RobotProfile | None = None
+    ) -> RobotSettings:
         """These settings with ``changes`` applied, all validated before any takes effect.
 
         Args:
             changes: setting name to new value (numbers; booleans and strings are refused).
+            profile: the robot's profile, whose limits and body bound the result.
 
         Returns:
             The new settings (``self`` is unchanged).
@@ -102,6 +140,8 @@ class RobotSettings:
         Raises:
             InvalidRequest: an unknown name, a value that is not a finite number, a value out
                 of its range, or a combination that contradicts itself; ``field`` names it.
+            BeyondProfile: a speed above ``profile``'s limits or a planning footprint below
+                its body (only the changed settings are held to it).
         """
         values: dict[str, float] = {}
         for key, value in changes.items():
@@ -111,26 +151,31 @@ class RobotSettings:
         candidate = asdict(self) | values
         new = _unchecked(candidate)
         _validate(new)
+        if profile is not None:
+            check_profile(new, profile, only=tuple(values))
         return new
 
     def to_dict(self) -> dict[str, float]:
         return {f.name: float(getattr(self, f.name)) for f in fields(self)}
 
     @classmethod
-    def from_stored(cls, stored: Mapping[str, object]) -> RobotSettings:
+    def from_stored(
+        cls, stored: Mapping[str, object], profile: RobotProfile | None = None
+    ) -> RobotSettings:
         """Settings from the site store, skipping (with a warning) what no longer validates.
 
-        A stored value that an older or newer polynav wrote must not stop the robot from
-        starting, so unknown keys and invalid values fall back to the defaults.
+        A stored value that an older or newer polynav wrote, or that another robot's profile
+        allowed, must not stop the robot from starting, so unknown keys and invalid values fall
+        back to the defaults (``profile``'s when given).
         """
-        settings = cls()
+        settings = cls() if profile is None else cls.defaults_for(profile)
         for key, value in stored.items():
             if key not in SETTING_RANGES:
                 log.warning("ignoring unknown stored setting %r", key)
                 continue
             try:
-                settings = settings.apply({key: value})
-            except InvalidRequest as exc:
+                settings = settings.apply({key: value}, profile)
+            except (InvalidRequest, ConfigError) as exc:
                 log.warning("ignoring stored setting %s", exc)
         return settings
 
@@ -160,6 +205,44 @@ class RobotSettings:
             base.people, social_distance=self.social_distance, patience=self.people_patience
         )
         return replace(base, controller=controller, costmap=costmap, people=people)
+
+
+_PROFILE_SPEEDS = {
+    "max_linear_velocity": ("max_linear_velocity", "m/s"),
+    "max_angular_velocity": ("max_angular_velocity", "rad/s"),
+}
+
+
+def check_profile(
+    settings: RobotSettings, profile: RobotProfile, *, only: tuple[str, ...] | None = None
+) -> None:
+    """Refuse settings ``profile``'s robot cannot honour (see :class:`BeyondProfile`).
+
+    Args:
+        only: check just these settings (the ones a request changes); ``None`` checks all.
+
+    Raises:
+        BeyondProfile: naming the first setting at fault and the profile's bound.
+    """
+    def wanted(key: str) -> bool:
+        return only is None or key in only
+
+    for key, (limit, unit) in _PROFILE_SPEEDS.items():
+        top = getattr(profile.limits, limit)
+        value = getattr(settings, key)
+        if wanted(key) and value > top + 1e-9:
+            raise BeyondProfile(
+                key, f"{value:g} {unit} is above the robot profile {profile.name!r}'s "
+                     f"limits.{limit} ({top:g} {unit})",
+            )
+    body = profile.inscribed_radius
+    if wanted("robot_radius") and settings.robot_radius < body - 1e-9:
+        raise BeyondProfile(
+            "robot_radius",
+            f"{settings.robot_radius:g} m is below the body of robot profile {profile.name!r} "
+            f"(inscribed radius {body:g} m): a planner that thinks the robot thinner than it "
+            "is steers it into walls",
+        )
 
 
 def _unchecked(values: Mapping[str, float]) -> RobotSettings:

@@ -10,8 +10,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from polynav.geometry import Pose2D
+from polynav.nav.mapless import MaplessConfig, MaplessStack
 from polynav.nav.navigator import EventSink
-from polynav.nav.stack import NavigationStack, StackConfig
+from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
+from polynav.robot.profile import RobotProfile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.worlds.world import World
@@ -68,6 +70,7 @@ def simulate(
     sim_config: SimConfig | None = None,
     stack_config: StackConfig | None = None,
     on_event: EventSink | None = None,
+    profile: RobotProfile | None = None,
 ) -> SimDriver:
     """A simulated robot in ``world`` with a navigation stack, localized and ready for goals.
 
@@ -79,7 +82,14 @@ def simulate(
         initial_guess: the pose given to localization (as an operator would set it); defaults to
             the true pose, and may be off by up to about 1 m / 30°.
         people: whether the floor's walkers walk.
+        profile: the robot; the simulator (over ``sim_config``) and the stack (over
+            ``stack_config``) are both built from it. Defaults to the world's ``robot:`` entry;
+            with neither, the two configs are used as given.
     """
+    profile = profile or world.robot
+    if profile is not None:
+        sim_config = profile.sim_config(sim_config)
+        stack_config = stack_config_for(profile, stack_config)
     sim = Simulation(
         world, config=sim_config or SimConfig(), seed=seed, floor=floor, pose=pose, people=people
     )
@@ -87,4 +97,37 @@ def simulate(
         sim.robot, world.floor(sim.floor).map, config=stack_config, on_event=on_event
     )
     stack.initialize(initial_guess or sim.true_pose, sim.clock.now())
+    return SimDriver(sim, stack)
+
+
+def simulate_mapless(
+    world: World,
+    *,
+    seed: int = 0,
+    floor: str | None = None,
+    pose: Pose2D | None = None,
+    people: bool = True,
+    sim_config: SimConfig | None = None,
+    stack_config: StackConfig | None = None,
+    mapless: MaplessConfig | None = None,
+    on_event: EventSink | None = None,
+    profile: RobotProfile | None = None,
+) -> SimDriver:
+    """A simulated robot in ``world`` that navigates with no map (:mod:`polynav.nav.mapless`).
+
+    The world is the simulator's ground truth only: the stack never sees its map. Goals are
+    poses in the odometry frame, which the simulator makes coincide with the world frame at the
+    start pose, so a goal in world coordinates is the same goal (``driver.stack.go_to``).
+
+    Args:
+        as :func:`simulate`; ``mapless`` sets the rolling window and the localizer.
+    """
+    profile = profile or world.robot
+    if profile is not None:
+        sim_config = profile.sim_config(sim_config)
+        stack_config = stack_config_for(profile, stack_config)
+    sim = Simulation(
+        world, config=sim_config or SimConfig(), seed=seed, floor=floor, pose=pose, people=people
+    )
+    stack = MaplessStack(sim.robot, config=stack_config, mapless=mapless, on_event=on_event)
     return SimDriver(sim, stack)

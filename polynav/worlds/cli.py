@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from polynav.errors import PolynavError
+from polynav.robot.profile import load_profile
 from polynav.worlds.from_map import FromMapOptions, write_world_from_map
 
 EXIT_BAD_INPUT = 2
@@ -30,6 +31,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
     make.add_argument("--points", type=int, default=20, help="goal points (default %(default)s)")
     make.add_argument("--walkers", type=int, default=3, help="walkers (default %(default)s)")
     make.add_argument("--seed", type=int, default=0, help="random seed (default %(default)s)")
+    make.add_argument("--robot", default=None,
+                      help="the robot the world is for: a robot.yaml or a built-in profile name; "
+                           "written into world.yaml, and points leave its body room to turn")
     return parser
 
 
@@ -37,9 +41,11 @@ def main(args: argparse.Namespace) -> int:
     """Run ``world from-map``: 0 once the world is written; 2, with one line on stderr and
     nothing written, on bad input (a missing or malformed plan, no room, bad options)."""
     try:
+        robot = load_profile(args.robot) if args.robot is not None else None
+        radius = {"robot_radius": robot.circumscribed_radius} if robot is not None else {}
         options = FromMapOptions(cell=args.cell, points=args.points, walkers=args.walkers,
-                                 seed=args.seed)
-        planned = write_world_from_map(args.map, args.out, options)
+                                 seed=args.seed, **radius)
+        planned = write_world_from_map(args.map, args.out, options, robot)
     except PolynavError as exc:
         # One line, whatever the cause: a YAML parser's message spans several.
         reason = " ".join(str(exc).split())

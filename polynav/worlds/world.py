@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps.map import Map
+from polynav.robot.profile import RobotProfile
 from polynav.site import Point
 
 log = logging.getLogger(__name__)
@@ -153,6 +154,8 @@ class World:
     floors: tuple[WorldFloor, ...]
     start_floor: str
     start_pose: Pose2D
+    robot: RobotProfile | None = None
+    """The robot the world is for (``robot:`` in world.yaml); ``None``: whichever is given."""
 
     def floor(self, name: str) -> WorldFloor:
         """The floor called ``name``.

@@ -3,6 +3,8 @@
 The layout, every length in metres and every angle in radians::
 
     name: demo
+    robot: research-base          # optional: a built-in profile, a robot.yaml path relative to
+                                  # the folder, or the profile itself as a mapping
     start: {floor: floor1, pose: {x: 3.0, y: 4.5, theta: 1.5708}}
     floors:
       - name: floor1
@@ -37,6 +39,7 @@ import yaml
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps.ros_map import load_map
+from polynav.robot.profile import ProfileError, RobotProfile, load_profile, parse_profile
 from polynav.site import Point, PointKind
 from polynav.worlds.errors import WorldFormatError
 from polynav.worlds.world import AccessPoint, LiftShaft, PersonRoute, World, WorldFloor
@@ -88,9 +91,26 @@ def read_world(folder: str | Path) -> World:
     if start_floor not in names:
         raise WorldFormatError("start.floor", f"no floor {start_floor!r} (floors: {names})")
     start_pose = _pose(_mapping(start.get("pose"), "start.pose"), "start.pose")
-    world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose)
+    robot = _robot(root, doc["robot"]) if doc.get("robot") is not None else None
+    world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose,
+                  robot=robot)
     log.info("loaded world %r from %s: floors %s", name, root, names)
     return world
+
+
+def _robot(root: Path, raw: object) -> RobotProfile:
+    """The ``robot:`` entry: a built-in profile's name, a profile file (relative to the world
+    folder), or the profile inline; a fault names the profile's field (``robot.limits...``)."""
+    try:
+        if isinstance(raw, dict):
+            return parse_profile(raw)
+        if not isinstance(raw, str) or not raw:
+            raise WorldFormatError("robot", f"expected a profile name, file or mapping, got "
+                                            f"{raw!r}")
+        local = root / raw
+        return load_profile(local if local.is_file() else raw)
+    except ProfileError as exc:
+        raise WorldFormatError(exc.field, exc.reason) from None
 
 
 def _floor(root: Path, raw: object, key: str) -> WorldFloor:

@@ -16,6 +16,7 @@ from polynav.errors import Conflict, InvalidRequest, NotLocalized
 from polynav.geometry import Pose2D
 from polynav.mapping.relocalization import Relocalization
 from polynav.maps.map import Map, MapInfo
+from polynav.robot.profile import load_profile
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.settings import RobotSettings
@@ -29,6 +30,7 @@ class FakeRuntime:
         self.bus = EventBus()
         self._lock = threading.Lock()
         self._settings = RobotSettings()
+        self.profile = load_profile("demo")
         self.now = 0.0
         self.mode = "free"
         self.map: str | None = None
@@ -90,6 +92,14 @@ class FakeRuntime:
             self.map = map_name
             if pose is not None:
                 self.pose = pose
+            self._set_mode("navigating")
+
+    def start_mapless(self) -> None:
+        with self._lock:
+            if self.mode == "mapping":
+                raise Conflict("mapping is running")
+            self._set_mode("busy")
+            self.map = "odom"
             self._set_mode("navigating")
 
     def stop_navigation(self) -> None:

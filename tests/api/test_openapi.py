@@ -44,6 +44,9 @@ DECLARED: dict[str, set[str]] = {
     "local_move": {"200", "400", "409", "422", "500"},
     "get_settings": {"200", "500"},
     "update_settings": {"200", "400", "409", "422", "500"},
+    "get_robot": {"200", "500"},
+    "start_mapless_navigation": {"200", "409", "500"},
+    "check_robot_profile": {"200", "400", "409", "422", "500"},
 }
 
 

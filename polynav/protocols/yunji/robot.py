@@ -113,6 +113,8 @@ def set_params(ctx: Context, params: Params) -> Reply:
             continue
         value = min(high, max(low, value))
         floor, ceiling = SETTING_LIMITS[setting]
+        # ... and to the robot profile's limit (limits.max_linear_velocity and so on).
+        ceiling = min(ceiling, getattr(ctx.runtime.profile.limits, setting))
         changes[setting] = min(ceiling, max(floor, value))
     if changes:
         ctx.runtime.update_settings(changes)

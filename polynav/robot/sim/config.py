@@ -18,7 +18,12 @@ class SimConfig:
     """How the simulated robot and its sensors behave.
 
     Attributes:
-        robot_radius: the base's footprint, a disk [m].
+        robot_radius: the base's footprint, a disk [m]; with ``footprint_polygon`` the radius
+            of the smallest disk about the centre that holds the polygon (people keep clear of
+            it).
+        footprint_polygon: the base's outline as polygon vertices [m] in the base frame (x
+            forward, y left), or ``()`` for the disk of ``robot_radius``; contact with walls is
+            then checked against the polygon (see :mod:`polynav.robot.sim.collision`).
         max_linear_velocity: forward and backward speed clamp [m/s].
         max_angular_velocity: turn-rate clamp [rad/s].
         linear_acceleration: speeding-up rate [m/s²].
@@ -27,6 +32,9 @@ class SimConfig:
         angular_acceleration: turn-rate increase [rad/s²].
         angular_deceleration: turn-rate decrease [rad/s²], e-stop included.
         physics_rate: physics steps per simulated second [Hz]; one :meth:`Simulation.step`.
+        lidar_x: the lidar's mount on the base, forward of the centre [m] ...
+        lidar_y: ... to the left of it [m] ...
+        lidar_theta: ... and turned by this angle [rad] (scans carry it as ``sensor_pose``).
         lidar_beams: beams per scan.
         lidar_fov: field of view [rad]; a full circle (2π) spaces beams over [-π, π).
         lidar_range: longest return [m]; farther is ``inf``.
@@ -59,6 +67,7 @@ class SimConfig:
     """
 
     robot_radius: float = 0.25
+    footprint_polygon: tuple[tuple[float, float], ...] = ()
     max_linear_velocity: float = 1.0
     max_angular_velocity: float = 2.0
     linear_acceleration: float = 1.0
@@ -66,6 +75,9 @@ class SimConfig:
     angular_acceleration: float = 3.0
     angular_deceleration: float = 5.0
     physics_rate: float = 50.0
+    lidar_x: float = 0.0
+    lidar_y: float = 0.0
+    lidar_theta: float = 0.0
     lidar_beams: int = 360
     lidar_fov: float = 2.0 * math.pi
     lidar_range: float = 12.0
@@ -112,6 +124,12 @@ class SimConfig:
             value = getattr(self, f.name)
             if isinstance(value, float | int) and not math.isfinite(value):
                 _fail(f.name, f"must be finite, got {value}")
+        if self.footprint_polygon:
+            if len(self.footprint_polygon) < 3:
+                _fail("footprint_polygon", "needs at least 3 vertices")
+            reach = max(math.hypot(x, y) for x, y in self.footprint_polygon)
+            if reach > self.robot_radius + 1e-9:
+                _fail("robot_radius", f"must hold the polygon: at least {reach:g}")
         for name in positive:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")

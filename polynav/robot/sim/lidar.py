@@ -27,7 +27,9 @@ log = logging.getLogger(__name__)
 
 
 class Lidar:
-    """A lidar mounted at the robot's centre, looking along its heading."""
+    """A lidar mounted on the base at ``(lidar_x, lidar_y, lidar_theta)`` of the config (the
+    centre, looking along the heading, by default); its scans carry the mount as
+    ``sensor_pose``."""
 
     def __init__(self, config: SimConfig, rng: np.random.Generator) -> None:
         self._config = config
@@ -42,6 +44,7 @@ class Lidar:
         else:
             self.angle_increment = config.lidar_fov / (n - 1)
         self._angles = self.angle_min + self.angle_increment * np.arange(n, dtype=np.float64)
+        self._mount = Pose2D(config.lidar_x, config.lidar_y, config.lidar_theta)
 
     def scan(
         self,
@@ -61,10 +64,11 @@ class Lidar:
             stamp: time of the sweep [s].
         """
         c = self._config
-        world = self._angles + pose.theta
-        ranges = cast_rays(occupied, info, pose.x, pose.y, world, c.lidar_range)
+        sensor = pose.compose(self._mount)
+        world = self._angles + sensor.theta
+        ranges = cast_rays(occupied, info, sensor.x, sensor.y, world, c.lidar_range)
         if people.shape[0]:
-            ranges = np.minimum(ranges, circle_ranges(pose.x, pose.y, world, people,
+            ranges = np.minimum(ranges, circle_ranges(sensor.x, sensor.y, world, people,
                                                       c.lidar_range))
         if c.lidar_range_noise > 0.0:
             ranges = ranges + c.lidar_range_noise * self._rng.standard_normal(ranges.shape[0])
@@ -76,6 +80,7 @@ class Lidar:
             range_min=c.lidar_range_min,
             range_max=c.lidar_range,
             ranges=ranges.astype(np.float32),
+            sensor_pose=self._mount,
         )
 
 

@@ -35,7 +35,12 @@ from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.maps.map import MapInfo
 from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
 from polynav.robot.sim.battery import Battery
-from polynav.robot.sim.collision import Collision, Obstacle, person_clearance, wall_clearance
+from polynav.robot.sim.collision import (
+    Collision,
+    Obstacle,
+    body_wall_clearance,
+    person_clearance,
+)
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.diff_drive import DiffDrive
 from polynav.robot.sim.imu import Imu
@@ -339,9 +344,9 @@ class Simulation:
             hit = self._obstacle_hit(here, step.pose, circles)
             if hit is None:
                 base.apply(step)
-                self._wall_gap = wall_clearance(
-                    here.occupied, here.info, step.pose.x, step.pose.y,
-                    radius=c.robot_radius, horizon=c.collision_release_distance,
+                self._wall_gap = body_wall_clearance(
+                    here.occupied, here.info, step.pose, radius=c.robot_radius,
+                    polygon=c.footprint_polygon, horizon=c.collision_release_distance,
                 )
             else:
                 base.halt()
@@ -381,8 +386,9 @@ class Simulation:
         """
         c = self.config
         r = c.robot_radius
-        wall = wall_clearance(here.occupied, here.info, pose.x, pose.y, radius=r,
-                              horizon=c.collision_release_distance)
+        wall = body_wall_clearance(here.occupied, here.info, pose, radius=r,
+                                   polygon=c.footprint_polygon,
+                                   horizon=c.collision_release_distance)
         if wall < 0.0 and wall < self._wall_gap - _EPS:
             return "wall"
         if circles.shape[0]:
@@ -414,8 +420,9 @@ class Simulation:
     def _check_placement(self, floor: str, pose: Pose2D) -> float:
         here = self._floors[floor]
         c = self.config
-        gap = wall_clearance(here.occupied, here.info, pose.x, pose.y, radius=c.robot_radius,
-                             horizon=c.collision_release_distance)
+        gap = body_wall_clearance(here.occupied, here.info, pose, radius=c.robot_radius,
+                                  polygon=c.footprint_polygon,
+                                  horizon=c.collision_release_distance)
         if gap < 0.0:
             raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps a wall by {-gap:.3f} m")
         return gap

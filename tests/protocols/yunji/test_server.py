@@ -410,17 +410,18 @@ def test_get_params_reports_the_current_speed_limits(client: Client) -> None:
 def test_set_params_clamps_and_always_answers_ok(harness: Harness, client: Client) -> None:
     assert client.request("/api/set_params?max_speed_linear=0.5")["status"] == "OK"
     assert client.request("/api/get_params")["results"]["max_speed_linear"] == 0.5
-    # Below the vendor's range -> its minimum; above polynav's -> polynav's maximum.
+    # Below the vendor's range -> its minimum; above polynav's -> polynav's maximum, which is
+    # the robot profile's limit (the demo robot turns at most 2 rad/s).
     reply = client.request("/api/set_params?max_speed_linear=0.01&max_speed_angular=9")
     assert reply["status"] == "OK"
     assert client.request("/api/get_params")["results"] == {
-        "max_speed_linear": 0.1, "max_speed_angular": 3.0}
+        "max_speed_linear": 0.1, "max_speed_angular": 2.0}
     assert harness.runtime.settings().max_linear_velocity == 0.1
     # Bad values and unknown names change nothing, and still answer OK.
     for query in ("max_speed_linear=fast", "max_speed_ratio=0.5", "colour=red"):
         assert client.request(f"/api/set_params?{query}")["status"] == "OK"
     assert client.request("/api/get_params")["results"] == {
-        "max_speed_linear": 0.1, "max_speed_angular": 3.0}
+        "max_speed_linear": 0.1, "max_speed_angular": 2.0}
 
 
 def test_map_list_info_gives_each_map_its_grid(client: Client) -> None:

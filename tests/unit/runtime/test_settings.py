@@ -26,7 +26,7 @@ def test_apply_returns_new_settings_and_leaves_the_old_unchanged() -> None:
 @pytest.mark.parametrize(
     ("changes", "field"),
     [
-        ({"max_linear_velocity": 1.5}, "max_linear_velocity"),
+        ({"max_linear_velocity": 3.5}, "max_linear_velocity"),
         ({"max_linear_velocity": 0.0}, "max_linear_velocity"),
         ({"robot_radius": -0.1}, "robot_radius"),
         ({"yaw_goal_tolerance": math.nan}, "yaw_goal_tolerance"),
