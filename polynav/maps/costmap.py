@@ -11,7 +11,9 @@ An update first asks every layer which cells it changed (``update_bounds``; infl
 window by its radius), then resets and recomposes the master *inside that window only*
 (``update_costs``), as Nav2's ``LayeredCostmap::updateMap``. A scan on one side of a large map
 therefore leaves the far side alone, and a robot standing still in a static scene redraws almost
-nothing. Extra layers (a later speed or semantic layer) slot in between obstacle and inflation.
+nothing. Inflation, the costly step, then runs only round the cells whose composed cost (every
+layer below it) really changed within that window. Extra layers (a later speed or semantic
+layer) slot in between obstacle and inflation.
 
 Outside the map, :meth:`Costmap.cost_at` answers LETHAL: the robot knows nothing there, there is
 no grid to plan on, and a controller must treat leaving the map like hitting a wall.
@@ -180,6 +182,9 @@ class Costmap:
         self._layers = tuple(layers)
         self._default = costs.UNKNOWN if cfg.track_unknown else costs.FREE
         self._master = np.full((info.height, info.width), self._default, dtype=np.uint8)
+        # The layers below inflation, composed: what inflation grows. Kept apart from the master
+        # so that an update can tell which cells really changed (see :meth:`update`).
+        self._base = self._master.copy()
         self._view = self._master.view()
         self._view.flags.writeable = False
         self.update()
@@ -294,10 +299,25 @@ class Costmap:
         self._last_window = window
         if window is None:
             return None
-        self._master[win.slices(window)] = self._default
-        for layer in self._layers:
-            layer.update_costs(self._master, window)
-        log.debug("costmap: recomposed window %s", window)
+        region = win.slices(window)
+        before = self._base[region].copy()
+        self._base[region] = self._default
+        for layer in self._layers[:-1]:
+            layer.update_costs(self._base, window)
+        changed = win.of_mask(before != self._base[region])
+        if changed is not None:
+            # Inflation only where it can differ: within its radius of a cell whose composed
+            # cost changed. A scan's window spans every cell its beams flipped in the obstacle
+            # layer (wall cells marked again from a new angle, free space seen again), most of
+            # which change nothing below inflation; growing only the real changes keeps the
+            # distance transform, the costliest step of an update, to a few small windows.
+            inner = (changed[0] + window[0], changed[1] + window[1],
+                     changed[2] + window[0], changed[3] + window[1])
+            redo = win.grow(inner, self._inflation.cell_radius, self._info.width,
+                            self._info.height)
+            self._master[win.slices(redo)] = self._base[win.slices(redo)]
+            self._inflation.update_costs(self._master, redo)
+        log.debug("costmap: recomposed window %s (changed %s)", window, changed)
         return window
 
 

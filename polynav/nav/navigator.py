@@ -349,7 +349,7 @@ class Navigator(ChargerPhases):
         if self._phase is _Phase.RECOVER:
             twist = self._tick_recovery(pose, now)
             if twist is not None:
-                return twist
+                return self._wait.slow(pose, twist)  # backing up into someone is no recovery
         if self._phase is _Phase.WAIT:
             step = self._wait.tick(pose, velocity, now, dt, self._path, self._plan_path)
             if step.expired:
@@ -529,7 +529,11 @@ class Navigator(ChargerPhases):
         reset = self.config.progress_reset_distance
         self._budget.moved(pose)
         self._wait.moved(pose, reset)
-        return self._wait.slow(pose, command.twist)
+        twist = self._wait.slow(pose, command.twist, now)
+        if self._wait.held(now):  # people stand where the robot would go: wait for them
+            self._wait_for_people(pose, now)
+            return Twist()
+        return twist
 
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
         """Count a failure at this place; give up when the place is exhausted (see

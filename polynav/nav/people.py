@@ -37,6 +37,11 @@ class PeopleConfig:
         social_distance: centre-to-centre distance the robot keeps from people where it can;
             plans avoid it (the people layer) and the robot slows inside it.
         slow_speed: the top speed within ``social_distance`` of a person.
+        approach_time: near a person the robot's speed towards them is at most its distance
+            beyond the social distance over this time, so it eases to a stop at the edge of
+            their space.
+        hold_before_wait: kept still that way this long, the robot waits for the people (it
+            re-plans round them, and gives way) as when they block the path.
         horizon: how far ahead people's positions are predicted (constant velocity).
         prediction_step: spacing of the predicted positions.
         layer_cost: the cost (1..252) of cells within ``social_distance`` of a person now or
@@ -55,6 +60,8 @@ class PeopleConfig:
     enabled: bool = True
     social_distance: float = 0.8
     slow_speed: float = 0.3
+    approach_time: float = 0.8
+    hold_before_wait: float = 1.0
     horizon: float = 1.0
     prediction_step: float = 0.5
     layer_cost: int = 180
@@ -66,7 +73,8 @@ class PeopleConfig:
     give_way_distance: float = 0.5
 
     def __post_init__(self) -> None:
-        for key in ("social_distance", "slow_speed", "prediction_step", "block_radius",
+        for key in ("social_distance", "slow_speed", "approach_time", "hold_before_wait",
+                    "prediction_step", "block_radius",
                     "block_lookahead", "patience", "wait_replan_period", "give_way_after",
                     "give_way_distance"):
             value = getattr(self, key)
@@ -162,8 +170,10 @@ def aside_spots(
 
     A person's way is the segment ahead of them along their walk, or, for someone standing,
     towards and past the robot (they are likely waiting to come through where it stands). A
-    spot is free on the costmap, outside everyone's social disc, and at least the social
-    distance from every such way; the robot drives there and lets them pass.
+    spot is free on the costmap, outside everyone's social disc, at least the social distance
+    from every such way, and the straight way to it brings the robot no nearer anyone than the
+    social distance (or than it stands now, when nearer); the robot drives there and lets
+    them pass.
     """
     ways = []
     for p in people.people:
@@ -176,6 +186,10 @@ def aside_spots(
             d = math.hypot(pose.x - p.x, pose.y - p.y) or 1.0
             ux, uy = (pose.x - p.x) / d, (pose.y - p.y) / d
         ways.append((p.x, p.y, p.x + _WAY_AHEAD * ux, p.y + _WAY_AHEAD * uy))
+    # Getting there must not bring the robot nearer anyone than the social distance, or than
+    # it already is when it stands nearer: stepping aside is to leave room, not to brush by.
+    keep = [(p.x, p.y, min(config.social_distance, math.hypot(p.x - pose.x, p.y - pose.y)))
+            for p in people.people]
     spots = []
     for ring in _SPOT_RINGS:
         for bearing in _SPOT_BEARINGS:
@@ -183,7 +197,10 @@ def aside_spots(
             y = pose.y + float(ring) * math.sin(pose.theta + float(bearing))
             if costmap.cost_at(x, y) > _SPOT_MAX_COST:
                 continue
-            if all(_segment_distance(x, y, *way) >= config.social_distance for way in ways):
+            if all(_segment_distance(x, y, *way) >= config.social_distance for way in ways) and all(
+                _segment_distance(px, py, pose.x, pose.y, x, y) >= clear - 1e-6
+                for px, py, clear in keep
+            ):
                 spots.append(Pose2D(x, y, pose.theta))
         if len(spots) >= limit:
             break

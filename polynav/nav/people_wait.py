@@ -13,6 +13,7 @@ would. The patience runs over the whole episode, which ends once the robot has g
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -30,6 +31,7 @@ from polynav.planning.path import Path
 log = logging.getLogger(__name__)
 
 _FACE_TO_FACE_MARGIN = 0.4  # [m] beyond the social distance: someone this near is face to face
+_HELD_SPEED = 0.02  # [m/s] slowed below this for people, the robot counts as held by them
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,6 +72,7 @@ class PeopleWait:
         )
         self._backing_up = False
         self._aside: Pose2D | None = None
+        self._held_since: float | None = None
 
     @property
     def since(self) -> float | None:
@@ -80,6 +83,7 @@ class PeopleWait:
         """A new goal: no wait."""
         self._since = None
         self._where = None
+        self._held_since = None
 
     def moved(self, pose: Pose2D, distance: float) -> None:
         """The robot is following its path: ``distance`` past where it waited, the wait is over
@@ -112,6 +116,7 @@ class PeopleWait:
             log.info("people block the way: waiting up to %g s", self.config.patience)
         self._controller.reset()
         self._last_plan = now
+        self._held_since = None
         self._backing_up = False
         self._aside = None
         return new
@@ -156,15 +161,57 @@ class PeopleWait:
         log.info("a way past the people: following it")
         return WaitStep(path=way)
 
-    def slow(self, pose: Pose2D, twist: Twist) -> Twist:
-        """``twist`` at no more than the slow speed within the social distance of someone, on
-        the same curvature."""
+    def slow(self, pose: Pose2D, twist: Twist, now: float | None = None) -> Twist:
+        """``twist`` made polite, on the same curvature: no more than the slow speed within the
+        social distance of someone, and no closing in on anyone near it.
+
+        The robot's own speed towards a person (its velocity along the line to them, less the
+        speed at which they walk away) may be at most ``(d - social_distance) /
+        approach_time`` at distance ``d``: the robot eases up to the edge of their space and
+        stops there, rather than drive into it; moving past, away, or turning is not limited.
+        The plan (people layer) is what keeps the robot clear where there is room; this holds
+        the line when the plan is late, or when there is no room and the wait takes over.
+        With ``now`` given, a robot held still this way is remembered (:meth:`held`).
+        """
+        polite = self._polite(pose, twist)
+        if now is not None:
+            stopped = abs(polite.linear) < _HELD_SPEED <= abs(twist.linear)
+            if not stopped:
+                self._held_since = None
+            elif self._held_since is None:
+                self._held_since = now
+        return polite
+
+    def held(self, now: float) -> bool:
+        """Whether :meth:`slow` has kept the robot from moving for ``hold_before_wait``: the
+        people are in the way, and the wait (re-plans, giving way) should take over."""
+        since = self._held_since
+        return since is not None and now - since >= self.config.hold_before_wait
+
+    def _polite(self, pose: Pose2D, twist: Twist, *, approach: bool = True) -> Twist:
         cfg = self.config
-        if not cfg.enabled or abs(twist.linear) <= cfg.slow_speed:
+        speed = abs(twist.linear)
+        if not cfg.enabled or speed == 0.0 or not self.people:
             return twist
-        if self.people.nearest(pose.x, pose.y) >= cfg.social_distance:
+        sign = 1.0 if twist.linear > 0.0 else -1.0
+        hx, hy = sign * math.cos(pose.theta), sign * math.sin(pose.theta)
+        limit = speed
+        for p in self.people.people:
+            dx, dy = p.x - pose.x, p.y - pose.y
+            d = math.hypot(dx, dy)
+            if d < cfg.social_distance:
+                limit = min(limit, cfg.slow_speed)
+            if not approach:
+                continue
+            towards = 0.0 if d == 0.0 else (dx * hx + dy * hy) / d  # cos(motion, person)
+            if towards <= 0.0:
+                continue
+            receding = max(0.0, (p.vx * dx + p.vy * dy) / d)
+            allowed = max(0.0, d - cfg.social_distance) / cfg.approach_time + receding
+            limit = min(limit, allowed / towards)
+        if limit >= speed:
             return twist
-        k = cfg.slow_speed / abs(twist.linear)
+        k = limit / speed
         return Twist(twist.linear * k, twist.angular * k)
 
     def _start_give_way(self, pose: Pose2D, now: float) -> None:
@@ -187,7 +234,9 @@ class PeopleWait:
         if self._aside is not None:
             command = self._controller.compute(pose, velocity, self._costmap, dt)
             if command.status not in (ControlStatus.ARRIVED, ControlStatus.BLOCKED):
-                return self.slow(pose, command.twist)
+                # Slowly, but not held off: the way aside may brush someone's space, and
+                # standing still face to face is what this move ends.
+                return self._polite(pose, command.twist, approach=False)
             self._aside = None
             self._controller.reset()
             self._last_give_way = now
@@ -195,7 +244,7 @@ class PeopleWait:
         if self._backing_up:
             twist = self._back_up.tick(pose, now)
             if twist is not None:
-                return twist
+                return self._polite(pose, twist)  # not into someone behind
             self._backing_up = False
             self._last_give_way = now
         return None

@@ -61,6 +61,11 @@ def test_bench_nav_prints_per_map_and_overall(
     assert row["map"] == "empty-8-8.map" and row["goals"] == 2  # 300 x 300 is left out
     assert figures["left_out"] == ["huge.map: 300 x 300 cells, more than 256"]
     assert row["reached"] + sum(row["failures"].values()) == 2
+    outcomes = row["outcomes"]
+    assert [o["goal"] for o in outcomes] == ["p01", "p02"]
+    assert sum(o["outcome"] == "reached" for o in outcomes) == row["reached"]
+    assert {"closest_person_m", "closest_person_approached_m", "seconds"} <= set(outcomes[0])
+    assert row["real_time_factor"] > 0.0 and row["real_time_factor_wall"] > 0.0
     overall = figures["overall"]
     assert set(overall) >= {"success_rate", "path_efficiency_median", "collisions",  # type: ignore[arg-type]
                             "closest_person_m", "real_time_factor_min", "targets", "pass"}
@@ -68,9 +73,11 @@ def test_bench_nav_prints_per_map_and_overall(
 
 
 def _row(reached: int, efficiencies: list[float], closest: float | None, rtf: float,
-         failures: dict[str, int] | None = None) -> dict[str, Any]:
+         failures: dict[str, int] | None = None,
+         approached: float | None = None) -> dict[str, Any]:
     return {"goals": 4, "reached": reached, "path_efficiencies": efficiencies,
             "failures": failures or {}, "collisions": 0, "closest_person_m": closest,
+            "closest_person_approached_m": closest if approached is None else approached,
             "real_time_factor": rtf, "sim_seconds": 10.0,
             "goals_with_localization_lost": 0}
 
@@ -86,6 +93,17 @@ def test_overall_figures_pool_every_goal_and_name_the_missed_targets() -> None:
     assert overall["missed"] == ["success_rate"] and overall["pass"] is False
     near = bench_nav.overall_figures([_row(4, [1.0], 0.5, 10.0)], social_distance=0.8)
     assert near["missed"] == ["closest_person", "real_time_factor"]
+
+
+def test_social_distance_is_judged_on_approaches_the_robot_made() -> None:
+    # A walker passed a standing robot at 0.5 m; the robot itself never closed in within 0.9 m.
+    passed = bench_nav.overall_figures([_row(4, [1.0], 0.5, 30.0, approached=0.9)],
+                                       social_distance=0.8)
+    assert passed["closest_person_m"] == 0.5 and passed["closest_person_approached_m"] == 0.9
+    assert passed["missed"] == [] and passed["pass"] is True
+    pushed = bench_nav.overall_figures([_row(4, [1.0], 0.5, 30.0, approached=0.6)],
+                                       social_distance=0.8)
+    assert pushed["missed"] == ["closest_person"]
 
 
 def test_bench_nav_without_maps_fails_clearly(
