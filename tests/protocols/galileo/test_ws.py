@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import threading
 from typing import Any
 
 import pytest
@@ -96,13 +97,25 @@ def test_unknown_topic_and_bad_token_are_refused_at_the_handshake(runtime: Robot
             assert "navStatus" in _recv(ws)
 
 
-def test_cmd_vel_publish_drives_the_robot(galileo: Harness) -> None:
+def test_cmd_vel_publish_drives_the_robot(galileo: Harness,
+                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    # The server applies a message on its own thread: wait until each one has reached the
+    # runtime before advancing the clock, so the simulated history is the same on every run.
+    applied = threading.Semaphore(0)
+    teleop = galileo.runtime.teleop
+
+    def counted(linear: float, angular: float) -> None:
+        teleop(linear, angular)
+        applied.release()
+
+    monkeypatch.setattr(galileo.runtime, "teleop", counted)
     before = galileo.runtime.simulation.true_pose
     with connect(_url(galileo, "/cmd_vel")) as ws:
         twist = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0},
                  "angular": {"x": 0.0, "y": 0.0, "z": 0.5}}
         for _ in range(10):
             ws.send(json.dumps(twist))
+            assert applied.acquire(timeout=20)
             galileo.runtime.advance(0.2)
         ws.send('{"linear": {"x": "fast"}, "angular": {}}')
         error = _recv(ws)
