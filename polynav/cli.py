@@ -154,7 +154,8 @@ def _run(args: argparse.Namespace) -> int:
                     galileo = GalileoThread(runtime, GalileoConfig(
                         host=args.host, port=args.galileo_port, ws_port=args.galileo_ws_port,
                         require_token=args.galileo_require_token,
-                        udp_port=args.galileo_udp_port,
+                        udp_port=args.galileo_udp_port or 22002,
+                        announce=args.galileo_udp_port != 0,
                     ))
                 except OSError as exc:
                     print(f"polynav run: cannot listen (Galileo, ports {args.galileo_port}, "
@@ -317,7 +318,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--no-galileo", action="store_true", help="do not serve the Galileo API")
     run.add_argument("--galileo-udp-port", type=int, default=22002,
                      help="port the Galileo discovery announcement is sent to, on the loopback "
-                          "broadcast address (default: %(default)s)")
+                          "broadcast address; 0: no announcements (default: %(default)s)")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

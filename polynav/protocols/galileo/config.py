@@ -63,5 +63,8 @@ class GalileoConfig:
                 "galileo.announce_interval",
                 f"must be in [0.05, 60] s, got {self.announce_interval}",
             )
+        if self.announce and self.udp_port == 0:
+            raise ConfigError("galileo.udp_port",
+                              "announcements need a destination port in [1, 65535]")
         if not self.broadcast_address:
             raise ConfigError("galileo.broadcast_address", "must not be empty")
