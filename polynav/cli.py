@@ -156,6 +156,7 @@ def _run(args: argparse.Namespace) -> int:
                         require_token=args.galileo_require_token,
                         udp_port=args.galileo_udp_port or 22002,
                         announce=args.galileo_udp_port != 0,
+                        broadcast_address=args.galileo_broadcast,
                     ))
                 except OSError as exc:
                     print(f"polynav run: cannot listen (Galileo, ports {args.galileo_port}, "
@@ -317,8 +318,11 @@ def build_parser() -> argparse.ArgumentParser:
                      help="Galileo WebSocket port (default: %(default)s)")
     run.add_argument("--no-galileo", action="store_true", help="do not serve the Galileo API")
     run.add_argument("--galileo-udp-port", type=int, default=22002,
-                     help="port the Galileo discovery announcement is sent to, on the loopback "
-                          "broadcast address; 0: no announcements (default: %(default)s)")
+                     help="port the Galileo discovery announcement is sent to; "
+                          "0: no announcements (default: %(default)s)")
+    run.add_argument("--galileo-broadcast", default="127.255.255.255",
+                     help="where Galileo discovery announcements go: loopback unless a LAN "
+                          "broadcast address is given (default: %(default)s)")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

@@ -9,6 +9,7 @@ token checking on whatever the file says).
 
 from __future__ import annotations
 
+import ipaddress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -66,5 +67,9 @@ class GalileoConfig:
         if self.announce and self.udp_port == 0:
             raise ConfigError("galileo.udp_port",
                               "announcements need a destination port in [1, 65535]")
-        if not self.broadcast_address:
-            raise ConfigError("galileo.broadcast_address", "must not be empty")
+        try:
+            ipaddress.IPv4Address(self.broadcast_address)
+        except ValueError:
+            raise ConfigError("galileo.broadcast_address",
+                              f"must be an IPv4 address, got {self.broadcast_address!r}"
+                              ) from None

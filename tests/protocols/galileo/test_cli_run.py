@@ -110,8 +110,10 @@ def test_run_refuses_a_galileo_port_out_of_range_naming_it(tmp_path: Path) -> No
 
 def test_galileo_config_checks_its_ports() -> None:
     assert GalileoConfig(udp_port=0, announce=False).udp_port == 0
+    assert GalileoConfig(broadcast_address="192.168.1.255").broadcast_address == "192.168.1.255"
     for bad in ({"udp_port": 0}, {"udp_port": 65536}, {"port": -1}, {"ws_port": 70000},
-                {"announce_interval": 0.0}, {"host": ""}):
+                {"announce_interval": 0.0}, {"host": ""}, {"broadcast_address": "lan"},
+                {"broadcast_address": ""}):
         with pytest.raises(ConfigError) as refused:
             GalileoConfig(**bad)  # type: ignore[arg-type]
         assert refused.value.key.startswith("galileo.")
