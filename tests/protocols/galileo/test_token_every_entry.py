@@ -63,6 +63,10 @@ def _http_refused(g: Harness, method: str, url: str) -> None:
         response = g.http.request(method, url, params=query, json=body)
         assert response.status_code == 401, (method, url, token, response.text)
         assert response.json() == REFUSAL, (method, url, token)
+    # A body that does not parse is refused as unauthenticated too (it could hold no token).
+    broken = g.http.request(method, url, params={"token": "f" * 32}, content=b"{not json",
+                            headers={"content-type": "application/json"})
+    assert (broken.status_code, broken.json()) == (401, REFUSAL), (method, url, broken.text)
 
 
 def _ws_refused(g: Harness, url: str) -> None:
