@@ -358,7 +358,7 @@ def floor_three() -> Floor:
         f.vwall(0.2, 10.9, x)
     f.vwall(13.1, 19.0, 34.0)
     f.vwall(0.2, 10.9, 34.0)
-    for x0, x1 in ((8.1, 15.0), (15.1, 22.0), (22.1, 28.0), (28.1, 34.0)):
+    for x1 in (15.0, 22.0, 28.0, 34.0):
         f.block(x1 - 2.0, 22.6, x1, 23.8)  # examination couch, north rooms
         f.block(x1 - 1.6, 0.2, x1, 1.6)  # desk, south rooms
     f.block(36.0, 4.0, 38.0, 6.0)  # nurse station counter, east of the last south room
