@@ -30,8 +30,8 @@ The layout, every length in metres and every angle in radians::
 ``security`` and ``password`` empty for an open network) may be left out. A lift car's
 ``outside`` and ``inside`` name points present on every floor it serves (the inside one in its
 shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`` and ``capacity`` may be left out.
-Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a
-simulated floor.
+Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the
+reality of a simulated floor.
 """
 
 from __future__ import annotations
