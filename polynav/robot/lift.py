@@ -167,3 +167,8 @@ class Lift(Protocol):
         """How long [s] the car would take from now to stand open at ``floor`` if called now
         (travel, doors; not other sessions' trips). Used by the router to weigh cars."""
         ...
+
+    def travel_time(self, from_floor: str, to_floor: str) -> float:
+        """How long [s] a ride from ``from_floor`` to ``to_floor`` takes, doors closing at the
+        start and opening at the end included."""
+        ...

@@ -136,6 +136,13 @@ class SimLiftCar:
                      ) * self.spec.door_time
         return time
 
+    def travel_time(self, from_floor: str, to_floor: str) -> float:
+        for floor in (from_floor, to_floor):
+            if floor not in self._levels:
+                raise InvalidRequest("floor", f"lift {self.name} does not serve floor {floor!r}")
+        distance = abs(self._level_height(to_floor) - self._level_height(from_floor))
+        return distance / self.spec.speed + 2.0 * self.spec.door_time
+
     # -- simulator controls ----------------------------------------------------------------
 
     @property
