@@ -59,7 +59,13 @@ from polynav.routing.route import DriveLeg, LiftLeg, Route, SwitchLeg
 from polynav.routing.router import Router
 from polynav.runtime import events
 from polynav.runtime.internals import RuntimeParts
-from polynav.runtime.lift_events import LiftPhase, LiftPhaseChanged, MapSwitched, RouteStarted
+from polynav.runtime.lift_events import (
+    HELD,
+    LiftPhase,
+    LiftPhaseChanged,
+    MapSwitched,
+    RouteStarted,
+)
 from polynav.runtime.lift_sessions import LiftSessions, LocalLiftSessions
 from polynav.runtime.route_run import (
     AT_POINT,
@@ -86,6 +92,7 @@ class LiftCommands(RuntimeParts):
     _route: RouteRun | None
     _route_last: RouteRun | None
     _router: Router | None
+    _path_costs: PlannedPathCosts | None
     _lift_sessions: LiftSessions | None
 
     # -- reads ---------------------------------------------------------------------------------
@@ -142,6 +149,29 @@ class LiftCommands(RuntimeParts):
             raise NotFound("lift", car)
         self._call(lambda: found.set_mode(mode))
 
+    def route_length(self, start_map: str, start: Pose2D, goal_map: str, goal: Pose2D) -> float:
+        """Length [m] of the in-map paths of the route the robot would take from ``start`` to
+        ``goal`` (lift rides count nothing), on the stored maps.
+
+        Raises:
+            NotFound: unknown map. NoRoute: no route (the reason says why).
+        """
+        self.store.map_record(start_map)
+        self.store.map_record(goal_map)
+        route = self._plan_route(start_map, start, goal_map, goal, None, excluded=set())
+        costs = self._costs()
+        total, here, where = 0.0, start, start_map
+        for leg in route.legs:
+            if isinstance(leg, DriveLeg):
+                total += costs.length(leg.map_name, here, leg.goal)
+                here, where = leg.goal, leg.map_name
+            elif isinstance(leg, LiftLeg):
+                here, where = leg.outside_to, leg.to_map
+            else:
+                here, where = leg.to_pose, leg.to_map
+        assert where == goal_map
+        return total
+
     # -- starting and ending -------------------------------------------------------------------
 
     def _start_route(self, point: str | None, goal: Pose2D, goal_map: str,
@@ -195,9 +225,7 @@ class LiftCommands(RuntimeParts):
                     ) -> Route:
         router = self._router
         if router is None:
-            config = self.stack_config()
-            router = Router(self.store, PlannedPathCosts(self.store, config.costmap,
-                                                         config.planner))
+            router = Router(self.store, self._costs())
             self._router = router
         records = site_connections.parse(self.store.connections())
         return router.route(records, self.lifts, start_map=start_map, start=start,
@@ -266,6 +294,10 @@ class LiftCommands(RuntimeParts):
         if phase is LiftPhase.WAITING_FOR_SESSION:
             if sessions.granted(leg.car, now):
                 self._call_car(run, leg, car, now)
+            elif not run.announced_wait:
+                run.announced_wait = True
+                self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, phase,
+                                               leg.from_floor, leg.to_floor, HELD))
             elif now - run.since > SESSION_TIMEOUT:
                 self._reroute(run, now, f"lift {leg.car} stayed busy")
             elif sessions.rejected(leg.car):
@@ -367,6 +399,9 @@ class LiftCommands(RuntimeParts):
         if run.backing_in:
             run.backing_in = False
             run.resume_at = now + RETRY_PAUSE
+            back = "succeeded" if result is NavigationState.SUCCEEDED else "failed"
+            self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, LiftPhase.EXITING,
+                                           leg.from_floor, leg.to_floor, f"back in: {back}"))
             return
         if result is NavigationState.SUCCEEDED:
             self._set_phase(run, LiftPhase.LEFT, now)
@@ -392,6 +427,14 @@ class LiftCommands(RuntimeParts):
             self._end_route(NavigationState.SUCCEEDED)
 
     # -- helpers -------------------------------------------------------------------------------
+
+    def _costs(self) -> PlannedPathCosts:
+        costs = self._path_costs
+        if costs is None:
+            config = self.stack_config()
+            costs = PlannedPathCosts(self.store, config.costmap, config.planner)
+            self._path_costs = costs
+        return costs
 
     def _sessions(self) -> LiftSessions:
         if self._lift_sessions is None:
@@ -479,6 +522,7 @@ class LiftCommands(RuntimeParts):
             return
         run.legs, run.index = list(route.legs), 0
         run.phase, run.since, run.retries, run.called = None, now, 0, False
+        run.announced_wait = False
         self._publish(RouteStarted(now, run.attempt_id, tuple(leg.kind for leg in route.legs),
                                    route.cars))
 

@@ -29,6 +29,10 @@ class LiftPhase(enum.Enum):
     LEFT = "left"
 
 
+HELD = "held by another robot"
+"""``detail`` of a ``waiting_for_session`` event sent when the session is not granted at once."""
+
+
 @dataclass(frozen=True, slots=True)
 class RouteStarted(RuntimeEvent):
     """A goal on another map was routed: its legs (``drive``, ``lift``, ``switch``) and cars."""

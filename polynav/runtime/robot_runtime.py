@@ -150,6 +150,7 @@ class RobotRuntime(GoalCommands, LiftCommands, MotionCommands, MappingCommands, 
         self._route = None
         self._route_last = None
         self._router = None
+        self._path_costs = None
         self._lift_sessions = None
         # Timing.
         self._control_period = 1.0 / self.config.control_rate

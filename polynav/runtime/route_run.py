@@ -68,6 +68,7 @@ class RouteRun:
     resume_at: float = 0.0
     backing_in: bool = False
     called: bool = False
+    announced_wait: bool = False
     distance: float = 0.0
     ended_at: float | None = None
 
@@ -92,6 +93,7 @@ class RouteRun:
         self.retries = 0
         self.backing_in = False
         self.called = False
+        self.announced_wait = False
 
 
 def leg_dict(leg: Leg) -> dict[str, object]:
