@@ -1,6 +1,6 @@
-"""Generate the built-in demo world: a two-storey office/hotel building joined by one lift.
+"""Generate the built-in demo world: a three-storey office/hotel/clinic building with two lifts.
 
-Writes ``polynav/worlds/demo/`` (``floor1.png/.yaml``, ``floor2.png/.yaml``, ``world.yaml``). The
+Writes ``polynav/worlds/demo/`` (``floor<n>.png/.yaml`` for floors 1-3, ``world.yaml``). The
 output is a pure function of this file: walls, rooms and furniture are axis-aligned rectangles
 drawn into numpy grids, so running it twice gives identical bytes. Commit what it writes; the
 files are package data.
@@ -8,8 +8,15 @@ files are package data.
 Both floors share the outer walls (40 m x 24 m) and the service core with the lift car at the
 same x, y. Floor 1 is an office (lobby with a front desk, a 2.0 m main corridor, a 1.8 m side
 corridor, offices, a meeting room, a kitchen, an open-plan office and a print room); floor 2 is a
-hotel corridor with twelve rooms, a lounge, a fitness room and service rooms. The lift door is
-drawn open, so the car is reachable on the static map.
+hotel corridor with twelve rooms, a lounge, a fitness room and service rooms; floor 3 is a clinic
+(six consulting rooms, a waiting area, a nurse station). The lift doors are drawn open, so the
+cars are reachable on the static maps.
+
+Two lift cars, so that route choice, "no lift serves that floor" and an out-of-service fallback
+can all happen: ``lift_1`` (car A, 2.0 m x 2.0 m) serves floors 1-3; ``lift_2`` (car B, 1.5 m x
+1.8 m, carved into the service core west of car A, where floors 1 and 2 had solid core) serves
+floors 1 and 2 only. Floors 1 and 2 are otherwise exactly as they were before the cars and the
+third floor were added; their new points (``lift_2_outside``, ``lift_2_inside``) come last.
 
 Before writing, the generator checks what the unit tests check again on the loaded files: every
 point has 0.45 m clearance, every point is reachable from the floor's initial point by a robot
@@ -60,6 +67,14 @@ CAR = (36.0, 19.2, 38.0, 21.2)  # car floor, 2.0 m x 2.0 m
 CAR_DOOR = (36.4, 19.0, 37.6, 19.2)  # 1.2 m opening in the car's south wall, drawn open
 LIFT_X, LIFT_Y = 37.0, 20.2
 LIFT_DOOR_HEADING = -math.pi / 2
+# Car B (lift_2), floors 1-2 only: in the core west of car A, its door in the same south face.
+CAR_B = (34.3, 19.2, 35.8, 21.0)
+CAR_B_DOOR = (34.5, 19.0, 35.6, 19.2)
+LIFT_B_X, LIFT_B_Y = 35.05, 20.1
+# Where a robot waits for a car's session, off the path between that car's door and its
+# outside point (so that a robot leaving the car never finds the waiting one in its way).
+LIFT_1_WAIT = (38.9, 15.6)
+LIFT_2_WAIT = (35.0, 14.4)
 
 N, S, E, W = math.pi / 2, -math.pi / 2, 0.0, math.pi
 
@@ -140,11 +155,19 @@ class Floor:
     def initial(self) -> Point:
         return next(p for p in self.points if p.kind is PointKind.INITIAL)
 
-    def service_core(self) -> None:
-        """The core with the lift car, the same on every floor; the car door is open."""
+    def service_core(self, *, car_b: bool = True) -> None:
+        """The core with the lift cars, the same on every floor they serve; doors drawn open."""
         self.block(*CORE)
         self.clear(*CAR)
         self.clear(*CAR_DOOR)
+        if car_b:
+            self.clear(*CAR_B)
+            self.clear(*CAR_B_DOOR)
+
+    def lift_b_points(self) -> None:
+        """Car B's points, appended after the floor's others (earlier numbers unchanged)."""
+        self.point("lift_2_outside", LIFT_B_X, 17.6, N, PointKind.LIFT_OUTSIDE)
+        self.point("lift_2_inside", LIFT_B_X, LIFT_B_Y, S, PointKind.LIFT_INSIDE)
 
 
 def floor_one() -> Floor:
@@ -240,6 +263,7 @@ def floor_one() -> Floor:
         {"ssid": "polynav-guest", "x": 31.0, "y": 18.0, "frequency": 2462,
          "security": "", "password": ""},
     ]
+    f.lift_b_points()
     return f
 
 
@@ -311,6 +335,52 @@ def floor_two() -> Floor:
         {"ssid": "polynav-hotel", "x": 20.0, "y": 12.0, "frequency": 2412,
          "security": "WPA2", "password": "hotel-2412"}
     )
+    f.lift_b_points()
+    return f
+
+
+def floor_three() -> Floor:
+    """The clinic floor: consulting rooms off one corridor; car A stops here, car B does not."""
+    f = Floor("floor3", 3)
+    f.service_core(car_b=False)
+
+    # Waiting area x 0.2..8.0, y 0.2..23.8 open to the corridor (y 11.0..13.0) at x 8.0.
+    f.vwall(0.2, 11.0, 8.0)
+    f.vwall(13.0, 23.8, 8.0)
+    f.block(0.2, 4.0, 0.8, 20.0)  # benches along the west wall
+    f.block(3.0, 16.0, 5.0, 17.0)  # magazine table
+    f.block(3.0, 6.0, 5.0, 7.0)  # children's corner table
+    f.hwall(8.0, 34.1, 13.0, doors=((9.5, 10.7), (16.5, 17.7), (23.5, 24.7), (29.0, 30.2)))
+    f.hwall(8.0, 39.8, 10.9, doors=((9.5, 10.7), (16.5, 17.7), (23.5, 24.7), (29.0, 30.2),
+                                    (36.0, 37.2)))
+    for x in (15.0, 22.0, 28.0):
+        f.vwall(13.1, 23.8, x)
+        f.vwall(0.2, 10.9, x)
+    f.vwall(13.1, 19.0, 34.0)
+    f.vwall(0.2, 10.9, 34.0)
+    for x1 in (15.0, 22.0, 28.0, 34.0):
+        f.block(x1 - 2.0, 22.6, x1, 23.8)  # examination couch, north rooms
+        f.block(x1 - 1.6, 0.2, x1, 1.6)  # desk, south rooms
+    f.block(36.0, 4.0, 38.0, 6.0)  # nurse station counter, east of the last south room
+    f.block(34.1, 0.2, 35.0, 3.0)  # medicine cabinets
+
+    f.point("initial", 36.0, 15.0, W, PointKind.INITIAL)
+    f.point("waiting_area", 4.0, 12.0, E)
+    f.point("corridor_west", 11.5, 12.45, E)
+    f.point("corridor_east", 31.5, 12.45, E)
+    f.point("nurse_station", 37.0, 8.0, S)
+    f.point("lift_1_outside", LIFT_X, 17.6, N, PointKind.LIFT_OUTSIDE)
+    f.point("lift_1_inside", LIFT_X, LIFT_Y, S, PointKind.LIFT_INSIDE)
+    f.point("room_301", 11.5, 18.0, N)
+    f.point("room_302", 11.5, 6.0, S)
+    f.point("room_303", 18.5, 18.0, N)
+    f.point("room_304", 18.5, 6.0, S)
+    f.point("room_305", 25.0, 18.0, N)
+    f.point("room_306", 25.0, 6.0, S)
+    f.point("room_307", 31.0, 18.0, N)
+    f.point("room_308", 31.0, 6.0, S)
+
+    f.walker([(10.0, 11.45), (32.0, 11.45)], 0.9, loop=False)
     return f
 
 
@@ -363,6 +433,46 @@ def check(f: Floor) -> list[str]:
     return problems
 
 
+def lift_cars(floors: list[Floor]) -> list[dict[str, object]]:
+    """The ``lifts:`` entries: each car's shaft, the floors it serves, its points and timing."""
+    def shaft(car: tuple[float, float, float, float], door: tuple[float, float, float, float],
+              x: float, y: float) -> dict[str, object]:
+        return {"x": x, "y": y, "width": round(car[2] - car[0], 6),
+                "depth": round(car[3] - car[1], 6), "door_heading": LIFT_DOOR_HEADING,
+                "door_width": round(door[2] - door[0], 6)}
+
+    names = [f.name for f in floors]
+    return [
+        {"name": "lift_1", **shaft(CAR, CAR_DOOR, LIFT_X, LIFT_Y), "floors": names,
+         "outside": "lift_1_outside", "inside": "lift_1_inside",
+         "waiting": {"x": LIFT_1_WAIT[0], "y": LIFT_1_WAIT[1]},
+         "speed": 1.0, "floor_height": 3.5, "door_time": 2.5, "capacity": 2},
+        {"name": "lift_2", **shaft(CAR_B, CAR_B_DOOR, LIFT_B_X, LIFT_B_Y), "floors": names[:2],
+         "outside": "lift_2_outside", "inside": "lift_2_inside",
+         "waiting": {"x": LIFT_2_WAIT[0], "y": LIFT_2_WAIT[1]},
+         "speed": 0.8, "floor_height": 3.5, "door_time": 2.5, "capacity": 1},
+    ]
+
+
+def check_waiting(floors: list[Floor]) -> list[str]:
+    """Waiting spots: free, clear by a point's margin, and reachable on the floors they serve."""
+    problems: list[str] = []
+    for car in lift_cars(floors):
+        wait = car["waiting"]
+        assert isinstance(wait, dict)
+        served = car["floors"]
+        assert isinstance(served, list)
+        for f in floors:
+            if f.name not in served:
+                continue
+            probe = Floor.__new__(Floor)
+            probe.name, probe.level, probe.grid = f.name, f.level, f.grid
+            probe.points = [*f.points, Point("wait", f.name, Pose2D(wait["x"], wait["y"], 0.0))]
+            probe.people, probe.access_points = f.people, f.access_points
+            problems += [p for p in check(probe) if "wait" in p]
+    return problems
+
+
 def world_document(floors: list[Floor]) -> dict[str, object]:
     """The ``world.yaml`` content (see :mod:`polynav.worlds.world_file`)."""
     start = floors[0].initial().pose
@@ -394,11 +504,13 @@ def world_document(floors: list[Floor]) -> dict[str, object]:
         "start": {"floor": floors[0].name,
                   "pose": {"x": start.x, "y": start.y, "theta": start.theta}},
         "floors": docs,
+        "lifts": lift_cars(floors),
     }
 
 
 HEADER = """\
-# The built-in demo world: a two-storey building joined by lift 1.
+# The built-in demo world: a three-storey building with two lifts (lift_1: floors 1-3,
+# lift_2: floors 1-2).
 # Generated by tools/make_demo_world.py; edit that script and re-run it, not this file.
 # Lengths in metres, angles in radians; the charger heading is the docking direction.
 """
@@ -453,8 +565,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--preview", type=Path, help="also draw <floor>.preview.png here")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
-    floors = [floor_one(), floor_two()]
-    problems = [p for f in floors for p in check(f)]
+    floors = [floor_one(), floor_two(), floor_three()]
+    problems = [p for f in floors for p in check(f)] + check_waiting(floors)
     if problems:
         for p in problems:
             log.error("%s", p)

@@ -12,6 +12,7 @@ from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
     fleet,
+    lifts,
     localization,
     mapless,
     mapping,
@@ -31,7 +32,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, ws,
+    fleet, lifts, ws,
 )
 
 

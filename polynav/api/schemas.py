@@ -165,6 +165,42 @@ class GoalOut(BaseModel):
     point: str | None
 
 
+class RouteLegOut(BaseModel):
+    """One leg of a route across maps: ``drive`` (to ``goal`` on ``map``), ``lift`` (car from
+    floor to floor) or ``switch`` (a direct connection)."""
+
+    kind: Literal["drive", "lift", "switch"]
+    map: str | None = None
+    point: str | None = None
+    goal: PoseOut | None = None
+    car: str | None = None
+    from_floor: str | None = None
+    from_map: str | None = None
+    to_floor: str | None = None
+    to_map: str | None = None
+
+
+class RouteLiftOut(BaseModel):
+    """The lift sequence now: the car, the phase (``going_to_lift``, ``waiting_for_session``,
+    ``calling``, ``waiting_for_car``, ``entering``, ``riding``, ``switching_map``,
+    ``exiting``, ``left``) and the floors."""
+
+    car: str
+    phase: str
+    from_floor: str
+    to_floor: str
+
+
+class RouteOut(BaseModel):
+    """A goal on another map: its legs, the one running, the lift phase, cars given up."""
+
+    goal_map: str
+    legs: list[RouteLegOut]
+    current_leg: int
+    lift: RouteLiftOut | None
+    excluded_cars: list[str]
+
+
 class NavigationOut(BaseModel):
     state: Literal["idle", "running", "paused", "succeeded", "failed", "canceled"]
     goal: GoalOut | None
@@ -172,6 +208,8 @@ class NavigationOut(BaseModel):
     distance_remaining: float | None
     phase: Literal["leave_charger", "navigate", "dock"] | None
     retries: int
+    route: RouteOut | None = Field(default=None,
+                                   description="present while (or after) a goal on another map")
 
 
 class StatusOut(BaseModel):

@@ -10,7 +10,9 @@ turns them into runtime commands and reports back:
   or waits for) is published every ``state_period`` and at once when the order changes;
 - the **traffic rule** (:mod:`polynav.fleet.traffic`) is kept here: a zone on the path ahead is
   asked for before the robot gets to it, the robot stops short of it until it is granted, holds
-  the lease (renewed) while it is inside, and gives it back once it has left.
+  the lease (renewed) while it is inside, and gives it back once it has left;
+- the robot's **lift sessions** (:mod:`polynav.fleet.lift_sessions`) are asked for the same way,
+  as leases on ``lift:<car>``.
 
 The agent runs on the robot's loop, between physics steps (:meth:`RobotAgent.tick`), so its
 commands to the runtime run at once and never wait.
@@ -25,6 +27,7 @@ from dataclasses import dataclass
 from polynav.errors import PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
+from polynav.fleet.lift_sessions import FleetLiftSessions
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import ZoneMap
 from polynav.runtime.config import Mode
@@ -77,6 +80,9 @@ class RobotAgent:
         self._responses = transport.subscribe(m.topic(serial_number, m.ZoneResponse))
         self.traffic = TrafficRule(serial_number, zones, traffic or TrafficConfig(),
                                    self._send_zone_request)
+        # Lift sessions are leases on lift:<car> in the same book, asked for the same way.
+        self.lift_sessions = FleetLiftSessions(serial_number, self._send_zone_request)
+        runtime.use_lift_sessions(self.lift_sessions)
         self._state_period = state_period
         self._next_state = runtime.now()
         self._headers = itertools.count(1)
@@ -116,6 +122,7 @@ class RobotAgent:
         for response in self._responses.drain():
             assert isinstance(response, m.ZoneResponse)
             self.traffic.on_response(response)
+            self.lift_sessions.on_response(response)
         for actions in self._actions.drain():
             assert isinstance(actions, m.InstantActions)
             for action in actions.actions:

@@ -12,6 +12,7 @@ from polynav.errors import ConfigError
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.site import Point
+from polynav.store.records import ConnectionRecord
 
 
 class Mode(enum.Enum):
@@ -80,6 +81,8 @@ class SiteData(Protocol):
     def point(self, map_name: str, name: str) -> Point: ...
 
     def keepouts(self, map_name: str) -> Sequence[Keepout]: ...
+
+    def connections(self) -> Sequence[ConnectionRecord]: ...
 
     def settings(self) -> dict[str, object]: ...
 

@@ -41,8 +41,9 @@ class GoalCommands(RuntimeParts):
         Args:
             point: the goal point's name.
             pose: the goal pose (map frame).
-            map_name: the map ``point`` or ``pose`` is on; only the current map is reachable
-                until multi-map routing exists.
+            map_name: the map ``point`` or ``pose`` is on; on another map than the current one
+                the goal is routed across the site's lifts and connections (see
+                :mod:`~polynav.runtime.lift_commands`): one attempt to the caller.
             options: tolerances and retries for this goal (see
                 :class:`~polynav.nav.attempt.GoalOptions`).
 
@@ -50,9 +51,11 @@ class GoalCommands(RuntimeParts):
             The attempt id.
 
         Raises:
-            InvalidRequest: neither or both of ``point`` and ``pose``; another map.
+            InvalidRequest: neither or both of ``point`` and ``pose``.
             Conflict: not NAVIGATING.
-            NotFound: no such point on the map.
+            NoRoute: (a Conflict) another map that no lift or connection reaches, with the
+                reason.
+            NotFound: no such map, or no such point on the map.
         """
         if (point is None) == (pose is None):
             raise InvalidRequest("point", "give exactly one of point and pose")
@@ -140,6 +143,7 @@ class GoalCommands(RuntimeParts):
         assert self._map_name is not None
         target_map = map_name or self._map_name
         goal_options = options or GoalOptions()
+        self.store.map_record(target_map)  # NotFound for an unknown map, point or not
         if point is not None:
             record = self.store.point(target_map, point)
             goal = record.pose
@@ -150,15 +154,13 @@ class GoalCommands(RuntimeParts):
             goal = pose
         if goal_options.undock_distance is None and self._robot.read_battery().charging:
             goal_options = replace(goal_options, undock_distance=UNDOCK_DISTANCE)
-        if target_map != self._map_name:
-            raise InvalidRequest(
-                "map", f"{target_map!r} is not the current map {self._map_name!r}: "
-                       "goals on other maps need multi-map routing (not yet available)"
-            )
         self._motion.yield_control()
         if self._settings_dirty:
             self._cancel_goal()
             stack = self._rebuild_stack()
+        if target_map != self._map_name:
+            return self._start_route(point, goal, target_map, goal_options)
+        self._end_route(NavigationState.CANCELED)
         self._attempts.pending_point = point
         try:
             nav_id = stack.go_to(goal, self.now(), goal_options)
@@ -167,11 +169,15 @@ class GoalCommands(RuntimeParts):
         return self._attempts.runtime_id(nav_id)
 
     def _cancel_goal(self) -> bool:
+        if self._end_route(NavigationState.CANCELED):
+            return True
         if self._stack is None:
             return False
         return self._stack.navigator.cancel(self.now())
 
     def _goal_active(self) -> bool:
+        if self._route_running():
+            return True
         return self._stack is not None and self._stack.navigator.state in (
             NavigationState.RUNNING,
             NavigationState.PAUSED,

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from typing import TypeVar
 
 from polynav.geometry import Pose2D
-from polynav.nav.attempt import GoalOptions
+from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.stack import NavigationStack
 from polynav.robot.interface import Robot
 from polynav.runtime.config import Mode, SiteData
@@ -72,6 +72,19 @@ class RuntimeParts(abc.ABC):
         options: GoalOptions | None,
     ) -> int:
         """Start a goal (goal commands)."""
+
+    @abc.abstractmethod
+    def _start_route(self, point: str | None, goal: Pose2D, goal_map: str,
+                     options: GoalOptions) -> int:
+        """Start a goal on another map (lift commands)."""
+
+    @abc.abstractmethod
+    def _end_route(self, state: NavigationState, reason: str | None = None) -> bool:
+        """End the running goal on another map, if any (lift commands)."""
+
+    @abc.abstractmethod
+    def _route_running(self) -> bool:
+        """Whether a goal on another map runs (lift commands)."""
 
     @abc.abstractmethod
     def _cancel_goal(self) -> bool:

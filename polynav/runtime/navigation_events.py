@@ -116,6 +116,13 @@ class AttemptBook:
         self.attempt_id = None
         self.attempt_point = None
 
+    def reserve_id(self) -> int:
+        """A new runtime id for an attempt the navigator does not run itself (a goal on another
+        map, made of several navigator goals); later navigator ids come after it."""
+        self._last_id += 1
+        self._id_offset += 1
+        return self._last_id
+
     def runtime_id(self, navigator_id: int) -> int:
         """The runtime's id of the current navigator's attempt ``navigator_id``."""
         return self._id_offset + navigator_id

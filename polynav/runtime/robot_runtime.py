@@ -77,12 +77,13 @@ from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
+from polynav.runtime.lift_commands import LiftCommands
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
-from polynav.runtime.navigation_events import AttemptBook
+from polynav.runtime.navigation_events import AttemptBook, translate
 from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
@@ -99,7 +100,7 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommands):
+class RobotRuntime(GoalCommands, LiftCommands, MotionCommands, MappingCommands, MaplessCommands):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -145,6 +146,12 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         self._exploration: Exploration | None = None
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
+        # Goals on other maps (lift_commands): the running and the last route, the router.
+        self._route = None
+        self._route_last = None
+        self._router = None
+        self._path_costs = None
+        self._lift_sessions = None
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()
@@ -458,6 +465,8 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
             self._patrols.follow(stack.navigator.attempt)
+            self._route_tick(now)
+            stack = self._stack  # a lift ride switches maps: a new stack
         explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()
@@ -609,6 +618,12 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         return stack
 
     def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
+        run = self._route
+        if run is not None:  # a leg of a goal on another map: reported as the route's
+            for runtime_event in translate(event, run.attempt_id, None):
+                if not isinstance(runtime_event, _LEG_ENDS):
+                    self._publish(runtime_event)
+            return
         for runtime_event in self._attempts.record(event):
             self._publish(runtime_event)
 
@@ -661,7 +676,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
         attempts = self._attempts
         attempt = attempts.attempt
         nav_state = attempt.state.value if attempt is not None else "idle"
-        return StatusSnapshot(
+        return self._route_overlay(StatusSnapshot(
             mode=self._mode.value,
             map=self._map_name,
             floor=self._sim.floor,
@@ -685,7 +700,7 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
             phase=attempt.phase.value if attempt is not None else None,
             patrol_state=self._patrols.state,
             floor_level=self._floor_level(self._sim.floor),
-        )
+        ))
 
     def _floor_level(self, floor: str | None) -> int | None:
         if floor is None:
@@ -694,6 +709,11 @@ class RobotRuntime(GoalCommands, MotionCommands, MappingCommands, MaplessCommand
             return self.store.floor(floor).level
         except NotFound:
             return None
+
+
+_LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,
+             events.NavigationCanceled)
+"""A route's legs start and end inside its one attempt: those events are the route's own."""
 
 
 def warm_up() -> None:

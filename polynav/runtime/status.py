@@ -69,13 +69,15 @@ class StatusSnapshot:
     phase: str | None = None
     patrol_state: str | None = None
     floor_level: int | None = None
+    route: dict[str, object] | None = None
+    """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
         goal: dict[str, object] | None = None
         if self.goal is not None:
             goal = {**pose_dict(self.goal), "point": self.goal_point}
-        return {
+        out: dict[str, object] = {
             "mode": self.mode,
             "map": self.map,
             "floor": self.floor,
@@ -100,3 +102,8 @@ class StatusSnapshot:
             },
             "stamp": float(self.stamp),
         }
+        if self.route is not None:
+            navigation = out["navigation"]
+            assert isinstance(navigation, dict)
+            navigation["route"] = self.route
+        return out

@@ -781,6 +781,11 @@ class SiteStore:
                         "VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
                         [_point_columns(p) for p in plan.points],
                     )
+                    conn.executemany(
+                        "INSERT INTO connections (name, data) VALUES (?, ?)",
+                        [(c.name, _to_json(f"connection.{c.name}", c.data))
+                         for c in plan.connections],
+                    )
                     conn.execute(
                         "INSERT INTO meta (key, value) VALUES (?, ?)", (_SEEDED_KEY, plan.source)
                     )

@@ -3,7 +3,8 @@
 A :class:`World` is what the simulator treats as reality. Each :class:`WorldFloor` holds the
 ground-truth occupancy :class:`~polynav.maps.map.Map` (the lidar casts its rays into it and the
 robot collides with it), the floor's named :class:`~polynav.site.Point` s, the lift shaft that
-joins the floors, and the routes the floor's people walk. The same map also serves as the
+joins the floors, and the routes the floor's people walk. The world's :class:`LiftCar` s say which
+floors each car serves, where its points are and how fast it moves. The same map also serves as the
 navigation map of the demo site, as if it had been surveyed perfectly.
 """
 
@@ -110,6 +111,51 @@ class LiftShaft:
         return (self.x - hw, self.y - hd, self.x + hw, self.y + hd)
 
 
+@dataclass(frozen=True, slots=True)
+class LiftCar:
+    """One lift car of the building: its shaft, the floors it serves and how it moves.
+
+    The car's shaft is at the same place on every floor it serves (a ride changes the floor, not
+    the pose), and each of those floors has the car's ``outside`` and ``inside`` points.
+
+    Attributes:
+        name: the car's id (``"lift_1"``); the lease book's resource is ``lift:<name>``.
+        shaft: the car's floor area.
+        floors: names of the floors the car stops at, in the world's floor order.
+        outside: name of the point in front of the door, on each served floor.
+        inside: name of the point in the car, on each served floor.
+        waiting: where a robot waits for the car's session [m] (off the door's path), or
+            ``None`` to wait at the outside point.
+        speed: travel speed between floors [m/s].
+        floor_height: storey height [m]; a ride of n levels takes n * floor_height / speed.
+        door_time: how long the doors take to open or to close [s].
+        capacity: how many riders (robots and people) fit.
+    """
+
+    name: str
+    shaft: LiftShaft
+    floors: tuple[str, ...]
+    outside: str
+    inside: str
+    waiting: tuple[float, float] | None = None
+    speed: float = 1.0
+    floor_height: float = 3.5
+    door_time: float = 2.5
+    capacity: int = 1
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            raise InvalidRequest("name", "a lift car needs a name")
+        if len(self.floors) < 2 or len(set(self.floors)) != len(self.floors):
+            raise InvalidRequest("floors", f"a lift serves at least two distinct floors, got "
+                                           f"{list(self.floors)}")
+        for key in ("speed", "floor_height", "door_time"):
+            if not getattr(self, key) > 0.0:
+                raise InvalidRequest(key, f"must be > 0, got {getattr(self, key)}")
+        if self.capacity < 1:
+            raise InvalidRequest("capacity", f"must be at least 1, got {self.capacity}")
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class WorldFloor:
     """One floor of the world: ground truth, named points, lift shaft and walkers.
@@ -156,6 +202,19 @@ class World:
     start_pose: Pose2D
     robot: RobotProfile | None = None
     """The robot the world is for (``robot:`` in world.yaml); ``None``: whichever is given."""
+    lifts: tuple[LiftCar, ...] = ()
+    """The building's lift cars (``lifts:`` in world.yaml)."""
+
+    def lift(self, name: str) -> LiftCar:
+        """The lift car called ``name``.
+
+        Raises:
+            InvalidRequest: no car has that name.
+        """
+        for car in self.lifts:
+            if car.name == name:
+                return car
+        raise InvalidRequest("lift", f"no lift {name!r} in world {self.name!r}")
 
     def floor(self, name: str) -> WorldFloor:
         """The floor called ``name``.

@@ -18,13 +18,20 @@ The layout, every length in metres and every angle in radians::
           - {waypoints: [[10.0, 11.5], [30.0, 11.5]], speed: 1.0, radius: 0.25, loop: false}
         access_points:
           - {ssid: office, x: 12.0, y: 12.0, frequency: 2437, security: WPA2, password: pw}
+    lifts:                          # optional: the building's lift cars
+      - {name: lift_1, x: 38.0, y: 22.0, width: 2.0, depth: 2.0, door_heading: -1.5708,
+         door_width: 1.2, floors: [floor1, floor2], outside: lift_1_outside,
+         inside: lift_1_inside, waiting: {x: 39.0, y: 16.0}, speed: 1.0, floor_height: 3.5,
+         door_time: 2.5, capacity: 2}
 
 ``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
 ``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``,
 ``loop`` and ``access_points`` (Wi-Fi for the simulated wireless card; ``frequency`` in MHz,
-``security`` and ``password`` empty for an open network) may be left out. Ground truth is
-loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a
-simulated floor.
+``security`` and ``password`` empty for an open network) may be left out. A lift car's
+``outside`` and ``inside`` name points present on every floor it serves (the inside one in its
+shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`` and ``capacity`` may be left out.
+Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the
+reality of a simulated floor.
 """
 
 from __future__ import annotations
@@ -42,7 +49,14 @@ from polynav.maps.ros_map import load_map
 from polynav.robot.profile import ProfileError, RobotProfile, load_profile, parse_profile
 from polynav.site import Point, PointKind
 from polynav.worlds.errors import WorldFormatError
-from polynav.worlds.world import AccessPoint, LiftShaft, PersonRoute, World, WorldFloor
+from polynav.worlds.world import (
+    AccessPoint,
+    LiftCar,
+    LiftShaft,
+    PersonRoute,
+    World,
+    WorldFloor,
+)
 
 log = logging.getLogger(__name__)
 
@@ -92,8 +106,13 @@ def read_world(folder: str | Path) -> World:
         raise WorldFormatError("start.floor", f"no floor {start_floor!r} (floors: {names})")
     start_pose = _pose(_mapping(start.get("pose"), "start.pose"), "start.pose")
     robot = _robot(root, doc["robot"]) if doc.get("robot") is not None else None
+    lifts = tuple(_car(c, floors, f"lifts[{n}]")
+                  for n, c in enumerate(_list(doc.get("lifts", []), "lifts")))
+    car_names = [c.name for c in lifts]
+    if len(set(car_names)) != len(car_names):
+        raise WorldFormatError("lifts", f"lift names repeat: {car_names}")
     world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose,
-                  robot=robot)
+                  robot=robot, lifts=lifts)
     log.info("loaded world %r from %s: floors %s", name, root, names)
     return world
 
@@ -187,6 +206,45 @@ def _lift(doc: dict[str, Any], key: str) -> LiftShaft:
         door_heading=_num(doc, "door_heading", key, default=0.0),
         door_width=door_width,
     )
+
+
+def _car(raw: object, floors: tuple[WorldFloor, ...], key: str) -> LiftCar:
+    """A ``lifts:`` entry: the shaft's fields, then ``floors``, ``outside``, ``inside``, and
+    optionally ``waiting: {x, y}``, ``speed``, ``floor_height``, ``door_time``, ``capacity``."""
+    doc = _mapping(raw, key)
+    shaft = _lift(doc, key)
+    served = _list(doc.get("floors"), f"{key}.floors")
+    by_name = {f.name: f for f in floors}
+    for n, floor in enumerate(served):
+        if floor not in by_name:
+            raise WorldFormatError(f"{key}.floors[{n}]", f"no floor {floor!r}")
+    outside = _str(doc, "outside", f"{key}.outside")
+    inside = _str(doc, "inside", f"{key}.inside")
+    for floor in served:
+        names = {p.name: p for p in by_name[floor].points}
+        for field, point in (("outside", outside), ("inside", inside)):
+            if point not in names:
+                raise WorldFormatError(f"{key}.{field}", f"no point {point!r} on {floor!r}")
+        if not shaft.contains(names[inside].pose.x, names[inside].pose.y):
+            raise WorldFormatError(f"{key}.inside", f"{inside!r} on {floor!r} is not in the car")
+    waiting = None
+    if doc.get("waiting") is not None:
+        wait = _mapping(doc["waiting"], f"{key}.waiting")
+        waiting = (_num(wait, "x", f"{key}.waiting"), _num(wait, "y", f"{key}.waiting"))
+    capacity = doc.get("capacity", 1)
+    if isinstance(capacity, bool) or not isinstance(capacity, int):
+        raise WorldFormatError(f"{key}.capacity", f"expected an integer, got {capacity!r}")
+    order = [f.name for f in floors]
+    try:
+        return LiftCar(
+            name=_str(doc, "name", f"{key}.name"), shaft=shaft,
+            floors=tuple(sorted((str(f) for f in served), key=order.index)),
+            outside=outside, inside=inside, waiting=waiting,
+            speed=_num(doc, "speed", key, default=1.0),
+            floor_height=_num(doc, "floor_height", key, default=3.5),
+            door_time=_num(doc, "door_time", key, default=2.5), capacity=capacity)
+    except InvalidRequest as exc:
+        raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
 
 
 def _point(raw: object, map_name: str, key: str) -> Point:

@@ -12,16 +12,19 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from polynav.errors import Conflict, InvalidRequest, NotLocalized
+from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized
 from polynav.geometry import Pose2D
 from polynav.mapping.relocalization import Relocalization
 from polynav.maps.map import Map, MapInfo
+from polynav.robot.lift import Lift, LiftMode, LiftRequest
 from polynav.robot.profile import load_profile
+from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.status import StatusSnapshot
 from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
 
 
 class FakeRuntime:
@@ -43,6 +46,27 @@ class FakeRuntime:
         self.goal_point: str | None = None
         self.local_moves: list[tuple[float | None, float | None]] = []
         self.lost_in_a_hall = False
+        world = load_world("demo")
+        levels = {f.name: f.level for f in world.floors}
+        self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
+                     for car in world.lifts}
+
+    # -- lifts (real simulated cars, stepped by advance)
+    @property
+    def lifts(self) -> Mapping[str, Lift]:
+        return self.cars
+
+    def lift(self, car: str) -> Lift:
+        if car not in self.cars:
+            raise NotFound("lift", car)
+        return self.cars[car]
+
+    def request_lift(self, car: str, request: LiftRequest) -> None:
+        self.lift(car).request(request)
+
+    def set_lift_mode(self, car: str, mode: LiftMode) -> None:
+        self.lift(car)
+        self.cars[car].set_mode(mode)
 
     # -- helpers
     def _publish(self, event: events.RuntimeEvent) -> None:
@@ -55,6 +79,9 @@ class FakeRuntime:
     def advance(self, seconds: float) -> None:
         """Move the clock; a running goal is reached at once, teleop stops after 0.5 s."""
         with self._lock:
+            for _ in range(round(seconds / 0.02)):
+                for car in self.cars.values():
+                    car.step(0.02)
             self.now += seconds
             if self.nav_state == "running" and self.goal is not None:
                 self.pose = self.goal
@@ -163,6 +190,8 @@ class FakeRuntime:
     ) -> int:
         if self.mode != "navigating" or self.map is None:
             raise Conflict("not navigating: start navigation on a map first")
+        if map_name is not None:
+            self.store.map_record(map_name)  # 404 for an unknown map, as the runtime
         if map_name is not None and map_name != self.map:
             raise InvalidRequest("map", f"goal on {map_name!r} while navigating on {self.map!r}")
         if point is not None:

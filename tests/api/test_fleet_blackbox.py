@@ -125,14 +125,22 @@ def test_two_robots_each_on_its_own_port_both_reach_their_floor1_points(
                       listed["robot2"]["pose"]["y"] - points["kitchen"]["y"]) <= 0.2
 
 
-@pytest.mark.xfail(strict=True, reason="needs the lift work (issue 11 items 1-5) merged into main")
 def test_two_robots_sent_to_floor2_points_at_once_both_succeed_on_floor2(
         building: Building) -> None:
-    _send_both(building, [{"point": "room_201", "map": "floor2"},
-                          {"point": "room_205", "map": "floor2"}])
-    for status in _both_end(building):
-        assert status["navigation"]["state"] == "succeeded"
-        assert status["floor"] == "floor2"
+    goals = [{"point": "room_201", "map": "floor2"}, {"point": "room_205", "map": "floor2"}]
+    _send_both(building, goals)
+    route = building.status(0)["navigation"]["route"]
+    assert route["goal_map"] == "floor2" and route["legs"][1]["kind"] == "lift"
+    points = {p["name"]: p for p in building.http[0].get(
+        "/api/points", params={"map": "floor2"}).json()}
+    for status, goal in zip(_both_end(building), goals, strict=True):
+        assert status["navigation"]["state"] == "succeeded", status["navigation"]
+        assert (status["floor"], status["map"]) == ("floor2", "floor2")
+        target = points[goal["point"]]
+        assert math.hypot(status["pose"]["x"] - target["x"],
+                          status["pose"]["y"] - target["y"]) <= 0.1
+    lifts = building.http[1].get("/api/lifts").json()["lifts"]
+    assert [car["session"] for car in lifts] == ["", ""]
 
 
 @pytest.mark.parametrize("robots, message", [

@@ -48,6 +48,17 @@ _MOVE_STATUS = {
 }
 
 _RUNNING_STATUS = {"leave_charger": "leave_charging_pile", "dock": "dock_to_charging_pile"}
+# polynav's lift phases (runtime.lift_events.LiftPhase) -> running_status (§3.3, L246-L253).
+_LIFT_RUNNING_STATUS = {
+    "going_to_lift": "goto_lift",
+    "waiting_for_session": "wait_lift_unlock",
+    "calling": "wait_lift_outside",
+    "waiting_for_car": "wait_lift_outside",
+    "entering": "enter_lift",
+    "riding": "take_lift",
+    "switching_map": "take_lift",
+    "exiting": "exit_lift",
+}
 
 
 @dataclass
@@ -167,10 +178,23 @@ def move_status_of(snapshot: StatusSnapshot) -> MoveStatus:
 
 
 def running_status(snapshot: StatusSnapshot) -> str:
-    """§3.3 ``running_status``: the attempt's phase while the move task runs, else ``idle``."""
+    """§3.3 ``running_status``: the attempt's phase while the move task runs, else ``idle``;
+    during a goal on another floor, the lift sequence's phase (``goto_lift`` ..
+    ``exit_lift``, L246-L253)."""
     if move_status_of(snapshot) is not MoveStatus.RUNNING:
         return "idle"
+    lift = (snapshot.route or {}).get("lift")
+    if isinstance(lift, dict):
+        lift_status = _LIFT_RUNNING_STATUS.get(str(lift.get("phase")))
+        if lift_status is not None:
+            return lift_status
     return _RUNNING_STATUS.get(snapshot.phase or "", "running")
+
+
+def lift_car(snapshot: StatusSnapshot) -> str | None:
+    """The car of the lift sequence under way, if any."""
+    lift = (snapshot.route or {}).get("lift")
+    return str(lift["car"]) if isinstance(lift, dict) and "car" in lift else None
 
 
 def prepare(runtime: RobotRuntime) -> None:

@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 from polynav.protocols.yunji.messages import Notification
 from polynav.runtime import events
+from polynav.runtime.lift_events import HELD, LiftPhase, LiftPhaseChanged
 
 log = logging.getLogger(__name__)
 
@@ -111,7 +112,8 @@ NOTIFICATIONS: dict[str, tuple[str, str]] = {
 }
 
 _NO_CONTAINERS = "polynav has no container or cabin docking (no product feature behind it)"
-_LIFTS = "polynav has no lift rides yet: a goal on another floor is refused, so no lift phase runs"
+_AVOID = ("a blocked entry waits in front of the car and tries again: polynav has no separate "
+          "get-out-of-the-way manoeuvre")
 # Codes whose trigger polynav has no feature for: catalogued, never sent (docs/yunji.md).
 NOT_PRODUCED: dict[str, str] = {
     "01023": "the simulated dock has no data link whose frames could be invalid",
@@ -143,7 +145,8 @@ NOT_PRODUCED: dict[str, str] = {
              "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
              "in by grey area; a goal in unknown space is answered 01007",
     "01210": "polynav has no no-entry sign detector",
-    **{code: _LIFTS for code in NOTIFICATIONS if code.startswith("040")},
+    "04040": _AVOID,
+    "04041": _AVOID,
 }
 
 # Codes the mapper below sends.
@@ -154,6 +157,9 @@ PRODUCED: frozenset[str] = frozenset({
     "01202", "01203", "01204",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
+    "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
+    "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061", "04062",
+    "04070", "04071",
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
@@ -194,6 +200,25 @@ _UNREACHABLE_REASONS = {"no path", "goal occupied"}
 _TRAPPED = {"start_occupied": "01202"}
 
 
+def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
+    """The codes of a lift step that did not go as planned (``detail`` from the runtime)."""
+    if detail == HELD:
+        return ["04070"]
+    if detail.startswith("back in: "):
+        return ["04061" if detail.endswith("succeeded") else "04062"]
+    if phase is LiftPhase.EXITING:
+        return ["04052", "04060"]  # blocked: back in, retry
+    if "is full" in detail:
+        return ["04033"]
+    if "did not come within" in detail:
+        return ["04013"]
+    if "could not reach" in detail:
+        return ["04002"]
+    if phase is LiftPhase.ENTERING or "could not enter" in detail:
+        return ["04032"]
+    return []
+
+
 def notification(code: str, data: dict[str, object] | None = None) -> Notification:
     level, description = NOTIFICATIONS[code]
     return Notification(code, level, description, data if data is not None else {})
@@ -215,6 +240,8 @@ class NotificationMapper:
         self._estop = estop_active
         self._lost = False
         self._planning_sent: dict[str, float] = {}
+        self._lift_phase: dict[int, LiftPhase] = {}
+        self._waited_unlock: set[int] = set()
 
     def _target(self, attempt_id: int) -> str:
         return self._targets.get(attempt_id) or self._target_of(attempt_id) or ""
@@ -251,7 +278,37 @@ class NotificationMapper:
             })]
         if type(event) in _STATUS:
             return [notification(_STATUS[type(event)])]
+        if isinstance(event, LiftPhaseChanged):
+            return [notification(code) for code in self._lift(event)]
         return self._status(event)
+
+    def _lift(self, event: LiftPhaseChanged) -> list[str]:
+        """The 040xx codes of one step of the lift sequence (§3.10.4, L1034-L1040)."""
+        phase, detail = event.phase, event.detail
+        last = self._lift_phase.get(event.attempt_id)
+        self._lift_phase[event.attempt_id] = phase
+        if detail:
+            if detail == HELD:
+                self._waited_unlock.add(event.attempt_id)
+            return _lift_detail(phase, detail)
+        if phase is LiftPhase.GOING_TO_LIFT:
+            return ["04000"]
+        if phase is LiftPhase.WAITING_FOR_SESSION:
+            return ["04001"]
+        if phase is LiftPhase.CALLING:
+            return (["04071"] if event.attempt_id in self._waited_unlock else []) + ["04010"]
+        if phase is LiftPhase.ENTERING:
+            return ["04011", "04030"] if last is LiftPhase.WAITING_FOR_CAR else ["04030"]
+        if phase is LiftPhase.RIDING:
+            return ["04031", "04020"]
+        if phase is LiftPhase.SWITCHING_MAP:
+            return ["04021"]
+        if phase is LiftPhase.EXITING:
+            return ["04050"]
+        if phase is LiftPhase.LEFT:
+            self._waited_unlock.discard(event.attempt_id)
+            return ["04051"]
+        return []
 
     def _move_end(self, event: events.RuntimeEvent) -> list[Notification]:
         assert isinstance(
@@ -262,7 +319,11 @@ class NotificationMapper:
             self._target_of(event.attempt_id) or ""
         )
         out: list[Notification] = []
+        self._lift_phase.pop(event.attempt_id, None)
+        self._waited_unlock.discard(event.attempt_id)
         if isinstance(event, events.NavigationFailed):
+            if "did not arrive within" in event.reason:
+                out.append(notification("04023"))
             if event.reason == "stuck":
                 out.append(notification("01006", {"target": target}))
             elif event.reason in _UNREACHABLE_REASONS and not event.planned:

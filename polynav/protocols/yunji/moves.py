@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from polynav.errors import Conflict, InvalidRequest
+from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, wrap_angle
 from polynav.nav.attempt import GoalOptions
 from polynav.protocols.yunji.context import (
@@ -87,13 +87,29 @@ def move(ctx: Context, params: Params) -> Reply:
             if pose is not None:
                 attempt = ctx.runtime.go_to(pose=pose, options=options)
             else:
-                attempt = ctx.runtime.go_to(point=target, options=options)
+                attempt = ctx.runtime.go_to(point=target, map_name=_map_of(ctx, target),
+                                            options=options)
             with ctx.lock:
                 ctx.targets[attempt] = target
         finally:
             with ctx.lock:
                 ctx.pending_target = None
     return Reply(task_id=_task_id(attempt))
+
+
+def _map_of(ctx: Context, marker: str) -> str:
+    """The map of ``marker``: the current floor's when it has one of that name, else the one
+    floor that has it (a move there rides the lifts, §1.3 L686).
+
+    Raises:
+        NotFound: no floor has it. Conflict: several other floors have it.
+    """
+    here = current_map(ctx)
+    try:
+        ctx.store.point(here, marker)
+        return here
+    except NotFound:
+        return ctx.store.find_point(marker).map_name
 
 
 def cruise(ctx: Context, params: Params) -> Reply:

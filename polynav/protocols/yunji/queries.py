@@ -13,6 +13,8 @@ from polynav.protocols.yunji.context import (
     Context,
     Handler,
     Params,
+    floor_level,
+    lift_car,
     map_of_level,
     optional_int,
     parse_float,
@@ -20,6 +22,7 @@ from polynav.protocols.yunji.context import (
     running_status,
 )
 from polynav.protocols.yunji.messages import Reply, Status
+from polynav.routing.errors import NoRoute
 
 GOAL_CAN_NOT_BE_REACHED = "goal can not be reached"  # §3.22, verbatim
 # running_status values during which a lift ride is under way (§3.21, §A-P5).
@@ -60,19 +63,21 @@ def distance_probe(ctx: Context, params: Params) -> Reply:
 
 
 def make_plan(ctx: Context, params: Params) -> Reply:
-    """§3.22: the length of the path polynav would plan; no path (or another floor: no lift
-    routing yet) -> ``GOAL_CAN_NOT_BE_REACHED`` ``goal can not be reached`` (§A-P12)."""
+    """§3.22: the length of the path polynav would plan; across floors, the in-map paths of
+    the route through the lifts (a ride adds no length); no path or no route ->
+    ``GOAL_CAN_NOT_BE_REACHED`` ``goal can not be reached`` (§A-P12)."""
     start = Pose2D(parse_float("start_x", required(params, "start_x")),
                    parse_float("start_y", required(params, "start_y")))
     goal = Pose2D(parse_float("goal_x", required(params, "goal_x")),
                   parse_float("goal_y", required(params, "goal_y")))
     start_map = map_of_level(ctx, _level(params, "start_floor"))
     goal_map = map_of_level(ctx, _level(params, "goal_floor"))
-    if start_map != goal_map:
-        return Reply(Status.GOAL_CAN_NOT_BE_REACHED, GOAL_CAN_NOT_BE_REACHED)
     try:
-        length = ctx.runtime.queries.path_length(start_map, start, goal)
-    except PlanningError:
+        if start_map != goal_map:
+            length = ctx.runtime.route_length(start_map, start, goal_map, goal)
+        else:
+            length = ctx.runtime.queries.path_length(start_map, start, goal)
+    except (PlanningError, NoRoute):
         return Reply(Status.GOAL_CAN_NOT_BE_REACHED, GOAL_CAN_NOT_BE_REACHED)
     return Reply(results={"distance": round(length, 3)})
 
@@ -84,12 +89,15 @@ def get_planned_path(ctx: Context, params: Params) -> Reply:
 
 
 def lift_status(ctx: Context, params: Params) -> Reply:
-    """§3.21: only inside a lift ride (``wait_lift_outside`` .. ``exit_lift``); at any other
-    time the spec's timeout error, as ``UNKNOWN_ERROR`` (§A-P5). polynav rides no lifts yet, so
-    the robot is never inside the window."""
-    if running_status(ctx.runtime.status()) not in LIFT_WINDOW:
+    """§3.21: the level of the floor the car of the ride stands at (or last passed); only
+    inside a lift ride (``wait_lift_outside`` .. ``exit_lift``), at any other time the spec's
+    timeout error, as ``UNKNOWN_ERROR`` (§A-P5)."""
+    snapshot = ctx.runtime.status()
+    car = lift_car(snapshot)
+    if running_status(snapshot) not in LIFT_WINDOW or car is None:
         return Reply(Status.UNKNOWN_ERROR, "timeout: the robot is not riding a lift")
-    return Reply(Status.UNKNOWN_ERROR, "timeout: the lift does not report its floor")
+    state = ctx.runtime.lift(car).state()
+    return Reply(results={"current_floor": floor_level(ctx, state.current_floor)})
 
 
 HANDLERS: dict[str, Handler] = {

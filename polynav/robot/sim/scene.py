@@ -18,13 +18,17 @@ A scene step is ordered so that every body sees the same world at the same time:
 3. the clock advances;
 4. each body's IMU and lidar sample when due, on the world as it now is.
 
-With a single body this is exactly the order of the one-robot simulator.
+With a single body this is exactly the order of the one-robot simulator. The building's lift
+cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one per ``lifts:`` entry of the world)
+are stepped first; a car that arrives at a floor carries the bodies standing in its shaft there
+(each keeps its pose: the shafts coincide), so a robot rides by standing in the car.
 """
 
 from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -36,6 +40,7 @@ from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
 from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.lift_car import Arrival, SimLiftCar
 from polynav.robot.sim.people import Person, as_circles
 from polynav.site import PointKind
 from polynav.worlds.world import World, WorldFloor
@@ -79,6 +84,22 @@ class Scene:
         self.floors = {f.name: floor_state(f, config) for f in world.floors}
         self.people_enabled = people
         self._bodies: list[Simulation] = []
+        levels = {f.name: f.level for f in world.floors}
+        self.lifts: dict[str, SimLiftCar] = {
+            car.name: SimLiftCar(car, levels, self._rider_counter(car.name), self.clock.now)
+            for car in world.lifts
+        }
+
+    def _rider_counter(self, car: str) -> Callable[[str], int]:
+        def count(floor: str) -> int:
+            return len(self.bodies_in_car(car, floor))
+        return count
+
+    def bodies_in_car(self, car: str, floor: str) -> list[Simulation]:
+        """The bodies standing in car ``car``'s shaft on ``floor``."""
+        shaft = self.world.lift(car).shaft
+        return [b for b in self._bodies
+                if b.floor == floor and shaft.contains(b.true_pose.x, b.true_pose.y)]
 
     @property
     def bodies(self) -> tuple[Simulation, ...]:
@@ -130,6 +151,10 @@ class Scene:
     def _substep(self, h: float) -> None:
         # Nanosecond stamps: sums of 0.02 s would drift off the grid (2.0000000000000013).
         now = round(self.clock.now() + h, 9)
+        for car in self.lifts.values():
+            arrival = car.step(h)
+            if arrival is not None:
+                self._carry(arrival)
         people: dict[str, npt.NDArray[np.float64]] = {}
         if self.people_enabled:
             disks: dict[str, list[tuple[float, float, float]]] = {}
@@ -148,6 +173,11 @@ class Scene:
         self.clock.set(now)
         for body in self._bodies:
             body._sense(now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+
+
+    def _carry(self, arrival: Arrival) -> None:
+        for body in self.bodies_in_car(arrival.car, arrival.from_floor):
+            body.teleport(arrival.floor, body.true_pose)
 
 
 def floor_state(floor: WorldFloor, config: SimConfig) -> FloorState:

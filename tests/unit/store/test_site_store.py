@@ -33,8 +33,9 @@ def test_fresh_dir_is_seeded_with_the_worlds_floors_maps_and_points(
     assert demo_store.floors() == [
         FloorRecord("floor1", 1, "floor1"),
         FloorRecord("floor2", 2, "floor2"),
+        FloorRecord("floor3", 3, "floor3"),
     ]
-    assert [m.name for m in demo_store.maps()] == ["floor1", "floor2"]
+    assert [m.name for m in demo_store.maps()] == ["floor1", "floor2", "floor3"]
     for floor in demo_world.floors:
         record = demo_store.map_record(floor.map_name)
         info = floor.map.info
@@ -44,7 +45,7 @@ def test_fresh_dir_is_seeded_with_the_worlds_floors_maps_and_points(
         assert_maps_equal(demo_store.load_map(floor.map_name), floor.map)
         assert demo_store.points(map_name=floor.map_name) == list(floor.points)
     assert demo_store.points() == [p for f in demo_world.floors for p in f.points]
-    assert len(demo_store.points()) == 37
+    assert len(demo_store.points()) == 56
 
 
 def test_seeded_points_keep_kinds_and_numbers(demo_store: SiteStore) -> None:
@@ -56,8 +57,20 @@ def test_seeded_points_keep_kinds_and_numbers(demo_store: SiteStore) -> None:
     assert demo_store.point("floor2", "lift_1_outside").kind is PointKind.LIFT_OUTSIDE
 
 
+def test_seeded_lift_connections_name_each_cars_floors_and_points(demo_store: SiteStore) -> None:
+    records = {r.name: r.data for r in demo_store.connections()}
+    assert sorted(records) == ["lift_1", "lift_2"]
+    one = records["lift_1"]
+    assert one["type"] == "lift" and one["car"] == "lift_1"
+    assert [s["floor"] for s in one["stops"]] == ["floor1", "floor2", "floor3"]
+    assert one["stops"][2] == {"floor": "floor3", "map": "floor3", "outside": "lift_1_outside",
+                               "inside": "lift_1_inside", "waiting": {"x": 38.9, "y": 15.6}}
+    assert [s["map"] for s in records["lift_2"]["stops"]] == ["floor1", "floor2"]
+
+
 def test_seeded_map_files_are_ros_maps_with_a_png_picture(demo_store: SiteStore) -> None:
-    assert _files(demo_store) == ["floor1-1.png", "floor1-1.yaml", "floor2-2.png", "floor2-2.yaml"]
+    assert _files(demo_store) == ["floor1-1.png", "floor1-1.yaml", "floor2-2.png", "floor2-2.yaml",
+                                  "floor3-3.png", "floor3-3.yaml"]
     assert demo_store.map_image_path("floor2") == demo_store.data_dir / "maps" / "floor2-2.png"
     assert demo_store.map_image_path("floor2").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -73,7 +86,7 @@ def test_reopen_does_not_seed_again_and_keeps_edits(tmp_path: Path, demo_world: 
         assert store.point("floor1", "dock_b").number == 40
         with pytest.raises(NotFound):
             store.point("floor2", "room_212")
-        assert len(store.points()) == 37
+        assert len(store.points()) == 56
         assert store.settings() == {"max_linear_velocity": 0.8}
         assert _files(store) == files
 
@@ -99,7 +112,7 @@ def test_store_without_seed_world_starts_empty_and_seeds_on_a_later_open(
     with SiteStore.open(data) as store:
         assert (store.floors(), store.maps(), store.points(), store.settings()) == ([], [], [], {})
     with SiteStore.open(data, seed_world=demo_world) as store:
-        assert len(store.points()) == 37
+        assert len(store.points()) == 56
 
 
 def test_closed_store_raises_storage_error(empty_store: SiteStore) -> None:
@@ -120,7 +133,7 @@ def test_open_fails_with_storage_error_when_data_dir_is_a_file(tmp_path: Path) -
 
 def test_points_filter_by_map_and_by_floor(demo_store: SiteStore) -> None:
     by_map = demo_store.points(map_name="floor2")
-    assert len(by_map) == 21
+    assert len(by_map) == 23
     assert {p.map_name for p in by_map} == {"floor2"}
     assert demo_store.points(floor="floor1") == demo_store.points(map_name="floor1")
     assert demo_store.points(map_name="floor1", floor="floor2") == []
@@ -196,7 +209,7 @@ def test_add_point_rejects_malformed_points(
     with pytest.raises(InvalidRequest) as info:
         demo_store.add_point(bad)
     assert info.value.field == field
-    assert len(demo_store.points()) == 37
+    assert len(demo_store.points()) == 56
 
 
 def test_update_point_renames_and_moves_it_in_place(demo_store: SiteStore) -> None:
@@ -213,7 +226,7 @@ def test_update_point_can_move_it_to_another_map(demo_store: SiteStore) -> None:
     moved = dataclasses.replace(LOBBY, map_name="floor2")
     demo_store.update_point("floor1", "lobby", moved)
     assert demo_store.point("floor2", "lobby") == moved
-    assert len(demo_store.points(map_name="floor1")) == 15
+    assert len(demo_store.points(map_name="floor1")) == 17
 
 
 def test_update_point_onto_a_taken_name_raises_conflict(demo_store: SiteStore) -> None:
@@ -244,11 +257,11 @@ def test_delete_point_removes_only_that_point(demo_store: SiteStore) -> None:
     with pytest.raises(NotFound):
         demo_store.point("floor1", "initial")
     assert demo_store.point("floor2", "initial").pose == Pose2D(36.0, 15.0, math.pi)
-    assert len(demo_store.points()) == 36
+    assert len(demo_store.points()) == 55
 
 
 def test_find_point_is_ambiguous_for_a_name_on_both_floors(demo_store: SiteStore) -> None:
-    with pytest.raises(Conflict, match=r"'initial' is on several maps \(floor1, floor2\)"):
+    with pytest.raises(Conflict, match=r"'initial' is on several maps \(floor1, floor2, floor3\)"):
         demo_store.find_point("initial")
     assert demo_store.find_point("initial", map_name="floor2").pose == Pose2D(36.0, 15.0, math.pi)
     assert demo_store.find_point("kitchen").map_name == "floor1"
@@ -377,8 +390,9 @@ def test_overwrite_map_replaces_files_and_keeps_points_and_floor(demo_store: Sit
     record = demo_store.save_map("floor1", grid)
     assert record == MapRecord("floor1", "floor1", 0.5, 2, 2, Pose2D())
     assert_maps_equal(demo_store.load_map("floor1"), grid)
-    assert _files(demo_store) == ["floor1-3.png", "floor1-3.yaml", "floor2-2.png", "floor2-2.yaml"]
-    assert len(demo_store.points(map_name="floor1")) == 16
+    assert _files(demo_store) == ["floor1-4.png", "floor1-4.yaml", "floor2-2.png", "floor2-2.yaml",
+                                  "floor3-3.png", "floor3-3.yaml"]
+    assert len(demo_store.points(map_name="floor1")) == 18
     assert demo_store.floor("floor1").map_name == "floor1"
 
 
@@ -397,7 +411,7 @@ def test_save_map_on_unknown_floor_raises_not_found_and_writes_nothing(
     with pytest.raises(NotFound, match="floor 'floor7'"):
         demo_store.save_map("f7", small_map(["."]), floor="floor7")
     assert _files(demo_store) == files
-    assert [m.name for m in demo_store.maps()] == ["floor1", "floor2"]
+    assert [m.name for m in demo_store.maps()] == ["floor1", "floor2", "floor3"]
 
 
 @pytest.mark.parametrize("name", ["", " lab", "lab\t", "x" * 201])
@@ -429,7 +443,8 @@ def test_delete_map_deletes_its_files_points_keepouts_and_routes(demo_store: Sit
     assert demo_store.find_point("kitchen").map_name == "floor1"
     with pytest.raises(NotFound):
         demo_store.find_point("a")
-    assert _files(demo_store) == ["floor1-1.png", "floor1-1.yaml", "floor2-2.png", "floor2-2.yaml"]
+    assert _files(demo_store) == ["floor1-1.png", "floor1-1.yaml", "floor2-2.png", "floor2-2.yaml",
+                                  "floor3-3.png", "floor3-3.yaml"]
     # The same name can be used again, starting with nothing on it.
     demo_store.save_map("annex", small_map(["."]))
     assert demo_store.points(map_name="annex") == []
@@ -440,7 +455,7 @@ def test_delete_map_deletes_its_files_points_keepouts_and_routes(demo_store: Sit
 def test_delete_map_of_a_floor_raises_conflict(demo_store: SiteStore) -> None:
     with pytest.raises(Conflict, match="map of floor floor1"):
         demo_store.delete_map("floor1")
-    assert len(demo_store.points(map_name="floor1")) == 16
+    assert len(demo_store.points(map_name="floor1")) == 18
 
 
 def test_delete_unknown_map_raises_not_found(demo_store: SiteStore) -> None:
@@ -490,15 +505,15 @@ def test_save_floor_adds_a_floor_and_attaches_its_map(demo_store: SiteStore) -> 
 
 def test_save_floor_with_unknown_map_raises_not_found(demo_store: SiteStore) -> None:
     with pytest.raises(NotFound, match="map 'nope'"):
-        demo_store.save_floor(FloorRecord("floor3", 3, "nope"))
+        demo_store.save_floor(FloorRecord("floor4", 4, "nope"))
     with pytest.raises(NotFound):
-        demo_store.floor("floor3")
+        demo_store.floor("floor4")
 
 
 def test_delete_floor_leaves_its_maps_without_a_floor(demo_store: SiteStore) -> None:
     demo_store.delete_floor("floor2")
     assert demo_store.map_record("floor2").floor is None
-    assert [f.name for f in demo_store.floors()] == ["floor1"]
+    assert [f.name for f in demo_store.floors()] == ["floor1", "floor3"]
     with pytest.raises(NotFound):
         demo_store.delete_floor("floor2")
 
@@ -561,5 +576,5 @@ def test_failed_seeding_leaves_nothing_and_seeds_on_the_next_open(
     assert sorted(p.name for p in (data / "maps").iterdir()) == []
     monkeypatch.setattr(ros_map, "save_map", real_save)
     with SiteStore.open(data, seed_world=demo_world) as store:
-        assert len(store.points()) == 37
-        assert [m.name for m in store.maps()] == ["floor1", "floor2"]
+        assert len(store.points()) == 56
+        assert [m.name for m in store.maps()] == ["floor1", "floor2", "floor3"]

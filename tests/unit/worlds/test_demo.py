@@ -1,4 +1,4 @@
-"""The built-in demo site keeps its promises: clearance, reachability, one lift shaft, points."""
+"""The built-in demo site keeps its promises: clearance, reachability, two lift cars, points."""
 
 from __future__ import annotations
 
@@ -31,9 +31,9 @@ def _clearance(floor: WorldFloor) -> np.ndarray:
     return ndimage.distance_transform_edt(~floor.map.occupied()) * res - res / 2
 
 
-def test_demo_has_two_floors_starting_at_the_initial_point_of_floor_one(world: World) -> None:
-    assert [f.name for f in world.floors] == ["floor1", "floor2"]
-    assert [f.level for f in world.floors] == [1, 2]
+def test_demo_has_three_floors_starting_at_the_initial_point_of_floor_one(world: World) -> None:
+    assert [f.name for f in world.floors] == ["floor1", "floor2", "floor3"]
+    assert [f.level for f in world.floors] == [1, 2, 3]
     start = world.floor(world.start_floor)
     initial = [p for p in start.points if p.kind is PointKind.INITIAL]
     assert len(initial) == 1
@@ -42,16 +42,16 @@ def test_demo_has_two_floors_starting_at_the_initial_point_of_floor_one(world: W
     assert start.map.info.size_m == pytest.approx((41.0, 25.0))
 
 
-@pytest.mark.parametrize("floor_name", ["floor1", "floor2"])
-def test_floor_has_ten_named_points_an_initial_point_and_both_lift_points(
-    world: World, floor_name: str
+@pytest.mark.parametrize(("floor_name", "cars"), [("floor1", 2), ("floor2", 2), ("floor3", 1)])
+def test_floor_has_named_points_an_initial_point_and_both_points_of_each_car(
+    world: World, floor_name: str, cars: int
 ) -> None:
     floor = world.floor(floor_name)
     kinds = [p.kind for p in floor.points]
     assert kinds.count(PointKind.GENERAL) >= 10
     assert kinds.count(PointKind.INITIAL) == 1
-    assert kinds.count(PointKind.LIFT_OUTSIDE) == 1
-    assert kinds.count(PointKind.LIFT_INSIDE) == 1
+    assert kinds.count(PointKind.LIFT_OUTSIDE) == cars
+    assert kinds.count(PointKind.LIFT_INSIDE) == cars
     assert all(p.map_name == floor.map_name for p in floor.points)
     assert len({p.name for p in floor.points}) == len(floor.points)
 
@@ -71,7 +71,7 @@ def test_floor_one_has_a_charger_facing_its_wall(world: World) -> None:
     assert not occupied[iy, ix]
 
 
-@pytest.mark.parametrize("floor_name", ["floor1", "floor2"])
+@pytest.mark.parametrize("floor_name", ["floor1", "floor2", "floor3"])
 def test_every_point_is_free_with_clearance_for_the_robot(world: World, floor_name: str) -> None:
     floor = world.floor(floor_name)
     clearance = _clearance(floor)
@@ -81,7 +81,7 @@ def test_every_point_is_free_with_clearance_for_the_robot(world: World, floor_na
         assert clearance[iy, ix] >= POINT_CLEARANCE, (p.name, clearance[iy, ix])
 
 
-@pytest.mark.parametrize("floor_name", ["floor1", "floor2"])
+@pytest.mark.parametrize("floor_name", ["floor1", "floor2", "floor3"])
 @pytest.mark.parametrize("radius", [ROBOT_RADIUS, POINT_CLEARANCE - 0.01])
 def test_every_point_is_reachable_from_the_initial_point(
     world: World, floor_name: str, radius: float
@@ -120,6 +120,26 @@ def test_lift_shaft_is_at_the_same_place_on_both_floors(world: World) -> None:
     assert np.array_equal(one.map.data[r0:r1, c0:c1], two.map.data[r0:r1, c0:c1])
 
 
+def test_two_cars_car_a_serves_every_floor_car_b_the_lower_two(world: World) -> None:
+    a, b = world.lift("lift_1"), world.lift("lift_2")
+    assert a.floors == ("floor1", "floor2", "floor3")
+    assert b.floors == ("floor1", "floor2")
+    assert world.floor("floor1").lift == a.shaft
+    for car in (a, b):
+        for name in car.floors:
+            floor = world.floor(name)
+            inside = floor.point(car.inside).pose
+            assert car.shaft.contains(inside.x, inside.y)
+            assert not car.shaft.contains(*(lambda p: (p.x, p.y))(floor.point(car.outside).pose))
+            ix, iy = floor.map.info.world_to_cell(inside.x, inside.y)
+            assert floor.map.data[iy, ix] == 0
+    # Car B's shaft is solid core on floor 3: nothing reaches it there.
+    three = world.floor("floor3")
+    ix, iy = three.map.info.world_to_cell(b.shaft.x, b.shaft.y)
+    assert three.map.occupied()[iy, ix]
+    assert a.shaft.bounds[0] - b.shaft.bounds[2] > 0.1  # a wall between the cars
+
+
 @pytest.mark.parametrize("floor_name", ["floor1", "floor2"])
 def test_walkers_cross_the_main_corridor_and_keep_clear_of_walls(
     world: World, floor_name: str
@@ -150,11 +170,13 @@ def test_committed_demo_files_are_what_the_generator_writes(
     generator = importlib.util.module_from_spec(spec)
     monkeypatch.setitem(sys.modules, "make_demo_world", generator)  # dataclasses look it up
     spec.loader.exec_module(generator)
-    floors = [generator.floor_one(), generator.floor_two()]
-    assert [generator.check(f) for f in floors] == [[], []]
+    floors = [generator.floor_one(), generator.floor_two(), generator.floor_three()]
+    assert [generator.check(f) for f in floors] == [[], [], []]
+    assert generator.check_waiting(floors) == []
     generator.write(floors, tmp_path)
     committed = BUILTIN_DIR / "demo"
     names = sorted(p.name for p in committed.iterdir())
-    assert names == ["floor1.png", "floor1.yaml", "floor2.png", "floor2.yaml", "world.yaml"]
+    assert names == ["floor1.png", "floor1.yaml", "floor2.png", "floor2.yaml", "floor3.png",
+                     "floor3.yaml", "world.yaml"]
     for name in names:
         assert (tmp_path / name).read_bytes() == (committed / name).read_bytes(), name

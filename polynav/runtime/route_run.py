@@ -1,0 +1,126 @@
+"""One cross-map goal being run: its legs, where it stands, and how the status shows it.
+
+:class:`RouteRun` is the lift sequence's memory (:mod:`polynav.runtime.lift_commands` moves it
+on each control tick); :func:`status_dict` is the ``route`` object of ``GET /api/status``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from polynav.geometry import Pose2D
+from polynav.nav.attempt import GoalOptions, NavigationState
+from polynav.routing.route import DriveLeg, Leg, LiftLeg, SwitchLeg
+from polynav.runtime.events import pose_dict
+from polynav.runtime.lift_events import LiftPhase
+
+CALL_TIMEOUT = 180.0
+"""A car that has not stood open at the robot's floor this long [s] after the call is given up
+(issue 11: call > 3 min)."""
+RIDE_TIMEOUT = 180.0
+"""A ride that has not arrived this long [s] after the doors were asked to close fails."""
+SESSION_TIMEOUT = 600.0
+"""A car's session not granted within this [s] (other robots kept it) is given up."""
+MAX_DOOR_RETRIES = 3
+"""Entering or leaving a car blocked this many times gives that car up (or the route)."""
+RETRY_PAUSE = 3.0
+"""Wait [s] before driving through a blocked car door again."""
+AT_POINT = 0.3
+"""Within this [m] of the outside point the robot need not drive there before entering."""
+
+
+@dataclass(slots=True)
+class RouteRun:
+    """A running (or the last) cross-map goal.
+
+    Attributes:
+        attempt_id: its runtime id (one attempt to callers, whatever its legs).
+        goal, goal_map, goal_point: where it ends.
+        options: the goal options of its last leg.
+        legs: the current route's legs; ``index`` the one running.
+        state: running, or how it ended; ``reason`` why it failed.
+        nav_id: the navigator's id of the leg goal running now, if any.
+        phase: the lift sequence's phase while in a lift leg (or going to one).
+        car: the car whose session this robot asked for or holds.
+        excluded: cars given up during this goal (full, blocked, did not come).
+        since: when the current phase began [s]; ``retries`` door retries in it.
+        resume_at: a retry waits until then [s].
+        backing_in: leaving the car failed; the robot drives back in before trying again.
+        distance: metres driven by finished legs.
+    """
+
+    attempt_id: int
+    goal: Pose2D
+    goal_map: str
+    goal_point: str | None
+    options: GoalOptions
+    legs: list[Leg]
+    started_at: float
+    index: int = 0
+    state: NavigationState = NavigationState.RUNNING
+    reason: str | None = None
+    nav_id: int | None = None
+    phase: LiftPhase | None = None
+    car: str | None = None
+    excluded: set[str] = field(default_factory=set)
+    since: float = 0.0
+    retries: int = 0
+    resume_at: float = 0.0
+    backing_in: bool = False
+    called: bool = False
+    announced_wait: bool = False
+    distance: float = 0.0
+    ended_at: float | None = None
+
+    @property
+    def leg(self) -> Leg:
+        return self.legs[self.index]
+
+    @property
+    def next_leg(self) -> Leg | None:
+        return self.legs[self.index + 1] if self.index + 1 < len(self.legs) else None
+
+    def next_leg_lift(self) -> LiftLeg | None:
+        leg = self.next_leg
+        return leg if isinstance(leg, LiftLeg) else None
+
+    def advance(self, now: float) -> None:
+        """On to the next leg, with its phase state cleared."""
+        self.index += 1
+        self.nav_id = None
+        self.phase = None
+        self.since = now
+        self.retries = 0
+        self.backing_in = False
+        self.called = False
+        self.announced_wait = False
+
+
+def leg_dict(leg: Leg) -> dict[str, object]:
+    """One leg as JSON."""
+    if isinstance(leg, DriveLeg):
+        return {"kind": "drive", "map": leg.map_name, "point": leg.point,
+                "goal": pose_dict(leg.goal)}
+    if isinstance(leg, LiftLeg):
+        return {"kind": "lift", "car": leg.car, "from_floor": leg.from_floor,
+                "from_map": leg.from_map, "to_floor": leg.to_floor, "to_map": leg.to_map}
+    assert isinstance(leg, SwitchLeg)
+    return {"kind": "switch", "from_map": leg.from_map, "to_map": leg.to_map,
+            "point": leg.to_point}
+
+
+def status_dict(run: RouteRun) -> dict[str, object]:
+    """The status's ``route``: the goal's map, the legs, the running one and the lift phase."""
+    lift: dict[str, object] | None = None
+    leg = run.leg if run.index < len(run.legs) else None
+    target = leg if isinstance(leg, LiftLeg) else run.next_leg_lift()
+    if run.phase is not None and target is not None:
+        lift = {"car": target.car, "phase": run.phase.value, "from_floor": target.from_floor,
+                "to_floor": target.to_floor}
+    return {
+        "goal_map": run.goal_map,
+        "legs": [leg_dict(leg) for leg in run.legs],
+        "current_leg": min(run.index, len(run.legs) - 1),
+        "lift": lift,
+        "excluded_cars": sorted(run.excluded),
+    }
