@@ -6,8 +6,8 @@ Only plain HTTP with a token in the query string: no polynav import drives the r
 test runs in process, simulated time advancing between requests (the runtime's loop thread is
 not started, see conftest), so its history is the same on every run; the second runs the same
 script against ``python -m polynav run --speed 20`` in a subprocess, as a user would, with wall
-time limits as safety nets only. The same script with a target on another floor waits for the
-lift work (the multi-floor issue).
+time limits as safety nets only. The third sends the script's robot to a target on floor 3:
+the robot rides the site's lift on its own, and the script sees nothing but the task.
 """
 
 from __future__ import annotations
@@ -105,6 +105,43 @@ def test_script_discovers_navigates_to_a_target_and_stops(
             assert abs(heading_error) < 0.1
             assert script.call("/navigation/stop") == {"result": True, "description": ""}
             script.wait("/system/status", lambda s: s["status"] == "Free", 10.0)
+        finally:
+            script.http.close()
+
+
+def test_script_sends_the_robot_to_a_target_on_another_floor(
+    runtime: RobotRuntime, listener: socket.socket
+) -> None:
+    """``move_to_index`` with ``map=floor3`` from floor 1: one task, polled until COMPLETE, the
+    robot on floor 3 at the target (the lift ride is the runtime's, as on a Galileo robot)."""
+    config = galileo_config(announce=True, udp_port=listener.getsockname()[1],
+                            require_token=True, announce_interval=0.2)
+    with serving(runtime, config) as g:
+        _, (address, _) = listener.recvfrom(4096)
+        base = f"http://{address}:{g.server.port}"
+        token = httpx.get(base + "/token", params={"username": "admin", "password": "admin"},
+                          timeout=20.0).json()
+        script = Script(g, base, token["token"])
+        try:
+            assert script.call("/navigation/start", map="floor1", path="default")["result"]
+            script.wait("/system/galileo_status", lambda s: s["navStatus"] == 1, 30.0)
+            points = script.call("/navigation/nav_points", map_name="floor3",
+                                 path_name="default")["path_data"]
+            target = g.runtime.store.point("floor3", "nurse_station").pose
+            index = next(i for i in range(len(points.splitlines()))
+                         if math.hypot(_target(points, i)[0] - target.x,
+                                       _target(points, i)[1] - target.y) < 1e-6)
+            task = script.call("/navigation/move_to_index", map="floor3", path="default",
+                               index=index)
+            final = script.wait("/task", lambda t: t["state"] in ("COMPLETE", "ERROR"), 900.0,
+                                id=task["id"])
+            assert final["state"] == "COMPLETE", final
+            assert g.runtime.status().map == "floor3"
+            pose = script.call("/navigation/pose")
+            assert math.hypot(pose["x"] - target.x, pose["y"] - target.y) < 0.1, pose
+            heading = math.remainder(math.radians(pose["angle"]) - target.theta, math.tau)
+            assert abs(heading) < 0.1, pose
+            assert script.call("/navigation/stop")["result"] is True
         finally:
             script.http.close()
 
