@@ -25,7 +25,7 @@ from polynav.maps import ros_map
 from polynav.maps.keepout import CircleZone
 from polynav.maps.map import Map, MapInfo
 from polynav.site import Point, PointKind
-from polynav.store import SiteStore, site_store
+from polynav.store import SiteStore, map_tables
 
 MAP = "lab"
 KINDS = tuple(PointKind)
@@ -102,7 +102,7 @@ def _instrument(store: SiteStore, steps: _Steps) -> None:
 
     ros_map._write_atomic = counted_write  # type: ignore[assignment]
     store._remove_map_files = counted_remove  # type: ignore[method-assign]
-    assert site_store.ros_map is ros_map
+    assert map_tables.ros_map is ros_map
 
 
 def main(mode: str, data_dir: str, start: int, kill_at: int) -> None:
