@@ -48,6 +48,7 @@ def test_move_to_index_on_another_map_crosses_the_connection(galileo: Harness) -
 
 
 def test_goal_on_an_unconnected_map_is_refused(galileo: Harness) -> None:
+    galileo.runtime.store.set_connections([])  # no lift either: the runtime cannot route
     galileo.ok("GET", "/navigation/start", params={"map": "floor1", "start_index": 1})
     galileo.advance_until(lambda: galileo.runtime.status().mode == "navigating", 10.0)
     refused = galileo.get("/navigation/move_to_index", map="floor2", index=1)
