@@ -154,11 +154,17 @@ def _run(args: argparse.Namespace) -> int:
                     galileo = GalileoThread(runtime, GalileoConfig(
                         host=args.host, port=args.galileo_port, ws_port=args.galileo_ws_port,
                         require_token=args.galileo_require_token,
+                        udp_port=args.galileo_udp_port or 22002,
+                        announce=args.galileo_udp_port != 0,
+                        broadcast_address=args.galileo_broadcast,
                     ))
                 except OSError as exc:
                     print(f"polynav run: cannot listen (Galileo, ports {args.galileo_port}, "
                           f"{args.galileo_ws_port}): {exc}", file=sys.stderr)
                     return 1
+                except PolynavError as exc:  # a port out of range: the user's to fix
+                    print(f"polynav run: {exc}", file=sys.stderr)
+                    return EXIT_BAD_INPUT
             base = f"http://{host}:{port}"
             print(f"polynav: simulating robot {runtime.profile.name!r} in world {world.name!r} at "
                   f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
@@ -311,6 +317,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--galileo-ws-port", type=int, default=3547,
                      help="Galileo WebSocket port (default: %(default)s)")
     run.add_argument("--no-galileo", action="store_true", help="do not serve the Galileo API")
+    run.add_argument("--galileo-udp-port", type=int, default=22002,
+                     help="port the Galileo discovery announcement is sent to; "
+                          "0: no announcements (default: %(default)s)")
+    run.add_argument("--galileo-broadcast", default="127.255.255.255",
+                     help="where Galileo discovery announcements go: loopback unless a LAN "
+                          "broadcast address is given (default: %(default)s)")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

@@ -527,7 +527,7 @@ class Navigator(ChargerPhases):
             self._retry("stuck", pose, now)
             return Twist()
         reset = self.config.progress_reset_distance
-        self._budget.moved(pose)
+        self._budget.moved(pose, self._to_goal(pose))
         self._wait.moved(pose, reset)
         twist = self._wait.slow(pose, command.twist, now)
         if self._wait.held(now):  # people stand where the robot would go: wait for them
@@ -538,7 +538,7 @@ class Navigator(ChargerPhases):
     def _retry(self, cause: str, pose: Pose2D, now: float) -> None:
         """Count a failure at this place; give up when the place is exhausted (see
         :mod:`~polynav.nav.retry_budget`), else climb the recovery ladder and re-plan."""
-        rung = self._budget.record(pose, now)
+        rung = self._budget.record(pose, self._to_goal(pose), now)
         self._update(retries=self._require().retries + 1)
         if self._budget.exhausted(now):
             reason = FailureReason.STUCK
@@ -551,6 +551,9 @@ class Navigator(ChargerPhases):
         self._recovery = recovery
         recovery.start(pose, now)
         self._enter(_Phase.RECOVER, now)
+
+    def _to_goal(self, pose: Pose2D) -> float:
+        return math.hypot(self._target.x - pose.x, self._target.y - pose.y)
 
     def _tick_recovery(self, pose: Pose2D, now: float) -> Twist | None:
         assert self._recovery is not None

@@ -8,6 +8,7 @@ import pytest
 from polynav import footprint as fp_mod
 from polynav.errors import ConfigError
 from polynav.footprint import Footprint
+from polynav.footprint.outline import signed_area
 from polynav.geometry import Pose2D
 from polynav.maps import costs
 from tests.unit.control.unicycle import Grid, empty_grid
@@ -51,7 +52,7 @@ def test_offset_rectangle_radii_are_measured_from_the_base_origin() -> None:
 
 def test_clockwise_polygon_is_stored_counter_clockwise() -> None:
     fp = Footprint.polygon([(1, 1), (1, -1), (-1, -1), (-1, 1)])
-    assert fp_mod._signed_area(fp.vertices) > 0
+    assert signed_area(fp.vertices) > 0
     assert fp == Footprint.polygon([(-1, 1), (-1, -1), (1, -1), (1, 1)])
 
 

@@ -321,6 +321,31 @@ class LocalMoveTargetAction(LocalMoveAction):
 
 
 @dataclass
+class IoAction(Action):
+    """Set output ``port`` of the base's IO ("1".."3") to ``level`` ("0" low, "1" high).
+
+    Wire types are the documented strings (galileo-tasks-bt-ws §2.4 #12, A-25). COMPLETE as
+    soon as the output is set; ERROR (naming why) when the robot refuses.
+    """
+
+    level: int = 0
+    port: int = 1
+
+    def __post_init__(self) -> None:
+        self.type = "io_action"
+
+    def params(self, runtime: RobotRuntime) -> dict[str, Any]:
+        return {"level": str(self.level), "port": str(self.port)}
+
+    def start(self, runtime: RobotRuntime) -> None:
+        runtime.peripherals.set_outputs("io", {self.port: self.level})
+
+    def poll(self, runtime: RobotRuntime, outcomes: Outcomes) -> TaskState | None:
+        self.progress = 1
+        return TaskState.COMPLETE
+
+
+@dataclass
 class SwitchMapAction(Action):
     """Navigate on ``map_name`` from the pose of ``point`` (a route's stop, or the charger)."""
 

@@ -9,6 +9,7 @@ token checking on whatever the file says).
 
 from __future__ import annotations
 
+import ipaddress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -63,5 +64,12 @@ class GalileoConfig:
                 "galileo.announce_interval",
                 f"must be in [0.05, 60] s, got {self.announce_interval}",
             )
-        if not self.broadcast_address:
-            raise ConfigError("galileo.broadcast_address", "must not be empty")
+        if self.announce and self.udp_port == 0:
+            raise ConfigError("galileo.udp_port",
+                              "announcements need a destination port in [1, 65535]")
+        try:
+            ipaddress.IPv4Address(self.broadcast_address)
+        except ValueError:
+            raise ConfigError("galileo.broadcast_address",
+                              f"must be an IPv4 address, got {self.broadcast_address!r}"
+                              ) from None

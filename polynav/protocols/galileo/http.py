@@ -131,7 +131,14 @@ def create_app(ctx: Context, table: Mapping[tuple[str, str], Endpoint]) -> Starl
 async def answer(ctx: Context, endpoint: Endpoint, request: Request) -> Response:
     """Parse, check the token, run the handler, format the reply or the error."""
     try:
-        params = await read_params(request)
+        try:
+            params = await read_params(request)
+        except InvalidRequest:
+            # A body that does not parse cannot carry the token: without a valid one in the
+            # query the request is refused as unauthenticated, not told what was wrong.
+            if not endpoint.public and not ctx.tokens.accepts(request.query_params.get("token")):
+                raise errors.TokenRefused() from None
+            raise
         if not endpoint.public and not ctx.tokens.accepts(params.values.get("token")):
             raise errors.TokenRefused()
         if endpoint.inline:

@@ -4,14 +4,15 @@ A ``local_move_action`` turns by ``angle`` then drives ``distance`` with the run
 moves (they stop short of obstacles). A ``local_move_target_action`` reaches a pose (frame
 ``map`` or ``base_link``) the same way: turn towards it, drive, turn to its heading, skipping
 steps within the tolerances; ``ERROR`` when ``timeout`` passes first. ``method`` (lidar docking
-aid) is accepted and echoed; polynav's local moves always check the scan.
+aid) is accepted and echoed; polynav's local moves always check the scan. E60 ends with an
+``io_action`` setting one of the base's outputs (the ``GET/POST /system/io`` bank).
 """
 
 from __future__ import annotations
 
 from polynav.errors import InvalidRequest
 from polynav.protocols.galileo import session as sessions
-from polynav.protocols.galileo.actions import LocalMoveAction, LocalMoveTargetAction
+from polynav.protocols.galileo.actions import IoAction, LocalMoveAction, LocalMoveTargetAction
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.goals import nav_to_target
@@ -50,6 +51,31 @@ def start_nav_and_local_move(ctx: Context, params: Params) -> Reply:
                         params.integer("index"))
     sessions.require_goals_allowed(ctx)
     return book(ctx).run(LOCAL_MOVE_TASK, [nav, move])
+
+
+def _io(ctx: Context, params: Params) -> IoAction:
+    """The ``io_action`` of E60: ``level`` "0"/"1" and ``port`` one of the base's outputs
+    ("1".."3"); strings or ints (A-25). Checked before anything moves."""
+    level, port = params.integer("level"), params.integer("port")
+    if level not in (0, 1):
+        raise InvalidRequest("level", f"an IO level is 0 (low) or 1 (high), got {level}")
+    ports = ctx.runtime.peripherals.io_bank("io").output_ports
+    if port not in ports:
+        raise InvalidRequest("port", f"the IO ports are {ports.start}..{ports.stop - 1}, "
+                                     f"got {port}")
+    return IoAction(level=level, port=port)
+
+
+@ROUTES.get("/navigation/start_nav_local_move_io")
+def start_nav_local_move_io(ctx: Context, params: Params) -> Reply:
+    """E60: to target ``index`` of the path in use, the local move, then set IO ``port`` to
+    ``level`` (an IO level here, not a floor)."""
+    move, io = _local_move(params), _io(ctx, params)
+    map_name = sessions.current_map(ctx)
+    nav = nav_to_target(ctx, map_name, sessions.current_path(ctx, map_name),
+                        params.integer("index"))
+    sessions.require_goals_allowed(ctx)
+    return book(ctx).run(LOCAL_MOVE_TASK, [nav, move, io])
 
 
 def _tolerance(params: Params, name: str, default: float | None = None) -> float:

@@ -112,8 +112,8 @@ def stop_schedule_mode(ctx: Context, params: Params) -> Reply:
 def put_update_map(ctx: Context, params: Params) -> Reply:
     """E10: refused when asked to turn on (polynav keeps maps fixed while navigating)."""
     if params.boolean("enabled"):
-        raise Conflict("polynav does not update the map while navigating; "
-                       "use /api/v1/map/update to extend a map")
+        raise Conflict("polynav does not update the map while navigating; to change a map, "
+                       "map the place anew with /api/v1/map/start and save it under its name")
     return {"enabled": False}
 
 

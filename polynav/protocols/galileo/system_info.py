@@ -36,6 +36,7 @@ from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
 from polynav.protocols.galileo.status import galileo_status
+from polynav.protocols.galileo.topics import air_message, env_message
 
 log = logging.getLogger(__name__)
 
@@ -149,11 +150,8 @@ def get_topic(ctx: Context, params: Params) -> Reply:
     if name in ("/bw_env_sensors/EnvSensorData", "/bw_env_sensors/AirSensorData"):
         env, air = ctx.runtime.peripherals.environment()
         if name.endswith("EnvSensorData"):
-            return {"temperature": env.temperature, "rh": env.humidity, "smoke": env.smoke,
-                    "pm1_0": env.pm1_0, "pm2_5": env.pm2_5, "pm10": env.pm10, "lel": env.lel,
-                    "noise": env.noise}
-        return {"temperature": air.temperature, "rh": air.humidity, "co2": air.co2,
-                "illuminance": air.illuminance}
+            return env_message(env)
+        return air_message(air)
     raise NotFound("topic", name)
 
 

@@ -34,6 +34,7 @@ from polynav.errors import InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, yaw_to_quaternion
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.status import galileo_status
+from polynav.robot.devices import AirReading, EnvReading
 
 log = logging.getLogger(__name__)
 
@@ -159,6 +160,29 @@ def _map(ctx: Context, seq: int) -> dict[str, Any] | None:
     }
 
 
+def env_message(reading: EnvReading) -> dict[str, float]:
+    """``/bw_env_sensors/EnvSensorData`` (galileo-tasks-bt-ws §8.1): the documented fields
+    only, as the vendor's message has no header."""
+    return {"temperature": reading.temperature, "rh": reading.humidity,
+            "smoke": reading.smoke, "pm1_0": reading.pm1_0, "pm2_5": reading.pm2_5,
+            "pm10": reading.pm10, "lel": reading.lel, "noise": reading.noise}
+
+
+def air_message(reading: AirReading) -> dict[str, float]:
+    """``/bw_env_sensors/AirSensorData``: ``co2`` in ppm (the source's "smoke ppm" is a copy
+    error, A-20)."""
+    return {"temperature": reading.temperature, "rh": reading.humidity, "co2": reading.co2,
+            "illuminance": reading.illuminance}
+
+
+def _env(ctx: Context, seq: int) -> dict[str, Any]:
+    return env_message(ctx.runtime.peripherals.environment()[0])
+
+
+def _air(ctx: Context, seq: int) -> dict[str, Any]:
+    return air_message(ctx.runtime.peripherals.environment()[1])
+
+
 def _cmd_vel(ctx: Context, message: Any) -> None:
     """A ``geometry_msgs/Twist``: ``linear.x`` [m/s] and ``angular.z`` [rad/s] drive."""
     if not isinstance(message, dict):
@@ -184,6 +208,8 @@ TOPICS: dict[str, Topic] = {
         Topic("/tracked_pose", 10.0, _tracked_pose),
         Topic("/map", 0.0, _map, changed=_map_key),
         Topic("/cmd_vel", 0.0, publish=_cmd_vel),
+        Topic("/bw_env_sensors/EnvSensorData", 1.0, _env),
+        Topic("/bw_env_sensors/AirSensorData", 1.0, _air),
     )
 }
 

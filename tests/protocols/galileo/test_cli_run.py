@@ -1,5 +1,5 @@
 """``polynav run`` serves the Galileo API beside the native one (``--galileo-port``,
-``--galileo-ws-port``, ``--no-galileo``, ``--galileo-require-token``)."""
+``--galileo-ws-port``, ``--no-galileo``, ``--galileo-require-token``, ``--galileo-udp-port``)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,11 @@ import sys
 import urllib.error
 import urllib.request
 from pathlib import Path
+
+import pytest
+
+from polynav.errors import ConfigError
+from polynav.protocols.galileo import GalileoConfig
 
 STARTUP_LINES = 20
 QUIET = ("--no-yunji", "--no-people", "--port", "0")
@@ -91,3 +96,24 @@ def test_run_with_no_galileo_does_not_serve_it(tmp_path: Path) -> None:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+def test_run_refuses_a_galileo_port_out_of_range_naming_it(tmp_path: Path) -> None:
+    proc = subprocess.run(
+        [sys.executable, "-m", "polynav", "run", "--data", str(tmp_path / "data"), *QUIET,
+         "--galileo-port", "0", "--galileo-ws-port", "0", "--galileo-udp-port", "70000"],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert "galileo.udp_port" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_galileo_config_checks_its_ports() -> None:
+    assert GalileoConfig(udp_port=0, announce=False).udp_port == 0
+    assert GalileoConfig(broadcast_address="192.168.1.255").broadcast_address == "192.168.1.255"
+    for bad in ({"udp_port": 0}, {"udp_port": 65536}, {"port": -1}, {"ws_port": 70000},
+                {"announce_interval": 0.0}, {"host": ""}, {"broadcast_address": "lan"},
+                {"broadcast_address": ""}):
+        with pytest.raises(ConfigError) as refused:
+            GalileoConfig(**bad)  # type: ignore[arg-type]
+        assert refused.value.key.startswith("galileo.")

@@ -22,16 +22,11 @@ from tests.protocols.galileo import spec
 # galileo-http-a entries without a test yet (owner: gsys): none left.
 TODO_HTTP_A: set[str] = set()
 
-# galileo-http-b entries without a test yet (owner: galileo).
-TODO_HTTP_B = {
-    "GET /api/v1/navigation/start_nav_local_move_io",
-}
+# galileo-http-b entries without a test yet (owner: galileo): none left.
+TODO_HTTP_B: set[str] = set()
 
-# WebSocket entries without a test yet (owner: galileo).
-TODO_WS = {
-    "GET /bw_env_sensors/EnvSensorData",
-    "GET /bw_env_sensors/AirSensorData",
-}
+# WebSocket entries without a test yet (owner: galileo): none left.
+TODO_WS: set[str] = set()
 
 TODO = TODO_HTTP_A | TODO_HTTP_B | TODO_WS
 

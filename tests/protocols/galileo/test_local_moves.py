@@ -1,4 +1,4 @@
-"""Local-move tasks over real HTTP (galileo-http-b §12, E58, E59, E61, E62)."""
+"""Local-move tasks over real HTTP (galileo-http-b §12, E58–E62)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ COVERED = {
     "GET /api/v1/navigation/start_nav_and_local_move": "test_nav_then_local_move",
     "GET /api/v1/navigation/start_local_move_target": "test_local_move_to_a_pose_in_base_link",
     "GET /api/v1/navigation/start_local_move_index": "test_local_move_to_a_target_point",
+    "GET /api/v1/navigation/start_nav_local_move_io": "test_nav_local_move_then_io",
 }
 
 
@@ -92,3 +93,50 @@ def test_local_move_to_a_target_point(galileo: Harness) -> None:
     assert abs(math.remainder(pose.theta - 1.57, math.tau)) < 0.1
     assert galileo.get("/navigation/start_local_move_index", index=5, start_rotate_enable=1,
                        target_rotate_enable=1).status_code == 400
+
+
+def test_nav_local_move_then_io(galileo: Harness) -> None:
+    _navigate(galileo)
+    assert galileo.ok("GET", "/system/io")["out2"] == "-1"
+    params = {"index": 11, "distance": -0.4, "angle": 0, "method": 0, "level": "1",
+              "port": "2"}
+    task = galileo.ok("GET", "/navigation/start_nav_local_move_io", params=params)
+    assert task["state"] == "WORKING"
+    assert [a["type"] for a in task["sub_tasks"]] == ["nav_action", "local_move_action",
+                                                      "io_action"]
+    io = task["sub_tasks"][2]
+    assert (io["level"], io["port"], io["state"]) == ("1", "2", "WAITTING")
+    galileo.runtime.advance(2.0)
+    assert galileo.ok("GET", "/system/io")["out2"] == "-1"  # not before the moves end
+    done = _finish(galileo, task, 180.0)
+    assert done["state"] == "COMPLETE"
+    assert [a["state"] for a in done["sub_tasks"]] == ["COMPLETE"] * 3
+    pose = galileo.runtime.simulation.true_pose
+    assert abs(pose.x - (13.5 - 0.4)) < 0.15 and abs(pose.y - 12.4) < 0.15
+    io_state = galileo.ok("GET", "/system/io")
+    assert (io_state["out1"], io_state["out2"], io_state["out3"]) == ("-1", "1", "-1")
+    # ints are accepted as well (A-25); level 0 sets the port low again
+    task = galileo.ok("GET", "/navigation/start_nav_local_move_io", params={
+        **params, "level": 0, "port": 2, "distance": 0.0})
+    assert _finish(galileo, task, 60.0)["state"] == "COMPLETE"
+    assert galileo.ok("GET", "/system/io")["out2"] == "0"
+
+
+def test_nav_local_move_io_refuses_bad_input_and_changes_nothing(galileo: Harness) -> None:
+    _navigate(galileo)
+    before = galileo.runtime.simulation.true_pose
+    tasks_before = galileo.ok("GET", "/task")
+    good = {"index": 11, "distance": -0.4, "angle": 0, "method": 0, "level": "1", "port": "2"}
+    for change, field in (({"port": "4"}, "port"), ({"port": "0"}, "port"),
+                          ({"level": "2"}, "level"), ({"level": "high"}, "level"),
+                          ({"index": 99}, "index"), ({"method": 3}, "method"),
+                          ({"port": None}, "port"), ({"distance": "x"}, "distance")):
+        params = {k: v for k, v in {**good, **change}.items() if v is not None}
+        reply = galileo.get("/navigation/start_nav_local_move_io", **params)
+        assert reply.status_code == 400, (change, reply.text)
+        assert field in reply.json()["description"], (change, reply.json())
+    galileo.runtime.advance(2.0)
+    after = galileo.runtime.simulation.true_pose
+    assert abs(after.x - before.x) < 0.02 and abs(after.y - before.y) < 0.02
+    assert galileo.ok("GET", "/task") == tasks_before
+    assert galileo.ok("GET", "/system/io")["out2"] == "-1"

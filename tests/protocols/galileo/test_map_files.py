@@ -23,7 +23,7 @@ COVERED = {
 
 def test_saved_maps_lists_every_map_with_its_fields(galileo: Harness) -> None:
     maps = galileo.ok("GET", "/navigation/saved_maps")
-    assert [m["name"] for m in maps] == ["floor1", "floor2"]
+    assert [m["name"] for m in maps] == ["floor1", "floor2", "floor3"]
     floor2 = maps[1]
     assert list(floor2) == ["resolution", "origin", "occupied_thresh", "free_thresh", "negate",
                             "name", "md5sum", "map_type", "levels", "slam_type"]
@@ -39,7 +39,7 @@ def test_robot_tracks_shapes(galileo: Harness) -> None:
     assert galileo.ok("GET", "/navigation/robot_tracks", params={"map_name": "floor1"}) == {
         "trajectory": []}
     assert galileo.ok("GET", "/navigation/robot_tracks") == [
-        {"map_name": "floor1", "track": []}, {"map_name": "floor2", "track": []}]
+        {"map_name": name, "track": []} for name in ("floor1", "floor2", "floor3")]
     assert galileo.get("/navigation/robot_tracks", map_name="nomap").status_code == 404
 
 

@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import pytest
+
 from polynav.store.route_stops import RouteBook
 from tests.protocols.galileo.conftest import Harness
 
@@ -200,3 +202,26 @@ def test_schedule_mode_refuses_galileo_goals(galileo: Harness) -> None:
     assert galileo.ok("GET", "/system/status") == {"status": "Free"}
     again = galileo.ok("GET", "/navigation/stop_schedule_mode")
     assert again["result"] is False
+
+
+def test_task_polling_reads_a_snapshot_without_the_runtime(
+    galileo: Harness, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue item 11: scripts poll ``GET /task?id=`` in a tight loop, so it must not wait for
+    the runtime: it answers from the snapshot the task book's last poll left, even while every
+    runtime command would fail."""
+    _start(galileo, map="floor1", start_index=1)
+    task = galileo.ok("GET", "/navigation/move_to_index", params={"index": 2})
+    galileo.runtime.advance(1.0)
+    expected = galileo.ok("GET", "/task", params={"id": task["id"]})
+
+    def no_runtime(*args: object, **kwargs: object) -> None:
+        raise AssertionError("GET /task went to the runtime")
+
+    with monkeypatch.context() as patched:
+        patched.setattr(galileo.runtime._loop, "call", no_runtime)
+        patched.setattr(galileo.runtime, "status", no_runtime)
+        for _ in range(20):
+            assert galileo.ok("GET", "/task", params={"id": task["id"]}) == expected
+    assert expected["state"] == "WORKING"
+    assert _wait_task(galileo, task["id"])["state"] == "COMPLETE"

@@ -39,7 +39,8 @@ def test_default_path_target_points_are_the_named_points(galileo: Harness) -> No
 
 def test_path_listing_has_default_paths_and_uploaded_ones(galileo: Harness) -> None:
     assert galileo.ok("GET", "/navigation/path") == {"floor1": ["default"],
-                                                     "floor2": ["default"]}
+                                                     "floor2": ["default"],
+                                                     "floor3": ["default"]}
     galileo.ok("POST", "/navigation/path",
                json={"map_name": "floor2", "path_name": "route \u673a", "path_data": PATH})
     assert galileo.ok("GET", "/navigation/path", params={"map_name": "floor2"}) == [

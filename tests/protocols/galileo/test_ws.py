@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import threading
 from typing import Any
 
 import pytest
@@ -19,7 +20,12 @@ COVERED = {
     "GET /galileo/status": "test_status_topic_streams_galileo_status_on_the_runtime_clock",
     "GET /{topicName}": "test_ros_topics_in_ros_json_form",
     "GET /cmd_vel": "test_cmd_vel_publish_drives_the_robot",
+    "GET /bw_env_sensors/EnvSensorData": "test_env_sensor_topic_drifts_on_the_runtime_clock",
+    "GET /bw_env_sensors/AirSensorData": "test_air_sensor_topic_drifts_on_the_runtime_clock",
 }
+
+ENV_FIELDS = ("temperature", "rh", "smoke", "pm1_0", "pm2_5", "pm10", "lel", "noise")
+AIR_FIELDS = ("temperature", "rh", "co2", "illuminance")
 
 
 def _url(g: Harness, topic: str, **query: str) -> str:
@@ -91,13 +97,25 @@ def test_unknown_topic_and_bad_token_are_refused_at_the_handshake(runtime: Robot
             assert "navStatus" in _recv(ws)
 
 
-def test_cmd_vel_publish_drives_the_robot(galileo: Harness) -> None:
+def test_cmd_vel_publish_drives_the_robot(galileo: Harness,
+                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    # The server applies a message on its own thread: wait until each one has reached the
+    # runtime before advancing the clock, so the simulated history is the same on every run.
+    applied = threading.Semaphore(0)
+    teleop = galileo.runtime.teleop
+
+    def counted(linear: float, angular: float) -> None:
+        teleop(linear, angular)
+        applied.release()
+
+    monkeypatch.setattr(galileo.runtime, "teleop", counted)
     before = galileo.runtime.simulation.true_pose
     with connect(_url(galileo, "/cmd_vel")) as ws:
         twist = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0},
                  "angular": {"x": 0.0, "y": 0.0, "z": 0.5}}
         for _ in range(10):
             ws.send(json.dumps(twist))
+            assert applied.acquire(timeout=20)
             galileo.runtime.advance(0.2)
         ws.send('{"linear": {"x": "fast"}, "angular": {}}')
         error = _recv(ws)
@@ -108,3 +126,34 @@ def test_cmd_vel_publish_drives_the_robot(galileo: Harness) -> None:
     turned = math.remainder(after.theta - before.theta, math.tau)
     assert turned > 0.3
     assert math.hypot(after.x - before.x, after.y - before.y) < 0.05
+
+
+def _sensor_stream(g: Harness, topic: str, fields: tuple[str, ...]) -> list[dict[str, Any]]:
+    """Messages of a sensor topic: on subscribing, then after 1 s and 60 s of the runtime's
+    clock; each is checked for the documented fields and types, and the first against the
+    HTTP view of the same topic at the same instant."""
+    with connect(_url(g, topic)) as ws:
+        first = _recv(ws)
+        assert g.ok("GET", "/system/topic", params={"topic_name": topic}) == first
+        g.runtime.advance(1.0)
+        second = _recv(ws)
+        g.runtime.advance(60.0)
+        third = _recv(ws)
+    for message in (first, second, third):
+        assert tuple(message) == fields
+        assert all(isinstance(v, float) and v >= 0.0 for v in message.values()), message
+    return [first, second, third]
+
+
+def test_env_sensor_topic_drifts_on_the_runtime_clock(galileo: Harness) -> None:
+    first, _, later = _sensor_stream(galileo, "/bw_env_sensors/EnvSensorData", ENV_FIELDS)
+    assert 15.0 < first["temperature"] < 35.0 and 0.0 <= first["rh"] <= 100.0
+    assert later["pm1_0"] <= later["pm2_5"] <= later["pm10"]
+    assert later != first  # the readings drift with time (noise moves within seconds)
+
+
+def test_air_sensor_topic_drifts_on_the_runtime_clock(galileo: Harness) -> None:
+    first, _, later = _sensor_stream(galileo, "/bw_env_sensors/AirSensorData", AIR_FIELDS)
+    assert 300.0 < first["co2"] < 1500.0 and first["illuminance"] > 0.0
+    assert 0.0 <= first["rh"] <= 100.0
+    assert later != first
