@@ -327,6 +327,10 @@ class LiftCommands(RuntimeParts):
         except LiftError as exc:  # out of service, or someone else's session (an operator)
             if isinstance(exc, LiftOutOfService):
                 self._reroute(run, now, str(exc))
+            elif not run.announced_wait:
+                run.announced_wait = True
+                self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, run.phase or (
+                    LiftPhase.WAITING_FOR_SESSION), leg.from_floor, leg.to_floor, HELD))
             return
         run.called = True
         self._set_phase(run, LiftPhase.CALLING, now)
