@@ -33,7 +33,7 @@ def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
 
 def test_maps_list_metadata_and_image(client: httpx.Client) -> None:
     maps = client.get("/api/maps").json()
-    assert sorted(m["name"] for m in maps) == ["floor1", "floor2"]
+    assert sorted(m["name"] for m in maps) == ["floor1", "floor2", "floor3"]
     one = client.get("/api/maps/floor1").json()
     assert one["floor"] == "floor1"
     assert one["width"] > 0 and one["height"] > 0 and one["resolution"] > 0
@@ -52,7 +52,8 @@ def test_points_filter_by_map_and_floor(client: httpx.Client) -> None:
     every = client.get("/api/points").json()
     on1 = client.get("/api/points", params={"map": "floor1"}).json()
     on2 = client.get("/api/points", params={"floor": "floor2"}).json()
-    assert len(every) == len(on1) + len(on2)
+    on3 = client.get("/api/points", params={"floor": "floor3"}).json()
+    assert len(every) == len(on1) + len(on2) + len(on3)
     assert {p["map"] for p in on1} == {"floor1"}
     assert {p["floor"] for p in on2} == {"floor2"}
     assert set(every[0]) == {"name", "map", "floor", "x", "y", "theta", "kind", "number"}
