@@ -4,7 +4,7 @@ Each robot runs the full stack (ray-cast lidar that sees the other robots, local
 costmap, planner, controller) in one simulated world on one clock, under the fleet's traffic
 rule (narrow passages leased one robot at a time, docs/fleet.md). Whenever a robot is idle it is
 sent a fleet order (VDA 5050-shaped) to a random point of its floor that no other robot stands
-at or is bound for (any floor with ``--cross-floor``, once lifts are in). Figures: missions
+at or is bound for (any floor with ``--cross-floor``: through the lifts). Figures: missions
 completed per simulated hour, success rate, mean traffic and lift wait, collisions, deadlocks (a
 mission that does not end within ``--mission-timeout``), real-time factor, CPU per robot.
 
@@ -118,6 +118,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         traffic = [a.traffic for a in building.agents]
         waits = sum(t.waits for t in traffic)
         collisions = sum(len(r.simulation.collisions) for r in building.runtimes)
+        lift_waits = [w for r in building.runtimes for w in r.lift_waits]
         building.stop()
     return {
         "world": args.world,
@@ -137,7 +138,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         "mean_traffic_wait_s": round(sum(t.wait_time for t in traffic) / waits, 2) if waits
         else 0.0,
         "traffic_rejections": sum(t.rejections for t in traffic),
-        "mean_lift_wait_s": None,  # no lift rides until the lift work is in (issue 11 items 1-5)
+        "lift_rides": len(lift_waits),
+        "mean_lift_wait_s": round(sum(lift_waits) / len(lift_waits), 2) if lift_waits else 0.0,
+        "max_lift_wait_s": round(max(lift_waits), 2) if lift_waits else 0.0,
         "real_time_factor": round(sim_seconds / wall, 2) if wall > 0 else math.inf,
         "cpu_per_robot": round(cpu / sim_seconds / args.robots, 4) if sim_seconds else 0.0,
         "budget_real_time_factor": BUDGET_REAL_TIME_FACTOR,
@@ -153,7 +156,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--world", default="demo")
     parser.add_argument("--people", action="store_true", help="let the walkers walk")
     parser.add_argument("--cross-floor", action="store_true",
-                        help="missions to any floor (needs lifts); default: the robot's floor")
+                        help="missions to any floor, through the lifts; default: the robot's "
+                        "floor")
     parser.add_argument("--mission-timeout", type=float, default=600.0,
                         help="a mission not ended after this many simulated seconds is a "
                         "deadlock (default 600)")
@@ -171,7 +175,8 @@ def main(argv: list[str] | None = None) -> int:
           f"({figures['success_rate'] * 100:.1f} %), {figures['missions_per_hour']:.1f} per hour")
     print(f"collisions {figures['collisions']}, deadlocks {figures['deadlocks']}, traffic waits "
           f"{figures['traffic_waits']} (mean {figures['mean_traffic_wait_s']:.1f} s), "
-          f"lift wait {figures['mean_lift_wait_s']}")
+          f"lift rides {figures['lift_rides']} (mean wait {figures['mean_lift_wait_s']:.1f} s, "
+          f"max {figures['max_lift_wait_s']:.1f} s)")
     print(f"real-time factor {figures['real_time_factor']:.2f}x, CPU per robot "
           f"{figures['cpu_per_robot'] * 100:.1f} % of a core at 1x")
     for failure in figures["failed"]:

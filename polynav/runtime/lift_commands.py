@@ -94,6 +94,8 @@ class LiftCommands(RuntimeParts):
     _router: Router | None
     _path_costs: PlannedPathCosts | None
     _lift_sessions: LiftSessions | None
+    lift_waits: list[float]
+    """Each ride's wait [s]: from reaching the lift (asking for its session) to driving in."""
 
     # -- reads ---------------------------------------------------------------------------------
 
@@ -213,7 +215,9 @@ class LiftCommands(RuntimeParts):
         if state is NavigationState.SUCCEEDED:
             self._publish(events.NavigationSucceeded(now, run.attempt_id, run.distance))
         elif state is NavigationState.FAILED:
-            log.warning("route %d failed: %s", run.attempt_id, reason)
+            log.warning("%s route %d failed (leg %d of %d, %s): %s", self.robot_id,
+                        run.attempt_id, run.index + 1, len(run.legs),
+                        run.phase.value if run.phase else "driving", reason)
             self._publish(events.NavigationFailed(now, run.attempt_id, reason or "failed",
                                                   run.distance, True))
         else:
@@ -250,15 +254,15 @@ class LiftCommands(RuntimeParts):
     def _drive_tick(self, run: RouteRun, leg: DriveLeg, now: float) -> None:
         lift = run.next_leg_lift()
         if run.nav_id is None:
-            target = leg.goal
+            target, options = leg.goal, run.options if run.index == len(run.legs) - 1 else None
             if lift is not None:
                 self._set_phase(run, LiftPhase.GOING_TO_LIFT, now)
                 run.car = lift.car
                 self._sessions().request(lift.car, now)
+                options = _NEAR_LIFT
                 if not self._sessions().granted(lift.car, now) and lift.waiting_from:
                     target = lift.waiting_from
-            last = run.index == len(run.legs) - 1
-            self._leg_go(run, target, run.options if last else None)
+            self._leg_go(run, target, options)
             return
         if lift is not None:
             self._sessions().request(lift.car, now)
@@ -266,6 +270,11 @@ class LiftCommands(RuntimeParts):
                 self._reroute(run, now, f"lift {lift.car} went out of service")
                 return
         result = self._leg_result(run)
+        if lift is not None and result is NavigationState.FAILED and self._near(
+                lift.outside_from, NEAR_LIFT):
+            # Near the lift but not on the spot (another robot waits there): wait here; the
+            # call drives to the door once the car is this robot's.
+            result = NavigationState.SUCCEEDED
         if result is NavigationState.SUCCEEDED:
             run.advance(now)
             if run.index >= len(run.legs):
@@ -318,21 +327,33 @@ class LiftCommands(RuntimeParts):
         except LiftError as exc:  # out of service, or someone else's session (an operator)
             if isinstance(exc, LiftOutOfService):
                 self._reroute(run, now, str(exc))
+            elif not run.announced_wait:
+                run.announced_wait = True
+                self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, run.phase or (
+                    LiftPhase.WAITING_FOR_SESSION), leg.from_floor, leg.to_floor, HELD))
             return
         run.called = True
         self._set_phase(run, LiftPhase.CALLING, now)
-        pose = self._pose()
-        if math.hypot(pose.x - leg.outside_from.x, pose.y - leg.outside_from.y) > AT_POINT:
-            self._leg_go(run, leg.outside_from)
+        if not self._near(leg.outside_from, AT_POINT):
+            self._leg_go(run, leg.outside_from, _AT_DOOR)
 
     def _await_car(self, run: RouteRun, leg: LiftLeg, car: Lift, now: float) -> None:
+        if run.nav_id is None and run.resume_at > now:
+            return
+        if run.nav_id is None and run.retries and not self._near(leg.outside_from, AT_POINT):
+            self._leg_go(run, leg.outside_from, _AT_DOOR)
+            return
         if run.nav_id is not None:
             result = self._leg_result(run)
             if result is None:
                 return
             run.nav_id = None
             if result is not NavigationState.SUCCEEDED:
-                self._reroute(run, now, f"could not reach {leg.car}'s door")
+                run.retries += 1
+                if run.retries > MAX_DOOR_RETRIES:
+                    self._reroute(run, now, f"could not reach {leg.car}'s door")
+                else:
+                    run.resume_at = now + RETRY_PAUSE
                 return
         if run.phase is LiftPhase.CALLING:
             self._set_phase(run, LiftPhase.WAITING_FOR_CAR, now)
@@ -444,14 +465,19 @@ class LiftCommands(RuntimeParts):
     def _set_phase(self, run: RouteRun, phase: LiftPhase, now: float) -> None:
         if run.phase is phase:
             return
+        if phase is LiftPhase.WAITING_FOR_SESSION:
+            run.wait_started = now
+        elif phase is LiftPhase.ENTERING and run.wait_started is not None:
+            self.lift_waits.append(now - run.wait_started)
+            run.wait_started = None
         run.phase = phase
         run.since = now
         run.retries = 0
         lift = run.leg if isinstance(run.leg, LiftLeg) else run.next_leg_lift()
         if lift is None:
             return
-        log.info("route %d: %s (%s, %s -> %s)", run.attempt_id, phase.value, lift.car,
-                 lift.from_floor, lift.to_floor)
+        log.info("%s route %d: %s (%s, %s -> %s)", self.robot_id, run.attempt_id, phase.value,
+                 lift.car, lift.from_floor, lift.to_floor)
         self._publish(LiftPhaseChanged(now, run.attempt_id, lift.car, phase, lift.from_floor,
                                        lift.to_floor))
 
@@ -508,7 +534,7 @@ class LiftCommands(RuntimeParts):
             self._publish(LiftPhaseChanged(now, run.attempt_id, lift.car,
                                            run.phase or LiftPhase.GOING_TO_LIFT,
                                            lift.from_floor, lift.to_floor, why))
-        log.warning("route %d: %s; re-routing", run.attempt_id, why)
+        log.warning("%s route %d: %s; re-routing", self.robot_id, run.attempt_id, why)
         if run.nav_id is not None and self._stack is not None:
             self._stack.navigator.cancel(now)
             run.nav_id = None
@@ -548,6 +574,10 @@ class LiftCommands(RuntimeParts):
         record = self.store.map_record(map_name)
         return floor_of(self._sim, self.store, map_name, getattr(record, "floor", None))
 
+    def _near(self, pose: Pose2D, distance: float) -> bool:
+        here = self._pose()
+        return math.hypot(here.x - pose.x, here.y - pose.y) <= distance
+
     def _pose(self) -> Pose2D:
         stack = self._stack
         assert stack is not None
@@ -584,6 +614,16 @@ class LiftCommands(RuntimeParts):
     def _publish(self, event: events.RuntimeEvent) -> None:
         """Publish a runtime event (the runtime's)."""
 
+
+NEAR_LIFT = 4.0
+"""A robot this close [m] to a car's door that cannot reach its waiting spot waits where it is."""
+
+_NEAR_LIFT = GoalOptions(near_tolerance=1.5)
+"""Going to a lift (its waiting spot or door): another robot may stand on the spot; ending near
+it will do."""
+
+_AT_DOOR = GoalOptions(near_tolerance=0.3)
+"""To the door once the car is this robot's: on the spot, or next to it."""
 
 _IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1)
 """Goals into and out of a car: a loose heading (the car is small) and one retry, so that a

@@ -152,6 +152,7 @@ class RobotRuntime(GoalCommands, LiftCommands, MotionCommands, MappingCommands, 
         self._router = None
         self._path_costs = None
         self._lift_sessions = None
+        self.lift_waits = []
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()

@@ -69,6 +69,7 @@ class RouteRun:
     backing_in: bool = False
     called: bool = False
     announced_wait: bool = False
+    wait_started: float | None = None
     distance: float = 0.0
     ended_at: float | None = None
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from polynav.errors import NotFound
@@ -23,6 +24,7 @@ from polynav.runtime.config import RuntimeConfig
 from polynav.runtime.event_bus import Subscription
 from polynav.runtime.lift_events import LiftPhaseChanged, MapSwitched, RouteStarted
 from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.site import PointKind
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 from polynav.worlds.world import World
@@ -181,3 +183,41 @@ def test_two_robots_to_other_floors_at_once_both_arrive_one_waits_for_the_car(
     assert second[0] >= first[1]
     assert building.master.leases.resources() == () or all(
         not building.master.leases.leases(r) for r in building.master.leases.resources())
+
+
+@pytest.mark.timeout(1500)  # ~25 simulated minutes of three full stacks
+def test_twenty_random_cross_floor_missions_for_three_robots_all_succeed(
+        world: World, store: SiteStore) -> None:
+    rng = np.random.default_rng(11)
+    building = Building(store, world, robots=3, config=RuntimeConfig(people=False, seed=11))
+    maps = [f.map_name for f in world.floors]
+    general = {m: [p.name for p in store.points(map_name=m) if p.kind is PointKind.GENERAL]
+               for m in maps}
+    bound: dict[str, tuple[str, str]] = {}
+    pending: dict[str, str] = {}
+    outcomes: list[str] = []
+    sent = 0
+    while sent < 20 or pending:
+        for serial, runtime in zip(building.serials, building.runtimes, strict=True):
+            if serial in pending or sent >= 20:
+                continue
+            here = runtime.map_name
+            taken = {v for k, v in bound.items() if k != serial}
+            options = [(m, g) for m in maps if m != here for g in general[m]
+                       if (m, g) not in taken]
+            target = options[int(rng.integers(len(options)))]
+            bound[serial] = target
+            pending[serial] = building.send(serial, target[1], target[0])
+            sent += 1
+        assert building.advance_until(
+            lambda: any(building.outcome(s, o) is not None for s, o in pending.items()),
+            900.0), "no mission ended within 900 s: a deadlock"
+        for serial, order in list(pending.items()):
+            outcome = building.outcome(serial, order)
+            if outcome is not None:
+                outcomes.append(f"{serial} {bound[serial]}: {outcome}")
+                del pending[serial]
+    assert len(outcomes) == 20
+    assert [o for o in outcomes if not o.endswith("succeeded")] == []
+    assert [c for rt in building.runtimes for c in rt.simulation.collisions] == []
+    assert sum(len(rt.lift_waits) for rt in building.runtimes) == 20

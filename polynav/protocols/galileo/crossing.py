@@ -7,8 +7,10 @@ which Galileo ``point_connections`` creates) are searched breadth-first, so the 
 fewest map switches wins (the document names no weights). Each crossing is a ``nav_action`` to
 the exit point and a ``switch_map_action`` that starts navigation on the next map at the entry
 point (on the simulator the robot is carried there, as an operator would carry it; a direct
-connection says the two points are the same place). Crossing floors by lift needs the lifts
-issue's router and is refused with a clear error until it is on main.
+connection says the two points are the same place). A map no direct connection reaches is
+left to the runtime: the goal goes to ``runtime.go_to`` with its map, and the runtime's
+multi-map router (:mod:`polynav.routing.router`) takes it across the site's lifts (and direct
+connections), or refuses it with its reason (``NoRoute``, a 409).
 """
 
 from __future__ import annotations

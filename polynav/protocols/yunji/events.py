@@ -147,6 +147,8 @@ NOT_PRODUCED: dict[str, str] = {
     "01210": "polynav has no no-entry sign detector",
     "04040": _AVOID,
     "04041": _AVOID,
+    "04062": "a return into the car that fails is tried again before the exit is given up "
+             "(04052, 01003); it is not reported on its own",
 }
 
 # Codes the mapper below sends.
@@ -158,7 +160,7 @@ PRODUCED: frozenset[str] = frozenset({
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
-    "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061", "04062",
+    "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061",
     "04070", "04071",
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
@@ -205,7 +207,7 @@ def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
     if detail == HELD:
         return ["04070"]
     if detail.startswith("back in: "):
-        return ["04061" if detail.endswith("succeeded") else "04062"]
+        return ["04061"] if detail.endswith("succeeded") else []
     if phase is LiftPhase.EXITING:
         return ["04052", "04060"]  # blocked: back in, retry
     if "is full" in detail:

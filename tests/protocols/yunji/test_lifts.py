@@ -72,3 +72,10 @@ def test_make_plan_across_floors_without_a_lift_cannot_be_reached(
     assert (reply["status"], reply["error_message"]) == (
         "GOAL_CAN_NOT_BE_REACHED", "goal can not be reached")
     assert client.request("/api/move?marker=room_301")["status"] == "REQUEST_DENIED"
+
+
+COVERED: dict[str, str] = {
+    f"notify 10 {code}": "test_move_to_a_floor_3_marker_rides_the_lift_with_its_notifications"
+    for code in ("04000", "04001", "04010", "04011", "04030", "04031", "04020", "04021",
+                 "04050", "04051")
+}

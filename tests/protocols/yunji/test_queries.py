@@ -86,9 +86,13 @@ def test_make_plan_gives_the_path_length_or_goal_can_not_be_reached(client: Clie
     other = _ok(client, "/api/make_plan?start_x=36&start_y=15&start_floor=2"
                         "&goal_x=4&goal_y=11&goal_floor=2")
     assert other["distance"] > 32.0
+    # Across floors: the in-map paths of the route through a lift (to its door, from its door).
+    across = _ok(client, "/api/make_plan?start_x=8&start_y=8.5&start_floor=1"
+                         "&goal_x=4&goal_y=11&goal_floor=2")
+    assert across["distance"] > 28.0 + 31.0
     for command in (
         "/api/make_plan?start_x=8&start_y=8.5&start_floor=1&goal_x=10&goal_y=8.5&goal_floor=1",
-        "/api/make_plan?start_x=8&start_y=8.5&start_floor=1&goal_x=4&goal_y=11&goal_floor=2",
+        "/api/make_plan?start_x=8&start_y=8.5&start_floor=1&goal_x=8.05&goal_y=5&goal_floor=3",
         "/api/make_plan?start_x=8&start_y=8.5&start_floor=1&goal_x=-50&goal_y=8&goal_floor=1",
     ):
         reply = client.request(command)

@@ -205,7 +205,7 @@ def test_a_megabyte_without_newline_closes_that_connection_only(harness: Harness
 
 def test_markers_insert_query_count_delete_round_trip(harness: Harness, client: Client) -> None:
     count = client.request("/api/markers/count")
-    assert (count["status"], count["results"]) == ("OK", {"count": 16})
+    assert (count["status"], count["results"]) == ("OK", {"count": 18})
     assert client.request("/api/markers/insert?name=dock_2&type=11&num=3")["status"] == "OK"
     listed = client.request("/api/markers/query_list?floor=1")
     assert listed["status"] == "OK"
@@ -216,7 +216,7 @@ def test_markers_insert_query_count_delete_round_trip(harness: Harness, client: 
     o = marker["pose"]["orientation"]
     assert (o["x"], o["y"]) == (0.0, 0.0)
     assert abs(angle_diff(quaternion_to_yaw(0.0, 0.0, o["z"], o["w"]), pose.theta)) < 1e-9
-    assert client.request("/api/markers/count")["results"] == {"count": 17}
+    assert client.request("/api/markers/count")["results"] == {"count": 19}
     assert client.request("/api/markers/delete?name=dock_2")["status"] == "OK"
     assert "dock_2" not in client.request("/api/markers/query_list")["results"]
     again = client.request("/api/markers/delete?name=dock_2")
@@ -227,12 +227,12 @@ def test_markers_insert_existing_name_moves_it(harness: Harness, client: Client)
     assert client.request("/api/markers/insert?name=lobby")["status"] == "OK"
     marker = client.request("/api/markers/query_list")["results"]["lobby"]
     assert marker["pose"]["position"]["x"] == harness.runtime.status().pose.x
-    assert client.request("/api/markers/count")["results"] == {"count": 16}
+    assert client.request("/api/markers/count")["results"] == {"count": 18}
 
 
 def test_markers_query_list_filters_by_floor(client: Client) -> None:
     floor2 = client.request("/api/markers/query_list?floor=2")["results"]
-    assert len(floor2) == 21 and {m["floor"] for m in floor2.values()} == {2}
+    assert len(floor2) == 23 and {m["floor"] for m in floor2.values()} == {2}
     assert floor2["lift_1_outside"]["key"] == 3
     every = client.request("/api/markers/query_list")["results"]
     assert every["corridor_west"]["floor"] == 1  # the current floor wins a name clash
@@ -334,8 +334,9 @@ def test_markers_query_brief_gives_type_dash_floor(client: Client) -> None:
     assert (r["lobby"], r["charger"], r["lift_1_inside"], r["room_205"]) == (
         "0-1", "11-1", "4-1", "0-2")
     assert r["corridor_west"] == "0-1"  # the current floor wins a name clash
-    # initial, corridor_west/east and lift_1_outside/inside are on both floors
-    assert len(r) == 16 + 21 - 5
+    # initial, corridor_west/east and lift_1_outside/inside are on all three floors,
+    # lift_2_outside/inside on floors 1 and 2
+    assert len(r) == 18 + 23 + 15 - 7 - 5
 
 
 def test_markers_insert_by_pose_on_another_floor_and_bad_theta(client: Client) -> None:
@@ -395,7 +396,8 @@ def test_position_adjust_by_pose_on_this_floor_and_on_another(
 
 def test_map_list_gives_each_map_its_floor(client: Client) -> None:
     reply = client.request("/api/map/list")
-    assert (reply["status"], reply["results"]) == ("OK", {"floor1": [1], "floor2": [2]})
+    assert (reply["status"], reply["results"]) == (
+        "OK", {"floor1": [1], "floor2": [2], "floor3": [3]})
 
 
 # -- parameters ----------------------------------------------------------------------------------
@@ -428,7 +430,8 @@ def test_map_list_info_gives_each_map_its_grid(client: Client) -> None:
     reply = client.request("/api/map/list_info")
     grid = {"resolution": 0.05, "height": 500, "width": 820, "origin_x": -0.5, "origin_y": -0.5}
     assert (reply["status"], reply["results"]) == ("OK", {
-        "floor1": [{"floor": 1, **grid}], "floor2": [{"floor": 2, **grid}]})
+        "floor1": [{"floor": 1, **grid}], "floor2": [{"floor": 2, **grid}],
+        "floor3": [{"floor": 3, **grid}]})
 
 
 def test_map_set_current_map_moves_the_robot_to_that_floor(
@@ -437,7 +440,7 @@ def test_map_set_current_map_moves_the_robot_to_that_floor(
     bad_floor = client.request("/api/map/set_current_map?map_name=floor2&floor=1")
     assert (bad_floor["status"], bad_floor["error_message"]) == (
         "INVALID_REQUEST", "floor: map 'floor2' is not on floor 1")
-    unknown = client.request("/api/map/set_current_map?map_name=attic&floor=3")
+    unknown = client.request("/api/map/set_current_map?map_name=attic&floor=4")
     assert (unknown["status"], unknown["error_message"]) == (
         "INVALID_REQUEST", "map 'attic' not found")
     reply = client.request("/api/map/set_current_map?hotel_id=floor2&floor=2")  # legacy name
@@ -446,7 +449,7 @@ def test_map_set_current_map_moves_the_robot_to_that_floor(
     assert _status(client)["current_floor"] == 2
     current = client.request("/api/map/get_current_map")["results"]
     assert (current["map_name"], current["floor"]) == ("floor2", "2")
-    assert client.request("/api/markers/count")["results"] == {"count": 21}
+    assert client.request("/api/markers/count")["results"] == {"count": 23}
 
 
 def test_map_set_current_map_is_denied_during_a_move(harness: Harness, client: Client) -> None:

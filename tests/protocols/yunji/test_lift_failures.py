@@ -1,0 +1,137 @@
+"""Lift rides that do not go to plan, over the real socket: the car held by someone else
+(04070/04071), full (04033), not coming (04013), not arriving (04023), the car or its door
+blocked (04032, 04002), the way out blocked (04052, 04060, 04061). Floor 3 is served by lift_1
+only, so a car given up ends the move (01003) with the reason."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from polynav.robot.lift import LiftRequest
+from polynav.robot.sim.lift_car import SimLiftCar
+from tests.protocols.yunji.conftest import Client, Harness
+
+TIMEOUT = 600.0  # simulated seconds
+
+
+def _ok(client: Client, command: str) -> dict[str, Any]:
+    reply = client.request(command)
+    assert reply["status"] == "OK", reply
+    return reply
+
+
+def _car(h: Harness) -> SimLiftCar:
+    return h.runtime.simulation.scene.lifts["lift_1"]
+
+
+def _run_until(h: Harness, client: Client, running_status: str | None) -> dict[str, Any]:
+    """Advance until ``running_status`` shows (None: until the move ends); the status then."""
+    for _ in range(int(TIMEOUT / 0.5)):
+        h.runtime.advance(0.5)
+        status = _ok(client, "/api/robot_status")["results"]
+        if running_status is None and status["move_status"] != "running":
+            return status
+        if running_status is not None and status["running_status"] == running_status:
+            return status
+    raise AssertionError(f"never {running_status or 'ended'}")
+
+
+def _lift_codes(client: Client) -> list[str]:
+    codes = []
+    while True:
+        packet = client.push("notification")
+        codes.append(packet["code"])
+        if packet["code"] in ("01002", "01003"):
+            return [c for c in codes if c.startswith("040") or c in ("01001", "01002", "01003")]
+
+
+def test_car_held_by_an_operator_waits_for_the_unlock(harness: Harness, client: Client) -> None:
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", "floor2"))
+    _ok(client, "/api/move?marker=room_301")
+    _run_until(harness, client, "wait_lift_unlock")
+    harness.runtime.advance(20.0)
+    assert _ok(client, "/api/robot_status")["results"]["running_status"] == "wait_lift_unlock"
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", end_session=True))
+    assert _run_until(harness, client, None)["move_status"] == "succeeded"
+    codes = _lift_codes(client)
+    assert codes[:6] == ["01001", "04000", "04001", "04070", "04071", "04010"]
+    assert codes[-1] == "01002"
+
+
+def test_a_full_car_is_given_up_with_04033(harness: Harness, client: Client) -> None:
+    _car(harness).board_people(2)
+    _ok(client, "/api/move?marker=room_301")
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    assert _lift_codes(client) == ["01001", "04000", "04001", "04010", "04033", "01003"]
+
+
+def test_a_car_that_does_not_come_within_3_minutes_sends_04013(
+    harness: Harness, client: Client
+) -> None:
+    car = _car(harness)
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", "floor3"))
+    harness.runtime.advance(15.0)
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", end_session=True))
+    car.spec = replace(car.spec, speed=0.01)  # a lift stuck between floors
+    _ok(client, "/api/move?marker=room_301")
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    # The router may first take lift_2 to floor 2 (lift_1 is expected late either way).
+    codes = _lift_codes(client)
+    assert codes[:4] == ["01001", "04000", "04001", "04010"]
+    assert codes[-3:] == ["04010", "04013", "01003"]
+
+
+def test_a_ride_over_3_minutes_sends_04023(harness: Harness, client: Client) -> None:
+    _ok(client, "/api/move?marker=room_301")
+    _run_until(harness, client, "take_lift")
+    car = _car(harness)
+    car.spec = replace(car.spec, speed=0.001)
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    codes = _lift_codes(client)
+    assert codes[-4:] == ["04031", "04020", "04023", "01003"]
+    assert "04021" not in codes
+
+
+def test_something_in_the_car_blocks_the_entry_with_04032(
+    harness: Harness, client: Client
+) -> None:
+    harness.runtime.simulation.place_obstacle("floor1", 37.0, 20.4, 0.35)
+    _ok(client, "/api/move?marker=room_301")
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    codes = _lift_codes(client)
+    assert codes[:6] == ["01001", "04000", "04001", "04010", "04011", "04030"]
+    assert codes[6:-1] and set(codes[6:-1]) == {"04032"}
+    assert codes[-1] == "01003"
+
+
+def test_a_blocked_way_to_the_door_sends_04002(harness: Harness, client: Client) -> None:
+    harness.runtime.simulation.place_obstacle("floor1", 37.0, 17.6, 0.6)
+    _ok(client, "/api/move?marker=room_301")
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    assert _lift_codes(client) == ["01001", "04000", "04001", "04010", "04002", "01003"]
+
+
+def test_a_blocked_way_out_goes_back_in_and_retries(harness: Harness, client: Client) -> None:
+    _ok(client, "/api/move?marker=room_301")
+    _run_until(harness, client, "take_lift")
+    harness.runtime.simulation.place_obstacle("floor3", 37.0, 18.2, 0.7)
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    codes = _lift_codes(client)
+    exit_part = codes[codes.index("04050"):]
+    assert exit_part[:4] == ["04050", "04052", "04060", "04061"]
+    assert exit_part[-1] == "01003" and "04051" not in exit_part
+
+
+COVERED: dict[str, str] = {
+    "notify 10 04070": "test_car_held_by_an_operator_waits_for_the_unlock",
+    "notify 10 04071": "test_car_held_by_an_operator_waits_for_the_unlock",
+    "notify 10 04033": "test_a_full_car_is_given_up_with_04033",
+    "notify 10 04013": "test_a_car_that_does_not_come_within_3_minutes_sends_04013",
+    "notify 10 04023": "test_a_ride_over_3_minutes_sends_04023",
+    "notify 10 04032": "test_something_in_the_car_blocks_the_entry_with_04032",
+    "notify 10 04002": "test_a_blocked_way_to_the_door_sends_04002",
+    "notify 10 04052": "test_a_blocked_way_out_goes_back_in_and_retries",
+    "notify 10 04060": "test_a_blocked_way_out_goes_back_in_and_retries",
+    "notify 10 04061": "test_a_blocked_way_out_goes_back_in_and_retries",
+}
