@@ -276,6 +276,36 @@ class GridOut(BaseModel):
                    origin=PoseOut.from_domain(info.origin), data=grid.data.ravel().tolist())
 
 
+class MappingStartIn(_Body):
+    """Start mapping: a new map (no body, or no ``map``), or update (extend) ``map``, the robot
+    localized on it at ``point``, at the pose, by its navigation estimate when navigating on
+    it, or else by global relocalization."""
+
+    model_config = ConfigDict(
+        extra="forbid",
+        json_schema_extra=_alternatives(((), ("x", "y", "theta")), (("x", "y"), ("point",))),
+    )
+
+    map: Name | None = None
+    point: Name | None = None
+    x: Coordinate | None = None
+    y: Coordinate | None = None
+    theta: Heading | None = None
+
+    @model_validator(mode="after")
+    def _one_origin(self) -> MappingStartIn:
+        pose = _pose_or_none(self.x, self.y, self.theta)
+        if pose is not None and self.point is not None:
+            raise ValueError("give a point or a pose, not both")
+        if (pose is not None or self.point is not None) and self.map is None:
+            raise ValueError("a point or pose locates the robot on the map being updated: "
+                             "name the map")
+        return self
+
+    def pose(self) -> Pose2D | None:
+        return _pose_or_none(self.x, self.y, self.theta)
+
+
 class MapSaveIn(_Body):
     """Where to save the map being built."""
 

@@ -38,22 +38,49 @@ class LogOddsGrid:
         resolution: cell size [m].
         hit: log-odds added to a cell a beam ends in.
         miss: log-odds added (negative) to a cell a beam crosses.
+        lattice: a corner of the unbounded cell lattice [m] (cells are
+            ``[lattice + i * resolution, lattice + (i + 1) * resolution)``); an existing map's
+            origin, so a grid seeded from it (:meth:`seeded`) keeps its cells where they were.
     """
 
-    def __init__(self, resolution: float, *, hit: float, miss: float) -> None:
+    def __init__(self, resolution: float, *, hit: float, miss: float,
+                 lattice: tuple[float, float] = (0.0, 0.0)) -> None:
         self.resolution = resolution
         self.hit = hit
         self.miss = miss
+        self.lattice = lattice
         self.values = np.zeros((0, 0), dtype=np.float32)
         self._marks = np.zeros((0, 0), dtype=np.int32)
         self._stamp = 0
-        self.ox = 0  # cell index of the grid's (0, 0) in an unbounded lattice anchored at 0
+        self.ox = 0  # cell index of the grid's (0, 0) in the unbounded lattice
         self.oy = 0
+
+    @classmethod
+    def seeded(cls, grid: Map, *, hit: float, miss: float, level: float) -> LogOddsGrid:
+        """A grid holding an existing map: occupied cells at ``+level``, free ones at
+        ``-level``, unknown at 0 (a saved map kept no log-odds; ``level`` says how many
+        contrary scans it takes to revise a cell, so a moved table is redrawn when updating).
+
+        Raises:
+            ValueError: the map's origin is rotated (a grid here is never rotated).
+        """
+        info = grid.info
+        if abs(math.remainder(info.origin.theta, 2.0 * math.pi)) > 1e-9:
+            raise ValueError("a map with a rotated origin cannot seed a log-odds grid")
+        out = cls(info.resolution, hit=hit, miss=miss, lattice=(info.origin.x, info.origin.y))
+        data = grid.data
+        values = np.zeros((info.height, info.width), dtype=np.float32)
+        values[(data >= FREE) & (data <= 20)] = -level  # map_saver's free threshold 0.196
+        values[data >= 65] = level  # and its occupied one
+        out.values = values
+        out._marks = np.zeros((info.height, info.width), dtype=np.int32)
+        return out
 
     @property
     def origin_xy(self) -> tuple[float, float]:
         """Position [m] of the lower-left corner of cell (0, 0), grid frame."""
-        return (self.ox * self.resolution, self.oy * self.resolution)
+        return (self.lattice[0] + self.ox * self.resolution,
+                self.lattice[1] + self.oy * self.resolution)
 
     def insert(self, pose: Pose2D, points: npt.NDArray[np.float64],
                sensor: npt.NDArray[np.float64]) -> None:
@@ -69,8 +96,10 @@ class LogOddsGrid:
         c, s = math.cos(pose.theta), math.sin(pose.theta)
         gx = pose.x + c * points[:, 0] - s * points[:, 1]
         gy = pose.y + s * points[:, 0] + c * points[:, 1]
-        sx = pose.x + c * sensor[0] - s * sensor[1]
-        sy = pose.y + s * sensor[0] + c * sensor[1]
+        sx = pose.x + c * sensor[0] - s * sensor[1] - self.lattice[0]
+        sy = pose.y + s * sensor[0] + c * sensor[1] - self.lattice[1]
+        gx -= self.lattice[0]
+        gy -= self.lattice[1]
         inv = 1.0 / self.resolution
         cx = np.floor(gx * inv).astype(np.int64)
         cy = np.floor(gy * inv).astype(np.int64)

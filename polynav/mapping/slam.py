@@ -23,6 +23,12 @@ ICRA 2016):
   least-squares solve (:mod:`polynav.mapping.pose_graph`) every ``optimize_every`` nodes when
   a loop closure came in, and once more at :meth:`Slam.finish`.
 * **The map** is rendered at the end by inserting every node's scan at its optimised pose.
+* **Updating a map.** Given a *prior* (a saved map to extend), node 0 is a virtual node at the
+  map's frame, holding no scan, and the prior is a finished submap anchored there. The first
+  scan's pose (where the robot was localized on the prior) is refined by a search in it, and
+  every later node is searched for in it like in any old submap (it is always a candidate), so
+  the new map keeps the prior's frame; the rendered map starts from the prior's cells
+  (:meth:`~polynav.mapping.occupancy.LogOddsGrid.seeded`) and the new scans revise them.
 
 :class:`Slam` does no I/O and reads no clock: it advances only on :meth:`Slam.add_scan`, so the
 runtime can drive it on simulated or wall time, and the log tools can replay a log through it.
@@ -54,6 +60,14 @@ log = logging.getLogger(__name__)
 
 # Finished submaps whose branch-and-bound grids are kept; older ones are rebuilt on demand.
 _PRECOMPUTED_CACHE = 32
+# A prior map's cells start at this log-odds (about three contrary scans revise one).
+_PRIOR_LEVEL = 1.5
+# The cache key of the prior's branch-and-bound grids (submaps use their index).
+_PRIOR_KEY = -1
+# How far the start pose on a prior may be off, and how far a start not found in it is trusted.
+_START_WINDOW_XY = 1.0
+_START_WINDOW_THETA = math.radians(20.0)
+_START_SIGMA = (0.2, 0.2, 0.1)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -68,10 +82,10 @@ class _Node:
 class _Submap:
     """A log-odds grid in its anchor node's frame, and the matchers built from it."""
 
-    def __init__(self, anchor: int, config: SlamConfig) -> None:
+    def __init__(self, anchor: int, config: SlamConfig, grid: LogOddsGrid | None = None) -> None:
         self.anchor = anchor
-        self.grid = LogOddsGrid(config.resolution, hit=log_odds(config.hit_probability),
-                                miss=log_odds(config.miss_probability))
+        self.grid = grid or LogOddsGrid(config.resolution, hit=log_odds(config.hit_probability),
+                                        miss=log_odds(config.miss_probability))
         self.scans = 0
         self.finished = False
         self.centre_sum = np.zeros(2)
@@ -103,7 +117,7 @@ class _Submap:
             c = self._config
             grid = self.grid.to_map(occupied=log_odds(c.occupied_probability),
                                     free=log_odds(c.free_probability))
-            self._field = build_likelihood_field(grid, sigma=c.likelihood_sigma)
+            self._field = build_likelihood_field(grid, sigma=c.likelihood_sigma, centres=True)
             self._matcher = ScanMatcher(self._field)
             self._built_at = self.scans
         return self._matcher
@@ -120,11 +134,19 @@ class Slam:
 
     Args:
         config: all parameters.
+        prior: a saved map to extend (see "Updating a map" in the module docstring); the poses
+            are then in its frame, and the first scan's odometry pose must be the robot's pose
+            on it (within about a metre and 20°).
+
+    Raises:
+        ValueError: the prior's resolution is not the configured one, or its origin is rotated.
     """
 
-    def __init__(self, config: SlamConfig | None = None) -> None:
+    def __init__(self, config: SlamConfig | None = None, *, prior: Map | None = None) -> None:
         self.config = config or SlamConfig()
         self.graph = PoseGraph()
+        self._prior: _Submap | None = None
+        self._prior_map = prior
         self._nodes: list[_Node] = []
         self._submaps: list[_Submap] = []
         self._active: list[_Submap] = []
@@ -141,6 +163,18 @@ class Slam:
                                     theta_step=c.match_theta_step, coarse=True)
         self._polish = SearchWindow(xy=c.resolution, theta=c.loop_theta_step,
                                     theta_step=0.25 * c.loop_theta_step)
+        self.prior_matches = 0
+        if prior is not None:
+            if abs(prior.info.resolution - c.resolution) > 1e-9:
+                raise ValueError(f"the map to extend has {prior.info.resolution} m cells, the "
+                                 f"SLAM {c.resolution} m")
+            self._prior = _Submap(0, c, self._seeded(prior))
+            self._prior.finish()
+            empty = np.zeros((0, 2))
+            self._nodes.append(_Node(-math.inf, Pose2D(), empty, empty, np.zeros(2)))
+            self.graph.add_node(0.0, 0.0, 0.0)
+        # The index of the first real node (1 after a prior's virtual node).
+        self._base = len(self._nodes)
 
     # -- input ----------------------------------------------------------------------------------
 
@@ -167,7 +201,7 @@ class Slam:
         """
         c = self.config
         mount = sensor_pose or Pose2D()
-        if self._nodes:
+        if len(self._nodes) > self._base:
             last = len(self._nodes) - 1
             delta = odom.relative_to(self._nodes[last].odom)
             if (math.hypot(delta.x, delta.y) < c.node_min_translation
@@ -194,7 +228,8 @@ class Slam:
 
     @property
     def node_count(self) -> int:
-        return len(self._nodes)
+        """Nodes made of scans (a prior's virtual node not counted)."""
+        return len(self._nodes) - self._base
 
     @property
     def submap_count(self) -> int:
@@ -208,8 +243,11 @@ class Slam:
     def render_map(self) -> Map:
         """The occupancy map of every node's scan at its current pose (100 / 0 / -1)."""
         c = self.config
-        grid = LogOddsGrid(c.resolution, hit=log_odds(c.hit_probability),
-                           miss=log_odds(c.miss_probability))
+        if self._prior_map is not None:
+            grid = self._seeded(self._prior_map)
+        else:
+            grid = LogOddsGrid(c.resolution, hit=log_odds(c.hit_probability),
+                               miss=log_odds(c.miss_probability))
         for k, node in enumerate(self._nodes):
             grid.insert(self._pose(k), node.points, node.sensor)
         return grid.to_map(occupied=log_odds(c.occupied_probability),
@@ -220,11 +258,25 @@ class Slam:
     def _pose(self, k: int) -> Pose2D:
         return Pose2D(*self.graph.poses[k])
 
+    def _seeded(self, prior: Map) -> LogOddsGrid:
+        c = self.config
+        return LogOddsGrid.seeded(prior, hit=log_odds(c.hit_probability),
+                                  miss=log_odds(c.miss_probability), level=_PRIOR_LEVEL)
+
     def _add_node(self, node: _Node) -> Pose2D:
         c = self.config
         index = len(self._nodes)
-        if index == 0:
+        start_found: Pose2D | None = None
+        if index == self._base:
             pose = node.odom
+            if self._prior is not None and node.match_points.shape[0] > 0:
+                start_found = self._find_in_submap(
+                    _PRIOR_KEY, self._prior, node, pose, window_xy=_START_WINDOW_XY,
+                    window_theta=_START_WINDOW_THETA)
+                if start_found is None:
+                    log.warning("the first scan is not found on the map being extended near "
+                                "%s: the start pose is trusted as given", pose)
+                pose = start_found or pose
         else:
             prev = self._nodes[index - 1]
             delta = node.odom.relative_to(prev.odom)
@@ -243,7 +295,12 @@ class Slam:
             pose = anchor.compose(local)
         self._nodes.append(node)
         self.graph.add_node(pose.x, pose.y, pose.theta)
-        if index > 0:
+        if index == self._base and self._prior is not None:
+            # Tie the first node to the prior's frame (node 0): found there, or as told.
+            sigma = ((c.loop_sigma_xy, c.loop_sigma_xy, c.loop_sigma_theta)
+                     if start_found is not None else _START_SIGMA)
+            self.graph.add_edge(0, index, (pose.x, pose.y, pose.theta), sigma)
+        if index > self._base:
             dist = math.hypot(delta.x, delta.y)
             sxy = max(c.resolution, c.odom_sigma_xy * dist)
             self.graph.add_edge(index - 1, index, (delta.x, delta.y, delta.theta),
@@ -274,6 +331,17 @@ class Slam:
         if node.match_points.shape[0] == 0:
             return
         pose = self._pose(index)
+        found = 0
+        if self._prior is not None:
+            # The prior is searched first: it holds the frame the new map must keep.
+            local = self._find_in_submap(_PRIOR_KEY, self._prior, node, pose)
+            if local is not None:
+                self.graph.add_edge(0, index, (local.x, local.y, local.theta),
+                                    (c.loop_sigma_xy, c.loop_sigma_xy, c.loop_sigma_theta),
+                                    robust=True)
+                self.prior_matches += 1
+                self._new_loops += 1
+                found += 1
         # Submaps started just before this node are tied to it through the local chain already.
         recent = index - 4 * c.scans_per_submap
         candidates = []
@@ -284,7 +352,6 @@ class Slam:
             distance = math.hypot(centre[0] - pose.x, centre[1] - pose.y)
             if distance <= c.loop_max_distance:
                 candidates.append((distance, s))
-        found = 0
         for _, s in sorted(candidates):
             if found >= c.loop_max_per_node:
                 break
@@ -300,7 +367,9 @@ class Slam:
             self._new_loops += 1
             found += 1
 
-    def _find_in_submap(self, s: int, submap: _Submap, node: _Node, guess: Pose2D) -> Pose2D | None:
+    def _find_in_submap(self, s: int, submap: _Submap, node: _Node, guess: Pose2D, *,
+                        window_xy: float | None = None,
+                        window_theta: float | None = None) -> Pose2D | None:
         c = self.config
         field = submap.field
         pre = self._precomputed.get(s)
@@ -316,8 +385,8 @@ class Slam:
         found = branch_and_bound.search(
             pre, node.match_points / res,
             x=(guess.x - origin.x) / res, y=(guess.y - origin.y) / res, theta=guess.theta,
-            window_cells=int(math.ceil(c.loop_window_xy / res)),
-            window_theta=c.loop_window_theta, theta_step=c.loop_theta_step,
+            window_cells=int(math.ceil((window_xy or c.loop_window_xy) / res)),
+            window_theta=window_theta or c.loop_window_theta, theta_step=c.loop_theta_step,
             min_score=c.loop_min_score,
         )
         if found is None:

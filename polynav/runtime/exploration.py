@@ -159,9 +159,13 @@ class Exploration:
             self.stage = Stage.RETURNING
             target = self.start
             self._homeward = 1
-        if target is None:
+        elif target is None:
+            if keep and self._navigator is not None:
+                return  # still on its way home: a periodic look is no new try
             target = self.start
-            self._homeward += 1
+            self._homeward += 1  # the last way home failed (success ended the exploration)
+            log.info("the way back failed; trying again (%d of %d)", self._homeward,
+                     _HOMEWARD_TRIES)
         self._costmap = costmap
         self._navigator = Navigator(
             costmap, self._planner, RegulatedPurePursuit(cfg.controller),

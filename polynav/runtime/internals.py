@@ -17,6 +17,7 @@ from polynav.geometry import Pose2D
 from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.stack import NavigationStack
 from polynav.robot.interface import Robot
+from polynav.robot.sim.simulation import Simulation
 from polynav.runtime.config import Mode, SiteData
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.exploration import Exploration
@@ -34,6 +35,7 @@ class RuntimeParts(abc.ABC):
 
     store: SiteData
     _robot: Robot
+    _sim: Simulation
     _mode: Mode
     _stack: NavigationStack | None
     _map_name: str | None
@@ -97,6 +99,10 @@ class RuntimeParts(abc.ABC):
     @abc.abstractmethod
     def _require_navigating(self) -> NavigationStack:
         """The stack, or Conflict unless NAVIGATING (goal commands)."""
+
+    @abc.abstractmethod
+    def _stop_navigation(self) -> None:
+        """Unload the map and become FREE (nothing when FREE)."""
 
     @abc.abstractmethod
     def _halt_motion(self) -> None:

@@ -2,46 +2,115 @@
 
 A part of :class:`~polynav.runtime.robot_runtime.RobotRuntime` by subject (it is one class
 to its callers); what it shares with the others is declared in
-:class:`~polynav.runtime.internals.RuntimeParts`. MAPPING is entered from FREE only; the robot
-is driven by teleop (or local moves) meanwhile, and :meth:`stop_mapping` saves before it stops,
-as the vendors document.
+:class:`~polynav.runtime.internals.RuntimeParts`. A new map is started from FREE, where the
+robot stands (its pose is the new map's frame). An existing map is *updated* (extended) from
+FREE, the robot's pose on it given or found by global relocalization, or from NAVIGATING on that
+map, where the robot is tracked; the new map keeps the old one's frame, so its points, paths
+and keepouts stay valid. The robot is driven by teleop, local moves or exploration meanwhile,
+and :meth:`stop_mapping` saves before it stops, as the vendors document.
 """
 
 from __future__ import annotations
 
 import logging
 
-from polynav.errors import Conflict, NotFound
+from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized
 from polynav.geometry import Pose2D
+from polynav.localization.interface import LocalizationState
+from polynav.mapping.relocalization import Relocalizer
 from polynav.maps.map import Map
 from polynav.runtime.config import Mode
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_session import MappingSession
+from polynav.runtime.sim_placement import floor_of, place
 
 log = logging.getLogger(__name__)
 
 
 class MappingCommands(RuntimeParts):
-    def start_mapping(self) -> None:
-        """Start a new map where the robot stands: its pose now is the new map's frame.
+    def start_mapping(self, map_name: str | None = None, *, point: str | None = None,
+                      pose: Pose2D | None = None) -> None:
+        """Start a new map where the robot stands (its pose now is the new map's frame), or
+        update ``map_name``: extend it with what the robot sees from now on, in its frame.
+
+        When updating, the robot's pose on the map is the named ``point``, else ``pose``, else
+        the navigation estimate (when NAVIGATING on that map, tracked, no goal active; the map
+        is unloaded), else found by global relocalization of the current scan. On the
+        simulator a given pose far from the robot places it there, as for navigation.
 
         Raises:
-            Conflict: not FREE (navigating: stop navigation first; already mapping; busy).
+            Conflict: not FREE (navigating: stop navigation first, unless updating the map
+                navigated on; already mapping; busy); ``NotLocalized`` when the robot cannot
+                be found on the map.
+            NotFound: unknown map or point.
+            InvalidRequest: a point or pose without a map; both; a map of no simulated floor,
+                or with a rotated origin or cells of another size than the SLAM's.
         """
+        if map_name is None:
+            if point is not None or pose is not None:
+                raise InvalidRequest("point", "a point or pose locates the robot on a map being "
+                                     "updated: name the map")
+            self._call(self._start_new_map)
+            return
+        if point is not None and pose is not None:
+            raise InvalidRequest("point", "give a point or a pose, not both")
+        record = self.store.map_record(map_name)
+        name = str(getattr(record, "name", map_name))
+        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
+        initial = self.store.point(name, point).pose if point is not None else pose
+        grid = self.store.load_map(name)
+        self._call(lambda: self._start_update(name, floor, grid, initial))
 
-        def run() -> None:
-            if self._mode is Mode.MAPPING:
-                raise Conflict("already mapping: stop or cancel it first")
-            if self._mode is not Mode.FREE:
-                raise Conflict(f"mapping starts from free (mode {self._mode.value}): "
-                               "stop navigation first")
-            self._halt_motion()
-            self._mapping = MappingSession(self._floor_now(), self._status_pose())
-            self._set_mode(Mode.MAPPING)
-            log.info("mapping started on floor %s", self._mapping.floor)
+    def _start_new_map(self) -> None:
+        if self._mode is Mode.MAPPING:
+            raise Conflict("already mapping: stop or cancel it first")
+        if self._mode is not Mode.FREE:
+            raise Conflict(f"mapping starts from free (mode {self._mode.value}): "
+                           "stop navigation first")
+        self._halt_motion()
+        self._mapping = MappingSession(self._floor_now(), self._status_pose())
+        self._set_mode(Mode.MAPPING)
+        log.info("mapping started on floor %s", self._mapping.floor)
 
-        self._call(run)
+    def _start_update(self, name: str, floor: str, grid: Map, initial: Pose2D | None) -> None:
+        if self._mode is Mode.MAPPING:
+            raise Conflict("already mapping: stop or cancel it first")
+        navigating_here = self._mode is Mode.NAVIGATING and self._map_name == name
+        if self._mode is not Mode.FREE and not navigating_here:
+            raise Conflict(f"updating map {name!r} starts from free, or while navigating on it "
+                           f"(mode {self._mode.value}, map {self._map_name!r})")
+        if navigating_here and self._goal_active():
+            raise Conflict("a goal is active: cancel it before updating the map")
+        stack = self._stack
+        if initial is None and navigating_here and stack is not None:
+            estimate = stack.estimate
+            if estimate.state is LocalizationState.TRACKING:
+                initial = estimate.pose
+        if initial is None:
+            if self._floor_now() != floor:
+                raise Conflict(f"map {name!r} is of floor {floor}, the robot is on "
+                               f"{self._floor_now()}: give its point or pose on the map")
+            scan = self._robot.read_scan()
+            if scan is None:
+                raise NotLocalized("no scan yet to find the robot on the map: give its point "
+                                   "or pose")
+            found = Relocalizer(grid).locate(scan)
+            if found.pose is None:
+                raise NotLocalized(f"the robot is not found on map {name!r}: {found.reason} "
+                                   f"(score {found.score:.2f}); give its point or pose")
+            initial = found.pose
+        try:
+            session = MappingSession(floor, initial, name=name, prior=grid)
+        except ValueError as exc:
+            raise InvalidRequest("map", f"map {name!r} cannot be extended: {exc}") from exc
+        place(self._sim, floor, initial)  # may raise before anything changed
+        if navigating_here:
+            self._stop_navigation()
+        self._halt_motion()
+        self._mapping = session
+        self._set_mode(Mode.MAPPING)
+        log.info("updating map %r on floor %s from %s", name, floor, initial)
 
     def explore(self) -> None:
         """Let the robot map on its own: it drives to the nearest frontier of the live map,
@@ -79,7 +148,8 @@ class MappingCommands(RuntimeParts):
 
     def save_mapping(self, name: str, *, overwrite: bool = False) -> object:
         """Save the map built so far under ``name`` (ROS map files in the site store); mapping
-        goes on. Returns the saved map's record.
+        goes on. Returns the saved map's record. A map being updated may be saved under its
+        own name without ``overwrite`` (its points and keepouts stay: the frame is the same).
 
         Raises:
             Conflict: not mapping; ``name`` exists and ``overwrite`` is not set.
@@ -125,7 +195,8 @@ class MappingCommands(RuntimeParts):
         return self._mapping
 
     def _check_name_free(self, name: str, overwrite: bool) -> None:
-        if overwrite:
+        updating = self._mapping is not None and self._mapping.name == name
+        if overwrite or updating:
             return
         try:
             self.store.map_record(name)
@@ -136,10 +207,11 @@ class MappingCommands(RuntimeParts):
     def _save(self, grid: Map, name: str, overwrite: bool) -> object:
         self._check_name_free(name, overwrite)
         floor = self._mapping.floor if self._mapping is not None else None
-        try:
-            self.store.floor(floor) if floor is not None else None
-        except NotFound:
-            floor = None
+        if floor is not None:
+            try:
+                self.store.floor(floor)
+            except NotFound:  # a simulated floor the site does not know: the map has none
+                floor = None
         record = self.store.save_map(name, grid, floor=floor)
         log.info("map %r saved (%d x %d cells)", name, grid.info.width, grid.info.height)
         return record

@@ -46,6 +46,7 @@ class FakeRuntime:
         self.goal_point: str | None = None
         self.local_moves: list[tuple[float | None, float | None]] = []
         self.lost_in_a_hall = False
+        self.mapping_started: tuple[str | None, str | None, Pose2D | None] | None = None
         world = load_world("demo")
         levels = {f.name: f.level for f in world.floors}
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
@@ -150,9 +151,13 @@ class FakeRuntime:
 
     # -- mapping: a fixed little map "grows" as the fake advances
 
-    def start_mapping(self) -> None:
+    def start_mapping(self, map_name: str | None = None, *, point: str | None = None,
+                      pose: Pose2D | None = None) -> None:
         if self.mode != "free":
             raise Conflict(f"mapping starts from free (mode {self.mode})")
+        if map_name is not None:
+            self.store.map_record(map_name)  # NotFound
+        self.mapping_started = (map_name, point, pose)
         self._set_mode("mapping")
 
     def _need_mapping(self) -> None:

@@ -43,3 +43,24 @@ def test_mapping_cancel_and_bad_bodies(client: httpx.Client) -> None:
     assert bad.status_code == 422
     assert client.post("/api/mapping/cancel").status_code == 200
     assert client.get("/api/status").json()["mode"] == "free"
+
+
+def test_mapping_start_on_an_existing_map_updates_it(
+    client: httpx.Client, fake_runtime: FakeRuntime
+) -> None:
+    assert client.post("/api/mapping/start", json={"point": "lobby"}).status_code == 422
+    assert client.post("/api/mapping/start",
+                       json={"map": "floor1", "point": "lobby", "x": 1.0, "y": 2.0}
+                       ).status_code == 422
+    assert client.post("/api/mapping/start", json={"map": "nowhere"}).status_code == 404
+    assert fake_runtime.mapping_started is None
+    assert client.post("/api/mapping/start",
+                       json={"map": "floor1", "x": 1.0, "y": 2.0, "theta": 0.5}).status_code == 200
+    started = fake_runtime.mapping_started
+    assert started is not None and started[0] == "floor1" and started[1] is None
+    assert started[2] is not None and (started[2].x, started[2].y, started[2].theta) == (
+        1.0, 2.0, 0.5)
+    assert client.get("/api/status").json()["mode"] == "mapping"
+    assert client.post("/api/mapping/cancel").status_code == 200
+    assert client.post("/api/mapping/start", json={}).status_code == 200  # a new map
+    assert fake_runtime.mapping_started == (None, None, None)

@@ -32,7 +32,7 @@ DECLARED: dict[str, set[str]] = {
     "pause_goal": {"200", "409", "500"},
     "resume_goal": {"200", "409", "500"},
     "relocalize": {"200", "409", "500"},
-    "start_mapping": {"200", "409", "500"},
+    "start_mapping": {"200", "400", "404", "409", "422", "500"},
     "get_mapping_map": {"200", "409", "500"},
     "get_mapping_map_image": {"200", "409", "500"},
     "save_mapping": {"200", "400", "409", "422", "500"},

@@ -8,8 +8,8 @@ from fastapi import APIRouter
 from fastapi.responses import Response
 
 from polynav.api.deps import RuntimeDep
-from polynav.api.errors import BODY, STATE, responses
-from polynav.api.schemas import GridOut, MapOut, MapSaveIn, Ok
+from polynav.api.errors import BODY, LOOKUP, STATE, responses
+from polynav.api.schemas import GridOut, MapOut, MappingStartIn, MapSaveIn, Ok
 from polynav.maps.ros_map import png_bytes
 
 log = logging.getLogger(__name__)
@@ -17,11 +17,19 @@ log = logging.getLogger(__name__)
 router = APIRouter(prefix="/api/mapping", tags=["mapping"], responses=STATE)
 
 
-@router.post("/start", operation_id="start_mapping", response_model=Ok)
-def start_mapping(runtime: RuntimeDep) -> Ok:
-    """Start a new map where the robot stands (409 unless free: stop navigation first). Drive
-    the robot with teleop meanwhile; the status shows its pose on the new map."""
-    runtime.start_mapping()
+@router.post("/start", operation_id="start_mapping", response_model=Ok,
+             responses=responses(BODY, LOOKUP))
+def start_mapping(runtime: RuntimeDep, body: MappingStartIn | None = None) -> Ok:
+    """Start a new map where the robot stands (no body; 409 unless free: stop navigation
+    first), or update ``map``: extend it in its own frame, the robot localized on it at
+    ``point``, at the pose, by navigation when navigating on it, or by global relocalization
+    (409 ``not_localized`` when not found; 404 unknown map or point). Drive the robot with
+    teleop or exploration meanwhile; the status shows its pose on the map being built. An
+    updated map may be saved under its own name without ``overwrite``."""
+    if body is None or body.map is None:
+        runtime.start_mapping()
+    else:
+        runtime.start_mapping(body.map, point=body.point, pose=body.pose())
     return Ok()
 
 

@@ -15,32 +15,15 @@ from polynav.maps.map import Map, MapInfo
 from polynav.runtime.config import Mode, RuntimeConfig
 from polynav.runtime.exploration import frontiers
 from polynav.runtime.robot_runtime import RobotRuntime
-from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
-from polynav.worlds.world import World, WorldFloor
+from tests.helpers.worlds import TWO_ROOMS_START, two_rooms
 
-RES = 0.05
-START = Pose2D(2.5, 3.0, 0.0)
-
-
-def _two_rooms() -> World:
-    width, height = int(12.0 / RES), int(6.0 / RES)
-    data = np.zeros((height, width), dtype=np.int8)
-    data[:4, :] = data[-4:, :] = data[:, :4] = data[:, -4:] = 100
-    mid = int(6.0 / RES)
-    data[:, mid - 2: mid + 2] = 100
-    data[int(2.4 / RES): int(3.6 / RES), mid - 2: mid + 2] = 0  # a 1.2 m door
-    for x, y in ((1.0, 1.0), (4.5, 5.0), (8.0, 1.2), (10.8, 4.6)):
-        ix, iy = int(x / RES), int(y / RES)
-        data[iy - 6: iy + 6, ix - 6: ix + 6] = 100
-    grid = Map(MapInfo(RES, width, height), data)
-    points = (Point("initial", "f", START, PointKind.INITIAL),)
-    return World("two_rooms", (WorldFloor("f", 1, "f", grid, points, None, ()),), "f", START)
+START = TWO_ROOMS_START
 
 
 @pytest.fixture
 def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
-    world = _two_rooms()
+    world = two_rooms()
     with SiteStore.open(tmp_path / "data", seed_world=world) as store:
         yield RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False, seed=2))
 
