@@ -454,6 +454,7 @@ class RegulatedPurePursuit:
             remaining,
             scaling_distance=cfg.approach_velocity_scaling_dist,
             min_speed=cfg.min_approach_velocity,
+            deceleration=cfg.linear_deceleration,
         )
 
         hit = collision.first_footprint_collision(

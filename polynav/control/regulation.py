@@ -70,18 +70,37 @@ def proximity_factor(cost: int, *, cost_threshold: int, slowdown: float) -> floa
     return 1.0 - slowdown * (c - cost_threshold) / (costs.MAX_NON_OBSTACLE - cost_threshold)
 
 
+#: Share of the deceleration limit an approach plans with; the rest is kept in hand for the
+#: control period's lag and odometry noise, so the robot stops on the goal, not past it.
+APPROACH_BRAKING_SHARE = 0.75
+
+
 def approach_speed(
-    speed: float, remaining: float, *, scaling_distance: float, min_speed: float
+    speed: float,
+    remaining: float,
+    *,
+    scaling_distance: float,
+    min_speed: float,
+    deceleration: float | None = None,
 ) -> float:
     """``speed`` scaled down within ``scaling_distance`` [m] of the goal, not below ``min_speed``.
 
     ``remaining`` should be the distance *along the path*, not the straight line, while the path
     still bends: a path that curls back near its own goal would otherwise slow the robot long
     before it gets there (Nav2 ``approachVelocityScalingFactor``).
+
+    With ``deceleration`` [m/s²] the speed is also one the base can still brake from within
+    ``remaining`` (``sqrt(2 a d)`` with :data:`APPROACH_BRAKING_SHARE` of the limit): a linear ramp
+    over a fixed distance suits a slow robot, but a 2 m/s base needs a metre to stop and would
+    overshoot the goal, turn round and come back.
     """
-    if remaining >= scaling_distance:
-        return speed
-    return min(speed, max(speed * remaining / scaling_distance, min_speed))
+    out = speed
+    if remaining < scaling_distance:
+        out = min(speed, max(speed * remaining / scaling_distance, min_speed))
+    if deceleration is not None and deceleration > 0.0:
+        braking = math.sqrt(2.0 * APPROACH_BRAKING_SHARE * deceleration * max(remaining, 0.0))
+        out = min(out, max(braking, min_speed))
+    return out
 
 
 def stop_distance(

@@ -93,3 +93,15 @@ def test_angular_limit() -> None:
     assert regulation.limit_angular(1.5, 0.0, acceleration=3.0, dt=0.05) == pytest.approx(0.15)
     assert regulation.limit_angular(-1.5, 1.0, acceleration=3.0, dt=0.05) == pytest.approx(0.85)
     assert regulation.limit_angular(0.1, 0.0, acceleration=3.0, dt=0.05) == 0.1
+
+
+def test_approach_speed_lets_a_fast_base_brake_before_the_goal() -> None:
+    kw = {"scaling_distance": 0.6, "min_speed": 0.05, "deceleration": 2.0}
+    share = regulation.APPROACH_BRAKING_SHARE
+    assert regulation.approach_speed(2.0, 3.0, **kw) == 2.0  # far: full speed
+    one_metre = regulation.approach_speed(2.0, 1.0, **kw)
+    assert one_metre == pytest.approx((2.0 * share * 2.0 * 1.0) ** 0.5)
+    assert one_metre**2 / (2.0 * 2.0) < 1.0  # it can stop within the metre left
+    assert regulation.approach_speed(2.0, 0.0, **kw) == 0.05
+    # A slow robot is held by the ramp alone, as before.
+    assert regulation.approach_speed(0.6, 0.3, **kw) == pytest.approx(0.3)
