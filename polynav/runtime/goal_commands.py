@@ -143,7 +143,8 @@ class GoalCommands(RuntimeParts):
         assert self._map_name is not None
         target_map = map_name or self._map_name
         goal_options = options or GoalOptions()
-        self.store.map_record(target_map)  # NotFound for an unknown map, point or not
+        if target_map != self._map_name:
+            self.store.map_record(target_map)  # NotFound for an unknown map, point or not
         if point is not None:
             record = self.store.point(target_map, point)
             goal = record.pose

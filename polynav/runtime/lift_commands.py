@@ -33,10 +33,7 @@ from __future__ import annotations
 import abc
 import logging
 import math
-from collections.abc import Mapping
-from dataclasses import replace
 
-from polynav.errors import NotFound
 from polynav.geometry import Pose2D
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
@@ -58,7 +55,7 @@ from polynav.routing.path_costs import PlannedPathCosts
 from polynav.routing.route import DriveLeg, LiftLeg, Route, SwitchLeg
 from polynav.routing.router import Router
 from polynav.runtime import events
-from polynav.runtime.internals import RuntimeParts
+from polynav.runtime.lift_access import LiftAccess
 from polynav.runtime.lift_events import (
     HELD,
     LiftPhase,
@@ -66,16 +63,21 @@ from polynav.runtime.lift_events import (
     MapSwitched,
     RouteStarted,
 )
-from polynav.runtime.lift_sessions import LiftSessions, LocalLiftSessions
+from polynav.runtime.lift_sessions import LiftSessions
 from polynav.runtime.route_run import (
+    AT_DOOR,
     AT_POINT,
     CALL_TIMEOUT,
+    IN_CAR,
     MAX_DOOR_RETRIES,
+    NEAR_LIFT,
+    NEAR_LIFT_OPTIONS,
     RETRY_PAUSE,
     RIDE_TIMEOUT,
     SESSION_TIMEOUT,
     RouteRun,
-    status_dict,
+    carried,
+    overlay,
 )
 from polynav.runtime.sim_placement import floor_of, place
 from polynav.runtime.status import StatusSnapshot
@@ -83,7 +85,7 @@ from polynav.runtime.status import StatusSnapshot
 log = logging.getLogger(__name__)
 
 
-class LiftCommands(RuntimeParts):
+class LiftCommands(LiftAccess):
     """Cross-map goals and the lift sequence (see the module docstring)."""
 
     _sim: Simulation
@@ -97,59 +99,8 @@ class LiftCommands(RuntimeParts):
     lift_waits: list[float]
     """Each ride's wait [s]: from reaching the lift (asking for its session) to driving in."""
 
-    # -- reads ---------------------------------------------------------------------------------
-
-    @property
-    def robot_id(self) -> str:
-        """This robot's id: the name lift sessions and the fleet know it by."""
-        return self._sim.name
-
-    @property
-    def lifts(self) -> Mapping[str, Lift]:
-        """The building's lift cars by name (the simulator's; a real site's lift controllers)."""
-        return self._sim.scene.lifts
-
-    def lift(self, car: str) -> Lift:
-        """Car ``car``.
-
-        Raises:
-            NotFound: no such car.
-        """
-        found = self.lifts.get(car)
-        if found is None:
-            raise NotFound("lift", car)
-        return found
-
     def _route_running(self) -> bool:
         return self._route is not None
-
-    def use_lift_sessions(self, sessions: LiftSessions) -> None:
-        """Take lift sessions from ``sessions`` (the fleet's lease book) from now on."""
-        self._lift_sessions = sessions
-
-    # -- commands ------------------------------------------------------------------------------
-
-    def request_lift(self, car: str, request: LiftRequest) -> None:
-        """Pass ``request`` to car ``car`` between ticks (an operator's call, or ending their
-        session).
-
-        Raises:
-            NotFound: no such car. InvalidRequest: a floor it does not serve.
-            LiftError: out of service, or another session holds it.
-        """
-        lift = self.lift(car)
-        self._call(lambda: lift.request(request))
-
-    def set_lift_mode(self, car: str, mode: LiftMode) -> None:
-        """Put a simulated car in or out of service (a real car's mode is its controller's).
-
-        Raises:
-            NotFound: no such car.
-        """
-        found = self._sim.scene.lifts.get(car)
-        if found is None:
-            raise NotFound("lift", car)
-        self._call(lambda: found.set_mode(mode))
 
     def route_length(self, start_map: str, start: Pose2D, goal_map: str, goal: Pose2D) -> float:
         """Length [m] of the in-map paths of the route the robot would take from ``start`` to
@@ -259,7 +210,7 @@ class LiftCommands(RuntimeParts):
                 self._set_phase(run, LiftPhase.GOING_TO_LIFT, now)
                 run.car = lift.car
                 self._sessions().request(lift.car, now)
-                options = _NEAR_LIFT
+                options = NEAR_LIFT_OPTIONS
                 if not self._sessions().granted(lift.car, now) and lift.waiting_from:
                     target = lift.waiting_from
             self._leg_go(run, target, options)
@@ -335,13 +286,13 @@ class LiftCommands(RuntimeParts):
         run.called = True
         self._set_phase(run, LiftPhase.CALLING, now)
         if not self._near(leg.outside_from, AT_POINT):
-            self._leg_go(run, leg.outside_from, _AT_DOOR)
+            self._leg_go(run, leg.outside_from, AT_DOOR)
 
     def _await_car(self, run: RouteRun, leg: LiftLeg, car: Lift, now: float) -> None:
         if run.nav_id is None and run.resume_at > now:
             return
         if run.nav_id is None and run.retries and not self._near(leg.outside_from, AT_POINT):
-            self._leg_go(run, leg.outside_from, _AT_DOOR)
+            self._leg_go(run, leg.outside_from, AT_DOOR)
             return
         if run.nav_id is not None:
             result = self._leg_result(run)
@@ -364,7 +315,7 @@ class LiftCommands(RuntimeParts):
                 self._reroute(run, now, f"lift {leg.car} is full")
                 return
             self._set_phase(run, LiftPhase.ENTERING, now)
-            self._leg_go(run, leg.inside_from, _IN_CAR)
+            self._leg_go(run, leg.inside_from, IN_CAR)
         elif now - run.since > CALL_TIMEOUT:
             run.excluded.add(leg.car)
             self._reroute(run, now, f"lift {leg.car} did not come within {CALL_TIMEOUT:g} s")
@@ -372,7 +323,7 @@ class LiftCommands(RuntimeParts):
     def _enter_tick(self, run: RouteRun, leg: LiftLeg, car: Lift, now: float) -> None:
         if run.nav_id is None:
             if now >= run.resume_at and car.state().ready_at(leg.from_floor):
-                self._leg_go(run, leg.inside_from, _IN_CAR)
+                self._leg_go(run, leg.inside_from, IN_CAR)
             return
         result = self._leg_result(run)
         if result is None:
@@ -400,7 +351,7 @@ class LiftCommands(RuntimeParts):
         state = car.state()
         if state.current_floor == leg.to_floor and state.motion is MotionState.STOPPED:
             self._set_phase(run, LiftPhase.SWITCHING_MAP, now)
-            self._switch_map(run, leg.to_map, _carried(self._pose(), leg.inside_from,
+            self._switch_map(run, leg.to_map, carried(self._pose(), leg.inside_from,
                                                        leg.inside_to))
             self._set_phase(run, LiftPhase.EXITING, now)
         elif now - run.since > RIDE_TIMEOUT:
@@ -411,7 +362,7 @@ class LiftCommands(RuntimeParts):
         if run.nav_id is None:
             if now >= run.resume_at and car.state().ready_at(leg.to_floor):
                 target = leg.inside_to if run.backing_in else leg.outside_to
-                self._leg_go(run, target, _IN_CAR if run.backing_in else None)
+                self._leg_go(run, target, IN_CAR if run.backing_in else None)
             return
         result = self._leg_result(run)
         if result is None:
@@ -448,19 +399,6 @@ class LiftCommands(RuntimeParts):
             self._end_route(NavigationState.SUCCEEDED)
 
     # -- helpers -------------------------------------------------------------------------------
-
-    def _costs(self) -> PlannedPathCosts:
-        costs = self._path_costs
-        if costs is None:
-            config = self.stack_config()
-            costs = PlannedPathCosts(self.store, config.costmap, config.planner)
-            self._path_costs = costs
-        return costs
-
-    def _sessions(self) -> LiftSessions:
-        if self._lift_sessions is None:
-            self._lift_sessions = LocalLiftSessions(self.robot_id)
-        return self._lift_sessions
 
     def _set_phase(self, run: RouteRun, phase: LiftPhase, now: float) -> None:
         if run.phase is phase:
@@ -589,16 +527,7 @@ class LiftCommands(RuntimeParts):
         if run is None or (self._route is None and (self._attempts.attempt_id or 0)
                            > run.attempt_id):
             return snapshot
-        state = run.state.value
-        if run.state is NavigationState.RUNNING and snapshot.navigation_state == "paused" and (
-                run.nav_id is not None):
-            state = "paused"
-        return replace(
-            snapshot, navigation_state=state, attempt_id=run.attempt_id, goal=run.goal,
-            goal_point=run.goal_point, reason=run.reason,
-            phase=snapshot.phase if run.nav_id is not None and snapshot.phase else "navigate",
-            distance_remaining=snapshot.distance_remaining if run.index == len(run.legs) - 1
-            else None, route=status_dict(run))
+        return overlay(snapshot, run)
 
     # -- parts the runtime supplies ------------------------------------------------------------
 
@@ -613,28 +542,3 @@ class LiftCommands(RuntimeParts):
     @abc.abstractmethod
     def _publish(self, event: events.RuntimeEvent) -> None:
         """Publish a runtime event (the runtime's)."""
-
-
-NEAR_LIFT = 4.0
-"""A robot this close [m] to a car's door that cannot reach its waiting spot waits where it is."""
-
-_NEAR_LIFT = GoalOptions(near_tolerance=1.5)
-"""Going to a lift (its waiting spot or door): another robot may stand on the spot; ending near
-it will do."""
-
-_AT_DOOR = GoalOptions(near_tolerance=0.3)
-"""To the door once the car is this robot's: on the spot, or next to it."""
-
-_IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1)
-"""Goals into and out of a car: a loose heading (the car is small) and one retry, so that a
-blocked door is reported to the sequence (which retries after a pause) rather than fought."""
-
-
-def _carried(pose: Pose2D, inside_from: Pose2D, inside_to: Pose2D) -> Pose2D:
-    """The robot's pose on the new floor: where it stands relative to the car's inside point,
-    applied to the inside point of the new floor (the lift's known position)."""
-    dx, dy = pose.x - inside_from.x, pose.y - inside_from.y
-    turn = inside_to.theta - inside_from.theta
-    c, s = math.cos(turn), math.sin(turn)
-    return Pose2D(inside_to.x + c * dx - s * dy, inside_to.y + s * dx + c * dy,
-                  math.atan2(math.sin(pose.theta + turn), math.cos(pose.theta + turn)))

@@ -6,13 +6,15 @@ on each control tick); :func:`status_dict` is the ``route`` object of ``GET /api
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, replace
 
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.routing.route import DriveLeg, Leg, LiftLeg, SwitchLeg
 from polynav.runtime.events import pose_dict
 from polynav.runtime.lift_events import LiftPhase
+from polynav.runtime.status import StatusSnapshot
 
 CALL_TIMEOUT = 180.0
 """A car that has not stood open at the robot's floor this long [s] after the call is given up
@@ -95,6 +97,46 @@ class RouteRun:
         self.backing_in = False
         self.called = False
         self.announced_wait = False
+
+
+NEAR_LIFT = 4.0
+"""A robot this close [m] to a car's door that cannot reach its waiting spot waits where it is."""
+
+NEAR_LIFT_OPTIONS = GoalOptions(near_tolerance=1.5)
+"""Going to a lift (its waiting spot or door): another robot may stand on the spot; ending near
+it will do."""
+
+AT_DOOR = GoalOptions(near_tolerance=0.3)
+"""To the door once the car is this robot's: on the spot, or next to it."""
+
+IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1)
+"""Goals into and out of a car: a loose heading (the car is small) and one retry, so that a
+blocked door is reported to the sequence (which retries after a pause) rather than fought."""
+
+
+def carried(pose: Pose2D, inside_from: Pose2D, inside_to: Pose2D) -> Pose2D:
+    """The robot's pose on the new floor: where it stands relative to the car's inside point,
+    applied to the inside point of the new floor (the lift's known position)."""
+    dx, dy = pose.x - inside_from.x, pose.y - inside_from.y
+    turn = inside_to.theta - inside_from.theta
+    c, s = math.cos(turn), math.sin(turn)
+    return Pose2D(inside_to.x + c * dx - s * dy, inside_to.y + s * dx + c * dy,
+                  math.atan2(math.sin(pose.theta + turn), math.cos(pose.theta + turn)))
+
+
+def overlay(snapshot: StatusSnapshot, run: RouteRun) -> StatusSnapshot:
+    """``snapshot`` as callers see the cross-map goal ``run``: its id, goal and state, the
+    phase of a leg's goal (``navigate`` between them) and the ``route``."""
+    state = run.state.value
+    if run.state is NavigationState.RUNNING and snapshot.navigation_state == "paused" and (
+            run.nav_id is not None):
+        state = "paused"
+    return replace(
+        snapshot, navigation_state=state, attempt_id=run.attempt_id, goal=run.goal,
+        goal_point=run.goal_point, reason=run.reason,
+        phase=snapshot.phase if run.nav_id is not None and snapshot.phase else "navigate",
+        distance_remaining=snapshot.distance_remaining if run.index == len(run.legs) - 1
+        else None, route=status_dict(run))
 
 
 def leg_dict(leg: Leg) -> dict[str, object]:
