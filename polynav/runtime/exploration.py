@@ -105,7 +105,9 @@ class Exploration:
         self._planner = GridPlanner(GridPlannerConfig())
         self._next_plan = -math.inf
         self._began: float | None = None
-        self._failed: list[tuple[float, float]] = []  # frontiers that could not be reached
+        # Frontiers not to choose again: those that could not be reached, and those reached
+        # that are still frontiers (the edge of a shadow no pose near it sees into).
+        self._failed: list[tuple[float, float]] = []
         self._homeward = 0  # tries to drive back to the start
 
     @property
@@ -122,7 +124,8 @@ class Exploration:
             self._began = now
         navigator = self._navigator
         finished = navigator is None or navigator.state is not NavigationState.RUNNING
-        if finished and navigator is not None and navigator.state is NavigationState.FAILED:
+        if (finished and navigator is not None and self.stage is Stage.EXPLORING
+                and navigator.state in (NavigationState.FAILED, NavigationState.SUCCEEDED)):
             attempt = navigator.attempt
             if attempt is not None:
                 self._failed.append((attempt.goal.x, attempt.goal.y))
@@ -189,6 +192,10 @@ class Exploration:
             k = int(np.argmin(d))
             x, y = float(world[k, 0]), float(world[k, 1])
             if any(math.hypot(x - fx, y - fy) < 1.0 for fx, fy in self._failed):
+                continue
+            if d[k] <= self.config.goal_tolerance:
+                # Already there and still a frontier: nothing more to see from here.
+                self._failed.append((x, y))
                 continue
             candidates.append((float(d[k]), Pose2D(x, y, math.atan2(y - pose.y, x - pose.x))))
         for _, goal in sorted(candidates, key=lambda c: c[0])[:5]:
