@@ -283,7 +283,11 @@ class MappingStartIn(_Body):
 
     model_config = ConfigDict(
         extra="forbid",
-        json_schema_extra=_alternatives(((), ("x", "y", "theta")), (("x", "y"), ("point",))),
+        json_schema_extra=_alternatives(
+            ((), ("x", "y", "theta", "point")),
+            (("map", "x", "y"), ("point",)),
+            (("map", "point"), ("x", "y", "theta")),
+        ),
     )
 
     map: Name | None = None
