@@ -38,7 +38,6 @@ class Failure:
 
     stamp: float
     pose: Pose2D
-    to_goal: float  # [m] straight-line distance to the goal when it failed
 
 
 #: Failures anywhere without getting closer to the goal, in units of ``max_retries``.
@@ -77,7 +76,7 @@ class RetryBudget:
         """Count a failure at ``pose``, ``to_goal`` [m] from the goal; returns the rung: the
         failures not left behind, this included."""
         self.moved(pose, to_goal)
-        failure = Failure(now, pose, to_goal)
+        failure = Failure(now, pose)
         self.failures.append(failure)
         self.stalled.append(failure)
         return len(self.failures)
