@@ -52,7 +52,7 @@ from dataclasses import replace
 from typing import TypeVar
 
 from polynav.clock import Clock
-from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
+from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
@@ -90,6 +90,7 @@ from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of, initial_point, place
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
+from polynav.runtime.status_report import StatusReport
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.worlds.world import World
 
@@ -100,7 +101,9 @@ T = TypeVar("T")
 _EPS = 1e-9
 
 
-class RobotRuntime(GoalCommands, LiftCommands, MotionCommands, MappingCommands, MaplessCommands):
+class RobotRuntime(
+    GoalCommands, LiftCommands, MotionCommands, MappingCommands, MaplessCommands, StatusReport
+):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
     Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
@@ -660,56 +663,6 @@ class RobotRuntime(GoalCommands, LiftCommands, MotionCommands, MappingCommands, 
 
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
-
-    # -- status --------------------------------------------------------------------------------
-
-    def _build_snapshot(self, now: float) -> StatusSnapshot:
-        stack = self._stack
-        odometry = self._robot.read_odometry()
-        battery = self._robot.read_battery()
-        if stack is not None:
-            estimate = stack.estimate
-            pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
-        else:
-            pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
-        if self._mapping is not None:
-            pose = self._mapping.pose
-        attempts = self._attempts
-        attempt = attempts.attempt
-        nav_state = attempt.state.value if attempt is not None else "idle"
-        return self._route_overlay(StatusSnapshot(
-            mode=self._mode.value,
-            map=self._map_name,
-            floor=self._sim.floor,
-            pose=pose,
-            linear=float(odometry.twist.linear),
-            angular=float(odometry.twist.angular),
-            battery_percent=float(battery.percent),
-            charging=bool(battery.charging),
-            estop_hardware=bool(self._robot.estop_pressed()),
-            estop_software=self._software_estop,
-            localization_state=loc_state,
-            localization_quality=float(quality),
-            navigation_state=nav_state,
-            stamp=now,
-            attempt_id=attempts.attempt_id,
-            goal=attempt.goal if attempt is not None else None,
-            goal_point=attempts.attempt_point if attempt is not None else None,
-            reason=attempt.reason.value if attempt is not None and attempt.reason else None,
-            distance_remaining=attempt.distance_remaining if attempt is not None else None,
-            retries=attempt.retries if attempt is not None else 0,
-            phase=attempt.phase.value if attempt is not None else None,
-            patrol_state=self._patrols.state,
-            floor_level=self._floor_level(self._sim.floor),
-        ))
-
-    def _floor_level(self, floor: str | None) -> int | None:
-        if floor is None:
-            return None
-        try:
-            return self.store.floor(floor).level
-        except NotFound:
-            return None
 
 
 _LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,

@@ -1,0 +1,69 @@
+"""The runtime's status snapshot: what ``GET /api/status`` and every dialect's status read.
+
+Built once per tick (and after a command) from the backend, the navigation stack, the mapping
+session and the goal book, so that a status read never waits for the tick or touches the disk.
+"""
+
+from __future__ import annotations
+
+import abc
+
+from polynav.errors import NotFound
+from polynav.runtime.internals import RuntimeParts
+from polynav.runtime.status import StatusSnapshot
+
+
+class StatusReport(RuntimeParts):
+    """The runtime's part that builds its :class:`StatusSnapshot`."""
+
+    @abc.abstractmethod
+    def _route_overlay(self, snapshot: StatusSnapshot) -> StatusSnapshot:
+        """The snapshot with a goal on another map's route and lift phase (lift commands)."""
+
+    def _build_snapshot(self, now: float) -> StatusSnapshot:
+        stack = self._stack
+        odometry = self._robot.read_odometry()
+        battery = self._robot.read_battery()
+        if stack is not None:
+            estimate = stack.estimate
+            pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
+        else:
+            pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+        if self._mapping is not None:
+            pose = self._mapping.pose
+        attempts = self._attempts
+        attempt = attempts.attempt
+        nav_state = attempt.state.value if attempt is not None else "idle"
+        return self._route_overlay(StatusSnapshot(
+            mode=self._mode.value,
+            map=self._map_name,
+            floor=self._sim.floor,
+            pose=pose,
+            linear=float(odometry.twist.linear),
+            angular=float(odometry.twist.angular),
+            battery_percent=float(battery.percent),
+            charging=bool(battery.charging),
+            estop_hardware=bool(self._robot.estop_pressed()),
+            estop_software=self._software_estop,
+            localization_state=loc_state,
+            localization_quality=float(quality),
+            navigation_state=nav_state,
+            stamp=now,
+            attempt_id=attempts.attempt_id,
+            goal=attempt.goal if attempt is not None else None,
+            goal_point=attempts.attempt_point if attempt is not None else None,
+            reason=attempt.reason.value if attempt is not None and attempt.reason else None,
+            distance_remaining=attempt.distance_remaining if attempt is not None else None,
+            retries=attempt.retries if attempt is not None else 0,
+            phase=attempt.phase.value if attempt is not None else None,
+            patrol_state=self._patrols.state,
+            floor_level=self._floor_level(self._sim.floor),
+        ))
+
+    def _floor_level(self, floor: str | None) -> int | None:
+        if floor is None:
+            return None
+        try:
+            return self.store.floor(floor).level
+        except NotFound:
+            return None
