@@ -185,6 +185,7 @@ def test_two_robots_to_other_floors_at_once_both_arrive_one_waits_for_the_car(
         not building.master.leases.leases(r) for r in building.master.leases.resources())
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(1500)  # ~25 simulated minutes of three full stacks
 def test_twenty_random_cross_floor_missions_for_three_robots_all_succeed(
         world: World, store: SiteStore) -> None:
