@@ -22,7 +22,10 @@ Each control period :meth:`RegulatedPurePursuit.compute` goes through these step
    cells (:mod:`polynav.control.collision`). An obstacle within the stopping distance (what the
    robot covers in ``collision_lookahead_time`` plus its braking distance) stops the robot
    (``BLOCKED``: the navigator recovers and re-plans); one within ``slowdown_distance`` slows it
-   (``SLOWING``). The body's *clearance* along the arc caps the speed too (``clearance_time``):
+   (``SLOWING``). Where the path is clear but the arc to the carrot is not (a body that fits a
+   gap only lined up with the path, the arc cutting the corner into it), the robot *closes in*
+   on the path first: a nearer carrot, at the slowest regulated speed, or a turn in place onto
+   the path's heading; only when neither is clear is it ``BLOCKED``. The body's *clearance* along the arc caps the speed too (``clearance_time``):
    in a gap barely wider than the robot it creeps through rather than stopping, and where the
    clearance allows it drives at the full ``max_linear_velocity``.
    A turn in place is checked by sweeping the footprint through the turn (a polygon's corners
@@ -48,7 +51,6 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
@@ -58,137 +60,23 @@ from polynav.control import collision, regulation
 from polynav.control.goal_checker import GoalChecker
 from polynav.control.interface import ControlCommand, ControlStatus
 from polynav.control.pose_filter import PoseFilter
+from polynav.control.pure_pursuit_config import PurePursuitConfig
 from polynav.control.tracked_path import TrackedPath
-from polynav.errors import ConfigError
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist, angle_diff, wrap_angle
 from polynav.maps import costs
 from polynav.maps.interface import CostGrid
 from polynav.planning.path import Path
 
+__all__ = ["DEFAULT_FOOTPRINT", "PurePursuitConfig", "RegulatedPurePursuit"]
+
 log = logging.getLogger(__name__)
 
-_KEY = "control.pure_pursuit."
+_CLOSE_IN_SHARES = (0.5, 0.25)  # nearer carrots, as shares of the lookahead, tried in turn
+_CLOSE_IN_ALIGNED = 0.05  # [rad] lined up with the path closely enough to need no turn
 
 DEFAULT_FOOTPRINT = Footprint.circle(0.25)
 """The demo robot's body, when none is given."""
-
-
-@dataclass(frozen=True, slots=True)
-class PurePursuitConfig:
-    """Parameters of :class:`RegulatedPurePursuit`, SI units (Nav2 RPP names where they exist).
-
-    Attributes:
-        max_linear_velocity: top forward speed [m/s].
-        max_angular_velocity: top turn rate [rad/s].
-        linear_acceleration: forward speed-up limit [m/s²].
-        linear_deceleration: slow-down limit [m/s²] (not applied to the stop when blocked).
-        angular_acceleration: turn rate change limit [rad/s²].
-        lookahead_time: the lookahead is the distance covered in this time [s] ...
-        min_lookahead: ... but at least this [m] ...
-        max_lookahead: ... and at most this [m].
-        rotate_to_heading_min_angle: turn in place when the carrot is farther off the heading
-            than this [rad].
-        rotate_gain: turn-in-place rate per heading error [1/s] near the end of a turn.
-        min_rotation_speed: slowest turn-in-place rate [rad/s] (static friction of real bases).
-        regulated_min_radius: arcs tighter than this radius [m] slow the robot proportionally.
-        min_regulated_speed: curvature and proximity regulation never go below this [m/s].
-        proximity_cost_threshold: costs above this under or just ahead of the robot slow it.
-        proximity_slowdown: fraction of the speed removed at the highest inflation cost.
-        approach_velocity_scaling_dist: within this path distance [m] of the goal, slow down ...
-        min_approach_velocity: ... but not below this [m/s], so the goal is reached.
-        collision_lookahead_time: an obstacle closer than the distance covered in this time [s]
-            (plus the braking distance) stops the robot.
-        min_stop_distance: that stopping distance is never less than this [m].
-        slowdown_distance: an obstacle on the path closer than this [m] slows the robot.
-        xy_goal_tolerance: accepted final distance [m] to the goal.
-        yaw_goal_tolerance: accepted final heading error [rad].
-        goal_aim_fraction: the controller aims at this fraction of each goal tolerance.
-        goal_settle_time: after this time [s] within a tolerance the full tolerance is accepted.
-        path_search_distance: how far along the path [m] the robot's place and the carrot are
-            searched from the last place.
-        pose_filter_gain: weight of each new pose estimate against the odometry prediction
-            (:mod:`polynav.control.pose_filter`); 1 steers by the raw estimate.
-        pose_filter_reset_distance: an estimate this far [m] from the prediction is taken as is.
-        standstill_speed: measured speeds [m/s] below this are odometry noise on a robot
-            standing still: it coasts nowhere.
-        clearance_time: the speed is at most the body's clearance along the arc ahead divided by
-            this [s] (never below ``min_regulated_speed``): slow in tight gaps, fast in the open.
-    """
-
-    max_linear_velocity: float = 0.6
-    max_angular_velocity: float = 1.5
-    linear_acceleration: float = 0.8
-    linear_deceleration: float = 1.2
-    angular_acceleration: float = 3.0
-    lookahead_time: float = 1.5
-    min_lookahead: float = 0.3
-    max_lookahead: float = 0.9
-    rotate_to_heading_min_angle: float = 0.785
-    rotate_gain: float = 2.5
-    min_rotation_speed: float = 0.1
-    regulated_min_radius: float = 0.9
-    min_regulated_speed: float = 0.1
-    proximity_cost_threshold: int = 128
-    proximity_slowdown: float = 0.5
-    approach_velocity_scaling_dist: float = 0.6
-    min_approach_velocity: float = 0.05
-    collision_lookahead_time: float = 1.0
-    min_stop_distance: float = 0.35
-    slowdown_distance: float = 1.5
-    xy_goal_tolerance: float = 0.05
-    yaw_goal_tolerance: float = 0.05
-    goal_aim_fraction: float = 0.3
-    goal_settle_time: float = 1.0
-    path_search_distance: float = 2.0
-    pose_filter_gain: float = 0.2
-    pose_filter_reset_distance: float = 0.2
-    standstill_speed: float = 0.05
-    clearance_time: float = 0.25
-
-    def __post_init__(self) -> None:
-        positive = (
-            "max_linear_velocity", "max_angular_velocity", "linear_acceleration",
-            "linear_deceleration", "angular_acceleration", "lookahead_time", "min_lookahead",
-            "rotate_gain", "regulated_min_radius", "approach_velocity_scaling_dist",
-            "min_approach_velocity", "collision_lookahead_time", "min_stop_distance",
-            "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time", "standstill_speed",
-            "clearance_time",
-        )
-        for key in positive:
-            value = getattr(self, key)
-            if not (value > 0.0 and math.isfinite(value)):
-                raise ConfigError(_KEY + key, f"must be finite and > 0, got {value}")
-        if self.max_lookahead < self.min_lookahead:
-            raise ConfigError(_KEY + "max_lookahead", "must be >= min_lookahead")
-        if not 0.0 < self.rotate_to_heading_min_angle <= math.pi:
-            raise ConfigError(_KEY + "rotate_to_heading_min_angle", "must be within (0, pi]")
-        if not 0.0 <= self.min_rotation_speed <= self.max_angular_velocity:
-            raise ConfigError(_KEY + "min_rotation_speed", "must be within 0..max_angular_velocity")
-        if not 0.0 <= self.min_regulated_speed <= self.max_linear_velocity:
-            raise ConfigError(_KEY + "min_regulated_speed", "must be within 0..max_linear_velocity")
-        if self.min_approach_velocity > self.max_linear_velocity:
-            raise ConfigError(_KEY + "min_approach_velocity", "must be <= max_linear_velocity")
-        if not 0 <= self.proximity_cost_threshold < costs.MAX_NON_OBSTACLE:
-            raise ConfigError(
-                _KEY + "proximity_cost_threshold", f"must be within 0..{costs.MAX_NON_OBSTACLE - 1}"
-            )
-        if not 0.0 <= self.proximity_slowdown < 1.0:
-            raise ConfigError(_KEY + "proximity_slowdown", "must be within [0, 1)")
-        if self.slowdown_distance < self.min_stop_distance:
-            raise ConfigError(_KEY + "slowdown_distance", "must be >= min_stop_distance")
-        if not 0.0 < self.goal_aim_fraction <= 1.0:
-            raise ConfigError(_KEY + "goal_aim_fraction", "must be within (0, 1]")
-        if self.xy_goal_tolerance >= self.min_lookahead:
-            # Beyond min_lookahead from a reached goal the robot counts as moved away (pushed,
-            # relocalized) and drives back; a tolerance that large would make that ambiguous.
-            raise ConfigError(_KEY + "xy_goal_tolerance", "must be < min_lookahead")
-        if not 0.0 < self.pose_filter_gain <= 1.0:
-            raise ConfigError(_KEY + "pose_filter_gain", "must be within (0, 1]")
-        if not self.pose_filter_reset_distance > 0.0:
-            raise ConfigError(_KEY + "pose_filter_reset_distance", "must be > 0")
-        if self.path_search_distance < self.max_lookahead:
-            raise ConfigError(_KEY + "path_search_distance", "must be >= max_lookahead")
 
 
 class RegulatedPurePursuit:
@@ -476,6 +364,11 @@ class RegulatedPurePursuit:
                 speed, slowing = capped, True
         arc = self._arc_to_carrot(pose, kappa, math.hypot(fx, fy), stop_at, costmap)
         if collision.first_footprint_collision(self.footprint, costmap, arc) is not None:
+            # The path is clear (checked above) but the shortcut to the carrot is not: a body
+            # that only fits a gap lined up with the path. Get back onto the path instead.
+            closer = self._close_in(pose, velocity, costmap, dt, lookahead, stop_at)
+            if closer is not None:
+                return closer
             log.debug("the arc to the carrot runs into an obstacle: blocked")
             return self._answer(Twist(), ControlStatus.BLOCKED)
         room = self._clearance_speed(arc, costmap)
@@ -484,6 +377,48 @@ class RegulatedPurePursuit:
 
         twist = self._limit(speed, kappa, velocity, dt)
         return self._answer(twist, ControlStatus.SLOWING if slowing else ControlStatus.TRACKING)
+
+    def _close_in(
+        self,
+        pose: Pose2D,
+        velocity: Twist,
+        costmap: CostGrid,
+        dt: float,
+        lookahead: float,
+        stop_at: float,
+    ) -> ControlCommand | None:
+        """Follow the path more closely where the arc to the carrot cuts into an obstacle: a
+        nearer carrot (a tighter arc back onto the path) at the slowest regulated speed, or
+        else a turn in place onto the path's heading; ``None`` when neither is clear.
+
+        Pure pursuit cuts corners by design; in a field of posts a rectangular body that fits
+        a gap only when lined up with it must not, or it stops at every gap."""
+        cfg = self.config
+        path = self._path
+        assert path is not None
+        for share in _CLOSE_IN_SHARES:
+            carrot = path.lookahead(pose.x, pose.y, start=self._place, radius=share * lookahead,
+                                    window=cfg.path_search_distance)
+            if carrot is None:
+                break
+            c, s = math.cos(pose.theta), math.sin(pose.theta)
+            fx = c * (carrot[0] - pose.x) + s * (carrot[1] - pose.y)
+            fy = -s * (carrot[0] - pose.x) + c * (carrot[1] - pose.y)
+            if fx <= 0.0 or abs(math.atan2(fy, fx)) > cfg.rotate_to_heading_min_angle:
+                continue
+            kappa = regulation.curvature(fx, fy)
+            arc = self._arc_to_carrot(pose, kappa, math.hypot(fx, fy), stop_at, costmap)
+            if collision.first_footprint_collision(self.footprint, costmap, arc) is None:
+                speed = min(cfg.min_regulated_speed, self._clearance_speed(arc, costmap))
+                return self._answer(self._limit(speed, kappa, velocity, dt),
+                                    ControlStatus.SLOWING)
+        heading = float(path.headings_at(np.array([self._place]))[0])
+        error = angle_diff(heading, pose.theta)
+        if abs(error) < _CLOSE_IN_ALIGNED or velocity.linear > cfg.standstill_speed:
+            return None
+        if collision.turn_collides(self.footprint, costmap, pose, error):
+            return None
+        return self._answer(self._turn(error, velocity, dt), ControlStatus.ROTATING)
 
     def _arc_to_carrot(
         self, pose: Pose2D, kappa: float, chord: float, stop_at: float, costmap: CostGrid

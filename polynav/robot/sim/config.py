@@ -62,7 +62,8 @@ class SimConfig:
         person_pause: a walker pauses this long at the ends of its route [s].
         person_stop_distance: a walker stops rather than come within this much walking [m] of
             contact with the robot.
-        person_patience: a walker held up this long at a stretch by a robot turns round [s].
+        person_patience: a walker held up this long by robots turns round [s] (walking on
+            wears a hold-up off at a quarter of the rate).
         collision_release_distance: a contact ends, and the next one is a new collision, once
             the robot is this far clear of every obstacle [m].
     """
@@ -104,7 +105,7 @@ class SimConfig:
     dock_heading_tolerance: float = 0.3
     person_pause: float = 2.0
     person_stop_distance: float = 0.3
-    person_patience: float = 20.0
+    person_patience: float = 15.0
     collision_release_distance: float = 0.05
 
     def __post_init__(self) -> None:

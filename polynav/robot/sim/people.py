@@ -11,9 +11,11 @@ heading before contact with the robot, and walks on once the way is clear. So a 
 runs into the robot or pins it against a wall; any contact is the robot's doing, which is what
 the collision record should judge. A person who meets the robot head-on in a corridor waits for
 it to make room, as people do. (A person beside the robot, or walking away from it, walks on.)
-Nor do they wait for ever: held up ``person_patience`` seconds at a stretch (the robot stands in
-a corridor too narrow to let them by), they turn round and walk their route the other way, as a
-person would take the way round rather than stare a robot down.
+Nor do they wait for ever: held up ``person_patience`` seconds (the robot stands in a corridor
+too narrow to let them by, or keeps stepping back into their way), they turn round and walk their
+route the other way, as a person would take the way round rather than stare a robot down. The
+hold-ups add up: walking on wears them off at a quarter of the rate they built up, so a robot
+that lets a person take two steps and then blocks them again does not start their patience anew.
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ from polynav.geometry import Pose2D
 from polynav.worlds.world import PersonRoute
 
 log = logging.getLogger(__name__)
+
+_PATIENCE_RECOVERY = 0.25  # [s of hold-up worn off per s of walking]
 
 
 class Person:
@@ -47,7 +51,7 @@ class Person:
         self._pause = pause
         self._stop_distance = stop_distance
         self._patience = patience
-        self._held = 0.0  # [s] held up by a robot, at a stretch
+        self._held = 0.0  # [s] held up by robots, less what walking on has worn off
         wps = [route.waypoints[0]]
         for wp in route.waypoints[1:]:
             if wp != wps[-1]:
@@ -102,7 +106,7 @@ class Person:
             if self._held >= self._patience:
                 self._turn_round()
             return
-        self._held = 0.0
+        self._held = max(0.0, self._held - _PATIENCE_RECOVERY * dt)
         while remaining > 0.0:
             left = float(self._lengths[self._segment]) - self._along
             if remaining < left:

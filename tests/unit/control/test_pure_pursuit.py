@@ -7,10 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from polynav.control import collision
+from polynav.control import collision, pure_pursuit
 from polynav.control.interface import ControlStatus
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.errors import ConfigError
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist
 from polynav.maps import costs
 from polynav.planning.path import Path
@@ -402,6 +403,42 @@ def test_arc_cutting_into_an_obstacle_off_the_path_blocks() -> None:
     fresh = RegulatedPurePursuit(RAW)
     fresh.set_path(polyline((-1.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
     assert fresh.compute(pose, Twist(0.3, 0.0), grid, DT).status is ControlStatus.BLOCKED
+
+
+def _gap_lined_up_only() -> Grid:
+    """Two posts 0.56 m apart at x = 2: a 0.5 x 0.4 m body fits through only lined up."""
+    grid = empty_grid(8.0)
+    for y in (0.33, -0.33):
+        grid = with_disc(grid, 2.0, y, 0.05, inscribed=0.0)
+    return grid
+
+
+def test_a_body_that_fits_a_gap_only_lined_up_follows_the_path_into_it_instead_of_blocking(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The path turns into the gap 0.3 m before it: the arc to the carrot cuts the corner and
+    # would put the body's corner on a post.
+    body = Footprint.rectangle(0.5, 0.4)
+    grid = _gap_lined_up_only()
+    path = polyline((0.2, 2.0), (1.7, 0.0), (4.0, 0.0))
+    goal = Pose2D(4.0, 0.0, 0.0)
+    start = Pose2D(0.2, 2.0, math.atan2(-2.0, 1.5))
+
+    def run(ctrl: RegulatedPurePursuit) -> Run:
+        ctrl.set_path(path, goal)
+        return drive(ctrl, start, grid, seconds=30.0, until=ControlStatus.BLOCKED)
+
+    # Pure pursuit alone (no closing in on the path) stops at the gap.
+    monkeypatch.setattr(pure_pursuit, "_CLOSE_IN_SHARES", ())
+    alone = run(RegulatedPurePursuit(RAW, footprint=body))
+    assert alone.statuses[-1] is ControlStatus.BLOCKED and alone.pose.x < 2.0
+    monkeypatch.undo()
+    closing_in = run(RegulatedPurePursuit(RAW, footprint=body))
+    assert closing_in.statuses[-1] is ControlStatus.ARRIVED
+    assert_arrived(closing_in, goal, xy=RAW.xy_goal_tolerance, yaw=RAW.yaw_goal_tolerance)
+    poses = np.array([(p.x, p.y, p.theta) for p in closing_in.poses])
+    assert collision.first_footprint_collision(body, grid, poses) is None
+    assert_within_limits(closing_in)
 
 
 def test_braking_into_a_turn_in_place_stops_for_an_obstacle_ahead() -> None:

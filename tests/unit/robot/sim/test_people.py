@@ -69,6 +69,17 @@ def test_person_held_up_past_their_patience_turns_round_and_walks_the_route_back
     assert person.heading == 0.0
 
 
+def test_hold_ups_add_up_so_a_robot_stepping_back_into_the_way_wears_the_patience_out() -> None:
+    person = Person(PersonRoute(((0.0, 0.0), (8.0, 0.0)), speed=1.0, loop=False),
+                    pause=0.0, stop_distance=0.3, patience=3.0)
+    _walk(person, 3.2, (2.0, 0.0, 0.25))  # walks 1.2 s, held 2 s
+    assert person.heading == 0.0
+    _walk(person, 1.0)  # the robot steps aside: walking on wears 0.25 s of the 2 s off
+    assert person.x == pytest.approx(2.2, abs=DT)
+    _walk(person, 1.5, (3.0, 0.0, 0.25))  # back in the way: 1.25 s more is enough
+    assert math.cos(person.heading) == pytest.approx(-1.0)
+
+
 def test_loop_walker_turns_round_onto_the_circuit_the_other_way() -> None:
     person = Person(PersonRoute(((0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)), speed=0.5),
                     pause=0.0, stop_distance=0.3, patience=1.0)
