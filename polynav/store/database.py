@@ -9,7 +9,7 @@ import contextlib
 import logging
 import sqlite3
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -102,6 +102,36 @@ class SiteDatabase:
     def _require_map(self, conn: sqlite3.Connection, name: str) -> None:
         if conn.execute("SELECT 1 FROM maps WHERE name = ?", (name,)).fetchone() is None:
             raise NotFound("map", name)
+
+    def _map_rows(self, table: str, columns: str, map_name: str, order: str) -> list[Any]:
+        """The rows of a per-map table (keepouts, routes) for one map, in ``order``.
+
+        Raises:
+            NotFound: no such map.
+        """
+        with self._read() as conn:
+            self._require_map(conn, map_name)
+            return conn.execute(
+                f"SELECT {columns} FROM {table} WHERE map_name = ? ORDER BY {order}",
+                (map_name,),
+            ).fetchall()
+
+    def _replace_map_rows(
+        self, table: str, columns: str, map_name: str, rows: Sequence[tuple[Any, ...]]
+    ) -> None:
+        """Replace all rows of a per-map table for one map in one transaction; each row starts
+        with ``map_name``, then the other ``columns``.
+
+        Raises:
+            NotFound: no such map.
+        """
+        marks = ", ".join("?" for _ in range(columns.count(",") + 2))
+        with self._write() as conn:
+            self._require_map(conn, map_name)
+            conn.execute(f"DELETE FROM {table} WHERE map_name = ?", (map_name,))
+            conn.executemany(
+                f"INSERT INTO {table} (map_name, {columns}) VALUES ({marks})", rows
+            )
 
     def _require_floor(self, conn: sqlite3.Connection, name: str) -> None:
         if conn.execute("SELECT 1 FROM floors WHERE name = ?", (name,)).fetchone() is None:

@@ -162,7 +162,6 @@ class PointTables(SiteDatabase):
             self._point_in(conn, map_name, name)
             conn.execute("DELETE FROM points WHERE map_name = ? AND name = ?", (map_name, name))
 
-
     # ---------------------------------------------------------------- keepouts
 
     def keepouts(self, map_name: str) -> list[Keepout]:
@@ -171,12 +170,7 @@ class PointTables(SiteDatabase):
         Raises:
             NotFound: no such map.
         """
-        with self._read() as conn:
-            self._require_map(conn, map_name)
-            rows = conn.execute(
-                "SELECT type, geometry FROM keepouts WHERE map_name = ? ORDER BY id",
-                (map_name,),
-            ).fetchall()
+        rows = self._map_rows("keepouts", "type, geometry", map_name, "id")
         return [keepout_codec.decode(r[0], r[1]) for r in rows]
 
     def set_keepouts(self, map_name: str, keepouts: Sequence[Keepout]) -> list[Keepout]:
@@ -187,11 +181,8 @@ class PointTables(SiteDatabase):
             NotFound: no such map.
         """
         rows = [keepout_codec.encode(k) for k in keepouts]
-        with self._write() as conn:
-            self._require_map(conn, map_name)
-            conn.execute("DELETE FROM keepouts WHERE map_name = ?", (map_name,))
-            conn.executemany(
-                "INSERT INTO keepouts (map_name, type, geometry) VALUES (?, ?, ?)",
-                [(map_name, kind, geometry) for kind, geometry in rows],
-            )
+        self._replace_map_rows(
+            "keepouts", "type, geometry", map_name,
+            [(map_name, kind, geometry) for kind, geometry in rows],
+        )
         return list(keepouts)

@@ -137,7 +137,6 @@ class SiteStore(MapTables, PointTables):
         """The data directory this store lives in."""
         return self._data_dir
 
-
     # ---------------------------------------------------------------- routes, connections
 
     def routes(self, map_name: str) -> list[RouteRecord]:
@@ -146,12 +145,7 @@ class SiteStore(MapTables, PointTables):
         Raises:
             NotFound: no such map.
         """
-        with self._read() as conn:
-            self._require_map(conn, map_name)
-            rows = conn.execute(
-                "SELECT name, map_name, geometry FROM routes WHERE map_name = ? ORDER BY name",
-                (map_name,),
-            ).fetchall()
+        rows = self._map_rows("routes", "name, map_name, geometry", map_name, "name")
         return [RouteRecord(r[0], r[1], from_json(r[2])) for r in rows]
 
     def set_routes(self, map_name: str, routes: Sequence[RouteRecord]) -> list[RouteRecord]:
@@ -174,10 +168,7 @@ class SiteStore(MapTables, PointTables):
                 raise InvalidRequest("route.name", f"{route.name!r} appears twice")
             seen.add(route.name)
             rows.append((map_name, route.name, to_json(f"route.{route.name}", route.geometry)))
-        with self._write() as conn:
-            self._require_map(conn, map_name)
-            conn.execute("DELETE FROM routes WHERE map_name = ?", (map_name,))
-            conn.executemany("INSERT INTO routes (map_name, name, geometry) VALUES (?, ?, ?)", rows)
+        self._replace_map_rows("routes", "name, geometry", map_name, rows)
         return self.routes(map_name)
 
     def connections(self) -> list[ConnectionRecord]:
@@ -205,7 +196,6 @@ class SiteStore(MapTables, PointTables):
             conn.executemany("INSERT INTO connections (name, data) VALUES (?, ?)", rows)
         return self.connections()
 
-
     # ---------------------------------------------------------------- settings
 
     def settings(self) -> dict[str, Any]:
@@ -232,7 +222,6 @@ class SiteStore(MapTables, PointTables):
             )
             stored = conn.execute("SELECT key, value FROM settings ORDER BY key").fetchall()
         return {r[0]: from_json(r[1]) for r in stored}
-
 
     # ---------------------------------------------------------------- seeding
 

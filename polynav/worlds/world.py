@@ -11,7 +11,9 @@ navigation map of the demo site, as if it had been surveyed perfectly.
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Protocol, TypeVar
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
@@ -186,10 +188,7 @@ class WorldFloor:
         Raises:
             InvalidRequest: no point has that name.
         """
-        for p in self.points:
-            if p.name == name:
-                return p
-        raise InvalidRequest("point", f"no point {name!r} on floor {self.name!r}")
+        return _named(self.points, name, "point", f"on floor {self.name!r}")
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -211,10 +210,7 @@ class World:
         Raises:
             InvalidRequest: no car has that name.
         """
-        for car in self.lifts:
-            if car.name == name:
-                return car
-        raise InvalidRequest("lift", f"no lift {name!r} in world {self.name!r}")
+        return _named(self.lifts, name, "lift", f"in world {self.name!r}")
 
     def floor(self, name: str) -> WorldFloor:
         """The floor called ``name``.
@@ -222,7 +218,20 @@ class World:
         Raises:
             InvalidRequest: no floor has that name.
         """
-        for f in self.floors:
-            if f.name == name:
-                return f
-        raise InvalidRequest("floor", f"no floor {name!r} in world {self.name!r}")
+        return _named(self.floors, name, "floor", f"in world {self.name!r}")
+
+
+class _Named(Protocol):
+    @property
+    def name(self) -> str: ...
+
+
+_N = TypeVar("_N", bound=_Named)
+
+
+def _named(items: Iterable[_N], name: str, kind: str, where: str) -> _N:
+    """The item called ``name``; a client's unknown name is its own error, not a KeyError."""
+    for item in items:
+        if item.name == name:
+            return item
+    raise InvalidRequest(kind, f"no {kind} {name!r} {where}")

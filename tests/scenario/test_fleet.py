@@ -8,8 +8,6 @@ one waits for ever.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,19 +19,7 @@ from polynav.geometry import Pose2D
 from polynav.runtime.config import RuntimeConfig
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
 from polynav.worlds.world import World
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
-
-
-@pytest.fixture
-def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
-    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
-        yield opened
 
 
 def _all_done(building: Building) -> bool:

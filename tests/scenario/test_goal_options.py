@@ -22,13 +22,7 @@ from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
 from polynav.tasks.patrol import PatrolPlan
-from polynav.worlds import load_world
 from polynav.worlds.world import World
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
 
 
 @pytest.fixture

@@ -9,9 +9,6 @@ Judged on ground truth.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -26,24 +23,12 @@ from polynav.runtime.lift_events import LiftPhaseChanged, MapSwitched, RouteStar
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import PointKind
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 POSITION_TOLERANCE = 0.1
 HEADING_TOLERANCE = 0.1
 SEQUENCE = ["going_to_lift", "waiting_for_session", "calling", "waiting_for_car", "entering",
             "riding", "switching_map", "exiting", "left"]
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
-
-
-@pytest.fixture
-def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
-    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
-        yield opened
 
 
 @pytest.fixture

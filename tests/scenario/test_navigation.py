@@ -17,16 +17,10 @@ from polynav.nav import events
 from polynav.nav.attempt import FailureReason, NavigationState
 from polynav.runtime.sim_driver import SimDriver, simulate
 from polynav.site import PointKind
-from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 POSITION_TOLERANCE = 0.1
 HEADING_TOLERANCE = 0.1
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
 
 
 def _finished(driver: SimDriver) -> bool:

@@ -62,6 +62,7 @@ class SimConfig:
         person_pause: a walker pauses this long at the ends of its route [s].
         person_stop_distance: a walker stops rather than come within this much walking [m] of
             contact with the robot.
+        person_patience: a walker held up this long at a stretch by a robot turns round [s].
         collision_release_distance: a contact ends, and the next one is a new collision, once
             the robot is this far clear of every obstacle [m].
     """
@@ -103,6 +104,7 @@ class SimConfig:
     dock_heading_tolerance: float = 0.3
     person_pause: float = 2.0
     person_stop_distance: float = 0.3
+    person_patience: float = 20.0
     collision_release_distance: float = 0.05
 
     def __post_init__(self) -> None:
@@ -118,7 +120,7 @@ class SimConfig:
             "imu_yaw_rate_noise", "imu_yaw_rate_bias", "imu_acceleration_noise",
             "battery_idle_drain", "battery_drain_per_metre", "battery_charge_rate",
             "battery_empty_voltage", "dock_distance_tolerance", "dock_heading_tolerance",
-            "person_pause", "person_stop_distance",
+            "person_pause", "person_stop_distance", "person_patience",
         )
         for f in fields(self):
             value = getattr(self, f.name)

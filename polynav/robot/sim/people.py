@@ -11,6 +11,9 @@ heading before contact with the robot, and walks on once the way is clear. So a 
 runs into the robot or pins it against a wall; any contact is the robot's doing, which is what
 the collision record should judge. A person who meets the robot head-on in a corridor waits for
 it to make room, as people do. (A person beside the robot, or walking away from it, walks on.)
+Nor do they wait for ever: held up ``person_patience`` seconds at a stretch (the robot stands in
+a corridor too narrow to let them by), they turn round and walk their route the other way, as a
+person would take the way round rather than stare a robot down.
 """
 
 from __future__ import annotations
@@ -31,11 +34,20 @@ log = logging.getLogger(__name__)
 class Person:
     """One walker: where they are on their route, and whether they are pausing."""
 
-    def __init__(self, route: PersonRoute, *, pause: float, stop_distance: float) -> None:
+    def __init__(
+        self,
+        route: PersonRoute,
+        *,
+        pause: float,
+        stop_distance: float,
+        patience: float = math.inf,
+    ) -> None:
         self.route = route
         self.radius = route.radius
         self._pause = pause
         self._stop_distance = stop_distance
+        self._patience = patience
+        self._held = 0.0  # [s] held up by a robot, at a stretch
         wps = [route.waypoints[0]]
         for wp in route.waypoints[1:]:
             if wp != wps[-1]:
@@ -86,7 +98,11 @@ class Person:
                 return
         remaining = self.route.speed * dt
         if any(self._blocked_by(*robot, remaining) for robot in robots):
+            self._held += dt
+            if self._held >= self._patience:
+                self._turn_round()
             return
+        self._held = 0.0
         while remaining > 0.0:
             left = float(self._lengths[self._segment]) - self._along
             if remaining < left:
@@ -106,6 +122,19 @@ class Person:
         d = self._dirs[self._segment]
         self.x = float(start[0] + self._along * d[0])
         self.y = float(start[1] + self._along * d[1])
+
+    def _turn_round(self) -> None:
+        """Walk the route the other way from here: the same polyline reversed, at the mirrored
+        place on it (the pauses stay at the same ends)."""
+        self._held = 0.0
+        last = len(self._path) - 1
+        self._path = self._path[::-1].copy()
+        self._lengths = self._lengths[::-1].copy()
+        self._dirs = -self._dirs[::-1]
+        self._stops = {last - i for i in self._stops}
+        self._segment = len(self._lengths) - 1 - self._segment
+        self._along = float(self._lengths[self._segment]) - self._along
+        log.debug("a walker held up by a robot turns round at (%.2f, %.2f)", self.x, self.y)
 
     def _blocked_by(self, rx: float, ry: float, r_radius: float, step: float) -> bool:
         """Would walking ``step`` and then ``stop_distance`` further touch a disk at (rx, ry)?"""

@@ -191,7 +191,10 @@ def floor_state(floor: WorldFloor, config: SimConfig) -> FloorState:
         raise InvalidRequest("floor", f"{floor.name}: the simulator needs a map origin with zero "
                                       "yaw")
     people = [
-        Person(route, pause=config.person_pause, stop_distance=config.person_stop_distance)
+        Person(
+            route, pause=config.person_pause, stop_distance=config.person_stop_distance,
+            patience=config.person_patience,
+        )
         for route in floor.people
     ]
     chargers = tuple(p.pose for p in floor.points if p.kind is PointKind.CHARGER)

@@ -12,7 +12,6 @@ import asyncio
 import contextlib
 import threading
 from collections.abc import Callable, Coroutine, Iterator
-from pathlib import Path
 from typing import Any, TypeVar
 
 import httpx
@@ -22,7 +21,6 @@ from polynav.protocols.galileo import GalileoConfig, serve
 from polynav.protocols.galileo.server import GalileoServer
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 T = TypeVar("T")
@@ -96,17 +94,6 @@ class Harness:
                 return False
             self.runtime.advance(step)
         return True
-
-
-@pytest.fixture(scope="session")
-def world() -> World:
-    return load_world("demo")
-
-
-@pytest.fixture
-def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
-    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
-        yield opened
 
 
 @pytest.fixture

@@ -14,7 +14,6 @@ import json
 import socket
 import threading
 from collections.abc import Coroutine, Iterator
-from pathlib import Path
 from typing import Any, TypeVar
 
 import pytest
@@ -23,7 +22,6 @@ from polynav.protocols.yunji import YunjiConfig, serve
 from polynav.protocols.yunji.server import YunjiServer
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 T = TypeVar("T")
@@ -102,17 +100,6 @@ class Harness:
         c = Client(self.server.port)
         self.clients.append(c)
         return c
-
-
-@pytest.fixture(scope="session")
-def world() -> World:
-    return load_world("demo")
-
-
-@pytest.fixture
-def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
-    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
-        yield opened
 
 
 @pytest.fixture

@@ -21,13 +21,7 @@ from polynav.routing.route import DriveLeg, LiftLeg
 from polynav.routing.router import Router
 from polynav.store import SiteStore
 from polynav.store.records import ConnectionRecord
-from polynav.worlds import load_world
 from polynav.worlds.world import World
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
 
 
 @pytest.fixture

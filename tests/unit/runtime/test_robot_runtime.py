@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import threading
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -17,22 +16,10 @@ from polynav.runtime import events
 from polynav.runtime.event_bus import Subscription
 from polynav.runtime.robot_runtime import Mode, RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 POSITION_TOLERANCE = 0.1
 HEADING_TOLERANCE = 0.1
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
-
-
-@pytest.fixture
-def store(world: World, tmp_path: Path) -> Iterator[SiteStore]:
-    with SiteStore.open(tmp_path / "data", seed_world=world) as opened:
-        yield opened
 
 
 @pytest.fixture

@@ -12,17 +12,12 @@ import pytest
 from scipy import ndimage
 
 from polynav.site import PointKind
-from polynav.worlds import BUILTIN_DIR, load_world
+from polynav.worlds import BUILTIN_DIR
 from polynav.worlds.world import World, WorldFloor
 
 REPO = Path(__file__).resolve().parents[3]
 ROBOT_RADIUS = 0.25
 POINT_CLEARANCE = 0.45
-
-
-@pytest.fixture(scope="module")
-def world() -> World:
-    return load_world("demo")
 
 
 def _clearance(floor: WorldFloor) -> np.ndarray:
