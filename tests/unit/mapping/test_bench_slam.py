@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import importlib.util
+import json
 import math
 from pathlib import Path
 from types import ModuleType
@@ -69,3 +70,18 @@ def test_an_unseen_plan_that_is_missing_is_a_clear_failure(
     bench.UNSEEN_CASES = (bench.UnseenCase("gone", "data/movingai/no-such-plan.map"),)
     assert bench.main(["--unseen-only"]) == 1
     assert "gone: FAIL" in capsys.readouterr().err
+
+
+def test_without_public_logs_the_unseen_cases_run_and_decide_the_exit_code(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bench = _bench()
+    bench.UNSEEN_CASES = (bench.UnseenCase("small", "data/movingai/empty-8-8.map", seed=1,
+                                           stops=2, time_limit=60.0),)
+    assert bench.main(["--data", str(tmp_path), "--json"]) == 0
+    out = capsys.readouterr()
+    assert f"No SLAM logs found in {tmp_path}" in out.err
+    assert "only the unseen cases" in out.err
+    lines = [json.loads(line) for line in out.out.splitlines() if line.startswith("{")]
+    assert [case["name"] for case in lines] == ["small"]
+    assert lines[0]["pass"] and "odometry" in lines[0] and "machine" in lines[0]
