@@ -43,7 +43,12 @@ class SlamConfig:
         match_prior_theta: the same on heading [rad].
         match_min_score: a match scoring below this (mean endpoint likelihood) is not trusted:
             the node keeps its odometry prediction.
-        loop_window_xy: half-width of the loop-closure translation search [m].
+        loop_window_xy: half-width of the loop-closure translation search at most [m] ...
+        loop_window_min_xy: ... and at least [m]; in between it grows by
+            ``loop_window_growth`` per metre travelled since the last loop closure: the drift
+            the search must cover is what built up since the trajectory was last tied down,
+            and a window wider than that only finds the next room of a row of identical ones.
+        loop_window_growth: that growth [m of window per m travelled].
         loop_window_theta: half-width of its heading search [rad].
         loop_theta_step: its heading step [rad].
         loop_depth: levels of the branch-and-bound precomputation; the coarsest level moves
@@ -86,6 +91,8 @@ class SlamConfig:
     match_prior_theta: float = 0.35
     match_min_score: float = 0.1
     loop_window_xy: float = 4.0
+    loop_window_min_xy: float = 1.0
+    loop_window_growth: float = 0.1
     loop_window_theta: float = math.radians(30.0)
     loop_theta_step: float = math.radians(0.5)
     loop_depth: int = 6
@@ -118,6 +125,8 @@ class SlamConfig:
                               "need miss_probability < 0.5 < hit_probability")
         if not self.free_probability < self.occupied_probability:
             raise ConfigError("mapping.slam.free_probability", "must be below occupied_probability")
+        if self.loop_window_min_xy > self.loop_window_xy:
+            raise ConfigError("mapping.slam.loop_window_min_xy", "must be at most loop_window_xy")
         if not 1 <= self.loop_depth <= 10:
             raise ConfigError("mapping.slam.loop_depth", "must be in 1..10")
         if not self.loop_min_score < 1.0 and self.match_min_score < 1.0:

@@ -156,6 +156,7 @@ class Slam:
         self._precomputed: OrderedDict[int, branch_and_bound.PrecomputedGrids] = OrderedDict()
         self._since_optimize = 0
         self._new_loops = 0
+        self._untied = 0.0  # [m] travelled since the last loop closure
         self.loop_closures = 0
         self.rejected_loop_closures = 0
         self.failed_matches = 0
@@ -306,6 +307,7 @@ class Slam:
             sxy = max(c.resolution, c.odom_sigma_xy * dist)
             self.graph.add_edge(index - 1, index, (delta.x, delta.y, delta.theta),
                                 (sxy, sxy, c.odom_sigma_theta + 0.1 * abs(delta.theta)))
+            self._untied += dist
         if not self._submaps or self._submaps[-1].scans >= c.scans_per_submap:
             submap = _Submap(index, c)
             self._submaps.append(submap)
@@ -346,7 +348,9 @@ class Slam:
                                     robust=True)
                 self.prior_matches += 1
                 self._new_loops += 1
+                self._untied = 0.0
                 found += 1
+        window = min(c.loop_window_xy, c.loop_window_min_xy + c.loop_window_growth * self._untied)
         # Submaps started just before this node are tied to it through the local chain already.
         recent = index - 4 * c.scans_per_submap
         candidates = []
@@ -362,7 +366,8 @@ class Slam:
                 break
             submap = self._submaps[s]
             anchor = self._pose(submap.anchor)
-            local = self._find_in_submap(s, submap, node, pose.relative_to(anchor))
+            local = self._find_in_submap(s, submap, node, pose.relative_to(anchor),
+                                         window_xy=window)
             if local is None:
                 continue
             self.graph.add_edge(submap.anchor, index, (local.x, local.y, local.theta),
@@ -370,6 +375,7 @@ class Slam:
                                 robust=True)
             self.loop_closures += 1
             self._new_loops += 1
+            self._untied = 0.0
             found += 1
 
     def _find_in_submap(self, s: int, submap: _Submap, node: _Node, guess: Pose2D, *,
