@@ -26,11 +26,11 @@ within 0.06 m"): after the public logs, the simulator records a log on each of
 :data:`UNSEEN_CASES`, floor plans shipped in ``data/`` that were never used for tuning (Nav2's
 depot and warehouse, MovingAI room-32-32-4 and random-32-32-10 at 1 m per cell). A closed tour
 of seven planned points, four on the 30 x 50 m warehouse
-(:func:`polynav.mapping.tours.plan_tour`, legs planned on the static costmap), is driven at 0.6
+(:func:`polynav.worlds.tours.plan_tour`, legs planned on the static costmap), is driven at 0.6
 m/s with the simulator's default noise, one scan in five kept (3 Hz, several hundred scans). The
 log is written, read back like any log, and the SLAM runs on it with the same ``SlamConfig()``
 as Intel; the simulator's true poses give exact relations
-(:func:`polynav.mapping.recording.relations_from_truth`): ``exact`` is all of them (consecutive
+(:func:`polynav.robot.sim.recording.relations_from_truth`): ``exact`` is all of them (consecutive
 scans and revisits), ``loops`` the revisits alone. The log's raw odometry is scored the same way
 as a control ("odometry alone": what the SLAM corrects shows in ``loops``). Target: ``exact``
 mean translational error <= 0.06 m per case, and the tour back at its start. Everything is
@@ -60,9 +60,11 @@ import numpy as np
 
 from polynav.errors import PolynavError
 from polynav.geometry import Pose2D
-from polynav.mapping import evaluation, logs, recording, tours
+from polynav.mapping import evaluation, logs
 from polynav.mapping import slam as slam_module
 from polynav.mapping.config import SlamConfig
+from polynav.robot.sim import recording
+from polynav.worlds import tours
 
 REPO = Path(__file__).resolve().parent.parent
 DEFAULT_DATA = REPO.parent / "shared" / "data" / "slam"

@@ -25,9 +25,10 @@ Each control period :meth:`RegulatedPurePursuit.compute` goes through these step
    (``SLOWING``). Where the path is clear but the arc to the carrot is not (a body that fits a
    gap only lined up with the path, the arc cutting the corner into it), the robot *closes in*
    on the path first: a nearer carrot, at the slowest regulated speed, or a turn in place onto
-   the path's heading; only when neither is clear is it ``BLOCKED``. The body's *clearance* along the arc caps the speed too (``clearance_time``):
-   in a gap barely wider than the robot it creeps through rather than stopping, and where the
-   clearance allows it drives at the full ``max_linear_velocity``.
+   the path's heading; only when neither is clear is it ``BLOCKED``. The body's *clearance*
+   along the arc caps the speed too (``clearance_time``): in a gap barely wider than the robot
+   it creeps through rather than stopping, and where the clearance allows it drives at the full
+   ``max_linear_velocity``.
    A turn in place is checked by sweeping the footprint through the turn (a polygon's corners
    swing out; a circle never changes), and turns the long way round when only that way is clear.
    Odometry of a robot standing still reports a few mm/s of noise: below ``standstill_speed``

@@ -10,10 +10,11 @@ import pytest
 from scipy import ndimage
 
 from polynav.geometry import Pose2D
-from polynav.mapping import evaluation, logs, recording, tours
+from polynav.mapping import evaluation, logs
 from polynav.mapping.config import SlamConfig
 from polynav.mapping.slam import Slam, replay
-from polynav.worlds import load_world
+from polynav.robot.sim import recording
+from polynav.worlds import load_world, tours
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,7 @@
 """Closed tours through a floor plan, for recording SLAM logs the SLAM was never tuned on.
 
 The SLAM's defaults were tuned on Intel and on the demo site; to know whether they generalise,
-:mod:`polynav.mapping.recording` drives the simulator on plans shipped in ``data/`` that were
+:mod:`polynav.robot.sim.recording` drives the simulator on plans shipped in ``data/`` that were
 never looked at while tuning. A tour here is what that drive follows: ``stops`` of the points
 :func:`~polynav.worlds.from_map.plan_world` places (each ``robot_radius + margin`` from walls, in
 the region the robot can reach), ordered by nearest neighbour from the start, every leg planned

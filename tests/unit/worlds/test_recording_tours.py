@@ -10,9 +10,9 @@ import pytest
 from scipy import ndimage
 
 from polynav.errors import InvalidRequest
-from polynav.mapping import recording
-from polynav.mapping.tours import plan_tour
 from polynav.maps.map import FREE
+from polynav.robot.sim import recording
+from polynav.worlds.tours import plan_tour
 
 DATA = Path(__file__).resolve().parents[3] / "data"
 
