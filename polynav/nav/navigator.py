@@ -423,7 +423,6 @@ class Navigator(ChargerPhases):
             self._on_plan_error(exc, pose, now)
             return False
         self._set_path(path, now)
-        self._cleared_for_plan = False
         self._progress.reset(pose, now)
         self._enter(_Phase.FOLLOW, now)
         return True
@@ -574,6 +573,9 @@ class Navigator(ChargerPhases):
         self._enter(_Phase.PLAN, now)
 
     def _set_path(self, path: Path, now: float) -> None:
+        # A way was found: an earlier "no path" is history, and the next one (the marks a
+        # walker left in a door, say) is cleared once more before it is final.
+        self._cleared_for_plan = False
         self._path = path
         self._tracked = TrackedPath.from_points(path.points)
         self._along = 0.0

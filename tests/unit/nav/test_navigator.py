@@ -366,6 +366,28 @@ def test_no_path_with_a_person_at_the_robot_waits_instead_of_failing() -> None:
     assert h.kinds()[-1] == "PathPlanned"
 
 
+def test_a_no_path_after_a_way_was_found_past_people_is_cleared_again_before_it_is_final(
+) -> None:
+    # Cleared once, then a way found while waiting for someone: a later "no path" (marks a
+    # walker left in a door) is cleared once more, not final at once.
+    planner = ScriptedPlanner([NoPath("door")])
+    controller = ScriptedController([ControlStatus.TRACKING])
+    h = Harness(planner, controller, NavigatorConfig(blocked_wait=0.1))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(DT)  # no path: the costmap is cleared
+    assert h.costmap.cleared == 1
+    planner.failures = [NoPath("door")]
+    h.people = PeopleView((Person(3.0, 2.0),))  # in view, off the way
+    h.run(3.0)  # still no path: wait for them, and the wait finds a way
+    assert "NavigationWaiting" in h.kinds() and h.kinds()[-1] == "PathPlanned"
+    h.people = PeopleView()
+    controller.statuses = [ControlStatus.BLOCKED]
+    planner.failures = [NoPath("marks in the door")]
+    h.run(1.0)
+    assert h.nav.state is NavigationState.RUNNING
+    assert h.costmap.cleared == 2
+
+
 def test_people_config_rejects_bad_values() -> None:
     for bad in ({"social_distance": 0.0}, {"patience": -1.0}, {"layer_cost": 253},
                 {"horizon": float("nan")}, {"wait_replan_period": float("inf")}):
