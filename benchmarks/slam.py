@@ -117,15 +117,13 @@ def _score(times: np.ndarray, poses: np.ndarray,
     return out
 
 
-def run_case(log_path: Path, relations_path: Path | None) -> dict[str, Any]:
-    """Run the SLAM on one log and score it (and its reference) if there are relations."""
-    sensor_log = logs.read_log(log_path)
+def _replay(sensor_log: logs.SensorLog) -> tuple[slam_module.Slam, dict[str, Any]]:
+    """The SLAM run over ``sensor_log`` with the defaults, timed, and the figures every case
+    prints (the log's size, the graph's, and the real-time factor)."""
     began = time.perf_counter()
     slam = slam_module.replay(sensor_log, SlamConfig())
     wall = time.perf_counter() - began
-    case: dict[str, Any] = {
-        "name": log_path.parent.name,
-        "log": log_path.name,
+    return slam, {
         "scans": len(sensor_log.scans),
         "skipped_lines": sensor_log.skipped_lines,
         "nodes": slam.node_count,
@@ -136,6 +134,13 @@ def run_case(log_path: Path, relations_path: Path | None) -> dict[str, Any]:
         "wall_s": wall,
         "rtf": sensor_log.duration / wall if wall > 0 else float("inf"),
     }
+
+
+def run_case(log_path: Path, relations_path: Path | None) -> dict[str, Any]:
+    """Run the SLAM on one log and score it (and its reference) if there are relations."""
+    sensor_log = logs.read_log(log_path)
+    slam, figures = _replay(sensor_log)
+    case: dict[str, Any] = {"name": log_path.parent.name, "log": log_path.name, **figures}
     if relations_path is None:
         case["pass"] = True
         return case
@@ -194,9 +199,7 @@ def run_unseen_case(case: UnseenCase, *, scan_every: int = 5) -> dict[str, Any]:
         log_path = Path(folder) / f"{case.name}.log"
         rec.write(log_path, Path(folder) / f"{case.name}.truth")
         sensor_log = logs.read_log(log_path)
-    began = time.perf_counter()
-    slam = slam_module.replay(sensor_log, SlamConfig())
-    wall = time.perf_counter() - began
+    slam, figures = _replay(sensor_log)
     lines = recording.relations_from_truth(rec.truth)
     # "exact": every relation (consecutive scans and revisits; all are scans of the log);
     # "loops": the revisits alone, which only a closed loop gets right.
@@ -213,15 +216,7 @@ def run_unseen_case(case: UnseenCase, *, scan_every: int = 5) -> dict[str, Any]:
         "tour_m": tour.length,
         "waypoints": len(tour.waypoints),
         "arrived": bool(rec.truth) and _arrived(rec.truth[-1][1], tour.waypoints[-1]),
-        "scans": len(sensor_log.scans),
-        "skipped_lines": sensor_log.skipped_lines,
-        "nodes": slam.node_count,
-        "submaps": slam.submap_count,
-        "loop_closures": slam.loop_closures,
-        "rejected_loop_closures": slam.rejected_loop_closures,
-        "duration_s": sensor_log.duration,
-        "wall_s": wall,
-        "rtf": sensor_log.duration / wall if wall > 0 else float("inf"),
+        **figures,
     }
     for who, poses in trajectories.items():
         out[who] = {name: evaluation.relation_error(times, poses, rel, exact_only=True).as_dict()
