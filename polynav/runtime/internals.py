@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import abc
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TypeVar
 
+from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
+from polynav.maps.map import Map
 from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.stack import NavigationStack
 from polynav.robot.interface import Robot
@@ -25,9 +28,22 @@ from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.settings import RobotSettings
+from polynav.runtime.sim_placement import floor_of
 from polynav.runtime.watchers import EStopWatcher
 
 T = TypeVar("T")
+
+
+@dataclass(frozen=True, slots=True)
+class MapStart:
+    """A saved map the robot starts on (to navigate, or to extend it), as the operator named
+    it: the map's stored name, its floor in the simulated world, its grid, and the robot's
+    pose on it when a point or a pose was given."""
+
+    name: str
+    floor: str
+    grid: Map
+    initial: Pose2D | None
 
 
 class RuntimeParts(abc.ABC):
@@ -48,6 +64,21 @@ class RuntimeParts(abc.ABC):
     _patrols: PatrolRunner
     _mapping: MappingSession | None
     _exploration: Exploration | None
+
+    def _map_start(self, map_name: str, point: str | None, pose: Pose2D | None) -> MapStart:
+        """Read map ``map_name`` to start on, placed by ``point`` or ``pose`` (not both).
+
+        Raises:
+            NotFound: unknown map or point.
+            InvalidRequest: both ``point`` and ``pose``; a map on no simulated floor.
+        """
+        if point is not None and pose is not None:
+            raise InvalidRequest("point", "give a point or a pose, not both")
+        record = self.store.map_record(map_name)
+        name = str(getattr(record, "name", map_name))
+        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
+        initial = self.store.point(name, point).pose if point is not None else pose
+        return MapStart(name, floor, self.store.load_map(name), initial)
 
     @abc.abstractmethod
     def now(self) -> float:

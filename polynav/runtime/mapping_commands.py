@@ -23,7 +23,7 @@ from polynav.runtime.config import Mode
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_session import MappingSession
-from polynav.runtime.sim_placement import floor_of, place
+from polynav.runtime.sim_placement import place
 
 log = logging.getLogger(__name__)
 
@@ -53,14 +53,10 @@ class MappingCommands(RuntimeParts):
                                      "updated: name the map")
             self._call(self._start_new_map)
             return
-        if point is not None and pose is not None:
-            raise InvalidRequest("point", "give a point or a pose, not both")
-        record = self.store.map_record(map_name)
-        name = str(getattr(record, "name", map_name))
-        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
-        initial = self.store.point(name, point).pose if point is not None else pose
-        grid = self.store.load_map(name)
-        self._call(lambda: self._start_update(name, floor, grid, initial))
+        start = self._map_start(map_name, point, pose)
+        self._call(
+            lambda: self._start_update(start.name, start.floor, start.grid, start.initial)
+        )
 
     def _start_new_map(self) -> None:
         if self._mode is Mode.MAPPING:

@@ -87,7 +87,7 @@ from polynav.runtime.navigation_events import AttemptBook, translate
 from polynav.runtime.patrols import PatrolRunner
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
-from polynav.runtime.sim_placement import floor_of, initial_point, place
+from polynav.runtime.sim_placement import initial_point, place
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
@@ -304,16 +304,11 @@ class RobotRuntime(
                 pose to be had; a pose inside a wall.
             Conflict: MAPPING.
         """
-        if point is not None and pose is not None:
-            raise InvalidRequest("point", "give a point or a pose, not both")
-        record = self.store.map_record(map_name)
-        name = str(getattr(record, "name", map_name))
-        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
-        initial = self.store.point(name, point).pose if point is not None else pose
-        grid = self.store.load_map(name)
-        keepouts = tuple(self.store.keepouts(name))
-        fallback = initial_point(self.store, name)
-        self._call(lambda: self._start_navigation(name, floor, grid, keepouts, initial, fallback))
+        start = self._map_start(map_name, point, pose)
+        keepouts = tuple(self.store.keepouts(start.name))
+        fallback = initial_point(self.store, start.name)
+        self._call(lambda: self._start_navigation(
+            start.name, start.floor, start.grid, keepouts, start.initial, fallback))
 
     def stop_navigation(self) -> None:
         """Cancel any goal, unload the map and become FREE (via BUSY); nothing when FREE.
