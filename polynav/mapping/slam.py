@@ -343,12 +343,8 @@ class Slam:
             # The prior is searched first: it holds the frame the new map must keep.
             local = self._find_in_submap(_PRIOR_KEY, self._prior, node, pose)
             if local is not None:
-                self.graph.add_edge(0, index, (local.x, local.y, local.theta),
-                                    (c.loop_sigma_xy, c.loop_sigma_xy, c.loop_sigma_theta),
-                                    robust=True)
+                self._tie(0, index, local)
                 self.prior_matches += 1
-                self._new_loops += 1
-                self._untied = 0.0
                 found += 1
         window = min(c.loop_window_xy, c.loop_window_min_xy + c.loop_window_growth * self._untied)
         # Submaps started just before this node are tied to it through the local chain already.
@@ -370,13 +366,19 @@ class Slam:
                                          window_xy=window)
             if local is None:
                 continue
-            self.graph.add_edge(submap.anchor, index, (local.x, local.y, local.theta),
-                                (c.loop_sigma_xy, c.loop_sigma_xy, c.loop_sigma_theta),
-                                robust=True)
+            self._tie(submap.anchor, index, local)
             self.loop_closures += 1
-            self._new_loops += 1
-            self._untied = 0.0
             found += 1
+
+    def _tie(self, anchor: int, index: int, local: Pose2D) -> None:
+        """A loop-closure edge from node ``anchor`` (a submap's, or the prior's node 0) to node
+        ``index`` found at ``local``: robust, solved at the next optimisation, and the drift
+        the loop search must cover starts again from nothing."""
+        c = self.config
+        self.graph.add_edge(anchor, index, (local.x, local.y, local.theta),
+                            (c.loop_sigma_xy, c.loop_sigma_xy, c.loop_sigma_theta), robust=True)
+        self._new_loops += 1
+        self._untied = 0.0
 
     def _find_in_submap(self, s: int, submap: _Submap, node: _Node, guess: Pose2D, *,
                         window_xy: float | None = None,
