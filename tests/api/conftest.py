@@ -8,11 +8,10 @@ from pathlib import Path
 import httpx
 import pytest
 
-from polynav.api import ApiConfig, create_app
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 from tests.api.fakes import FakeRuntime
-from tests.api.server import ServerThread
+from tests.api.server import native_client
 
 
 @pytest.fixture
@@ -24,7 +23,5 @@ def fake_runtime(tmp_path: Path) -> Iterator[FakeRuntime]:
 
 @pytest.fixture
 def client(fake_runtime: FakeRuntime) -> Iterator[httpx.Client]:
-    server = ServerThread(create_app(fake_runtime, ApiConfig(port=0))).start()
-    with httpx.Client(base_url=server.url, timeout=10.0) as http:
+    with native_client(fake_runtime) as http:
         yield http
-    server.stop()

@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import contextlib
 import threading
 import time
+from collections.abc import Iterator
+from typing import Any
 
+import httpx
 import uvicorn
 from fastapi import FastAPI
 
+from polynav.api import ApiConfig, create_app
 from polynav.listen import tcp_listener
 
 
@@ -39,3 +44,15 @@ class ServerThread:
         self._server.should_exit = True
         self._thread.join(timeout=30.0)
         self._sock.close()
+
+
+@contextlib.contextmanager
+def native_client(runtime: Any, *, timeout: float = 10.0) -> Iterator[httpx.Client]:
+    """An HTTP client of the native API served around ``runtime`` (a real one or a fake) on
+    an ephemeral port, for as long as the block runs."""
+    server = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
+    try:
+        with httpx.Client(base_url=server.url, timeout=timeout) as client:
+            yield client
+    finally:
+        server.stop()

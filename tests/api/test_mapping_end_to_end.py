@@ -12,11 +12,10 @@ import httpx
 import numpy as np
 import pytest
 
-from polynav.api import ApiConfig, create_app
 from polynav.geometry import Pose2D
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
-from tests.api.server import ServerThread
+from tests.api.server import native_client
 from tests.helpers.worlds import TWO_ROOMS_START, two_rooms
 
 
@@ -29,10 +28,8 @@ def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
 
 @pytest.fixture
 def http(runtime: RobotRuntime) -> Iterator[httpx.Client]:
-    server = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
-    with httpx.Client(base_url=server.url, timeout=30.0) as client:
+    with native_client(runtime, timeout=30.0) as client:
         yield client
-    server.stop()
 
 
 def test_start_explore_save_and_navigate_on_the_new_map(

@@ -10,13 +10,12 @@ from typing import Any
 import httpx
 import pytest
 
-from polynav.api import ApiConfig, create_app
 from polynav.robot.profile import load_profile
 from polynav.runtime.config import RuntimeConfig
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
-from tests.api.server import ServerThread
+from tests.api.server import native_client
 
 
 @pytest.fixture(scope="module")
@@ -27,10 +26,8 @@ def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[httpx.Client]:
     store = SiteStore.open(tmp_path_factory.mktemp("robot") / "site", seed_world=world)
     runtime = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False),
                                      profile=load_profile("research-base"))
-    server = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
-    with httpx.Client(base_url=server.url, timeout=10.0) as http:
+    with native_client(runtime) as http:
         yield http
-    server.stop()
     store.close()
 
 
