@@ -99,6 +99,19 @@ class SiteDatabase:
                     raise StorageError(f"site database failed: {exc}") from exc
                 raise
 
+    def _named(
+        self, key: tuple[Any, ...], load: Callable[[], Any], kind: str, name: str
+    ) -> Any:
+        """The record called ``name`` among the cached records ``load`` reads (floors, maps).
+
+        Raises:
+            NotFound: none has that name.
+        """
+        for record in self._cached(key, load):
+            if record.name == name:
+                return record
+        raise NotFound(kind, name)
+
     def _require_map(self, conn: sqlite3.Connection, name: str) -> None:
         if conn.execute("SELECT 1 FROM maps WHERE name = ?", (name,)).fetchone() is None:
             raise NotFound("map", name)

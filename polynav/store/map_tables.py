@@ -49,11 +49,8 @@ class MapTables(SiteDatabase):
         Raises:
             NotFound: no such floor.
         """
-        floors: tuple[FloorRecord, ...] = self._cached(("floors",), self._load_floors)
-        for record in floors:
-            if record.name == name:
-                return record
-        raise NotFound("floor", name)
+        record: FloorRecord = self._named(("floors",), self._load_floors, "floor", name)
+        return record
 
     def save_floor(self, record: FloorRecord) -> FloorRecord:
         """Add a floor or change one (same name), and attach its map to it.
@@ -106,11 +103,8 @@ class MapTables(SiteDatabase):
         Raises:
             NotFound: no such map.
         """
-        maps: tuple[MapRecord, ...] = self._cached(("maps",), self._load_maps)
-        for record in maps:
-            if record.name == name:
-                return record
-        raise NotFound("map", name)
+        record: MapRecord = self._named(("maps",), self._load_maps, "map", name)
+        return record
 
     def load_map(self, name: str) -> Map:
         """The occupancy grid of map ``name``, exactly as it was saved.
