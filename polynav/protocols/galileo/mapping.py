@@ -5,8 +5,8 @@ then driven by remote control (``PUT /system/speed`` or WebSocket ``/cmd_vel``).
 ``POST map/current_map_image`` saves the map so far under a name (mapping goes on) with its
 ``type`` and ``levels``; ``map/stop`` saves once more and stops (doc: it saves automatically),
 under the name last saved, else under ``slamdb`` (the vendor's working-map folder name).
-``map/track`` is the scan poses of the map last saved. ``map/update`` (extend a saved map) is
-refused: polynav's mapping always starts a new map.
+``map/track`` is the scan poses of the map last saved. ``map/update`` extends a saved map in its
+own frame (its points, paths and zones stay valid) and ``map/stop`` saves it back under its name.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from starlette.responses import Response
 
 from polynav.errors import Conflict
 from polynav.maps import ros_map
+from polynav.protocols.galileo import session as sessions
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.map_meta import MapMeta, MapMetaBook, check_meta
@@ -77,12 +78,25 @@ def map_stop(ctx: Context, params: Params) -> Reply:
 
 @ROUTES.get("/map/update", result_errors=True)
 def map_update(ctx: Context, params: Params) -> Reply:
-    """E3: refused with the reason (and the map named must exist)."""
-    name = params.text("map", None)
-    if name is not None:
-        ctx.store.map_record(name)
-    raise Conflict("polynav cannot extend a saved map: map the place anew with "
-                   "/api/v1/map/start and save it under the same name")
+    """E3: mapping on top of a saved map (A-3), kept in its frame, saved back under its name.
+
+    ``map`` defaults to the map of the last navigation; ``path`` + ``start_index`` name the
+    target point the robot stands on. Without ``start_index`` polynav finds the robot itself
+    (navigation's estimate when navigating on that map, else global relocalization), as
+    ``navigation/start`` does.
+    """
+    name = params.text("map", None) or sessions.current_map(ctx)
+    ctx.store.map_record(name)  # NotFound before anything changes
+    start_index = params.integer("start_index", None)
+    point = None
+    if start_index is not None:
+        path = params.text("path", None) or sessions.current_path(ctx, name)
+        point = sessions.target_point(ctx, name, path, start_index).name
+    ctx.runtime.start_mapping(name, point=point)
+    state = _state(ctx)
+    state.saved_as, state.meta = name, metas(ctx).get(name)
+    log.info("galileo: updating map %s from %s", name, point or "where the robot is found")
+    return {"result": True}
 
 
 @ROUTES.get("/map/pose")

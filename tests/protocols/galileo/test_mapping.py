@@ -12,7 +12,7 @@ COVERED = {
     "POST /api/v1/map/current_map_image": "test_map_then_save_and_stop",
     "GET /api/v1/map/current_map_png": "test_map_then_save_and_stop",
     "GET /api/v1/map/track": "test_map_then_save_and_stop",
-    "GET /api/v1/map/update": "test_map_update_is_refused_with_the_reason",
+    "GET /api/v1/map/update": "test_map_update_extends_the_map_navigated_on",
 }
 
 
@@ -62,8 +62,40 @@ def test_map_stop_without_a_save_keeps_the_working_map(galileo: Harness) -> None
                                           params={"name": "slamdb"})] == ["slamdb"]
 
 
-def test_map_update_is_refused_with_the_reason(galileo: Harness) -> None:
-    body = galileo.ok("GET", "/map/update", params={"map": "floor1"})
-    assert body["result"] is False and "extend" in body["description"]
-    assert galileo.ok("GET", "/map/update", params={"map": "nomap"})["result"] is False
-    assert galileo.runtime.status().mode == "free"
+def test_map_update_extends_the_map_navigated_on(galileo: Harness) -> None:
+    before = galileo.runtime.store.map_record("floor1")
+    points = {p.name for p in galileo.runtime.store.points(map_name="floor1")}
+    galileo.ok("GET", "/navigation/start", params={"map": "floor1"})
+    galileo.runtime.advance(1.0)
+    assert galileo.ok("GET", "/map/update") == {"result": True}  # the map navigated on
+    assert galileo.ok("GET", "/system/status") == {"status": "Mapping"}
+    assert galileo.ok("GET", "/map/update")["result"] is False  # already mapping
+    _drive(galileo, 2.0)
+    assert galileo.ok("GET", "/map/stop") == {"result": True}
+    assert galileo.ok("GET", "/system/status") == {"status": "Free"}
+    after = galileo.runtime.store.map_record("floor1")
+    assert (after.floor, after.resolution) == (before.floor, before.resolution)
+    assert {p.name for p in galileo.runtime.store.points(map_name="floor1")} == points
+    assert [m["name"] for m in galileo.ok("GET", "/navigation/saved_maps",
+                                          params={"name": "slamdb"})] == []
+    assert galileo.ok("GET", "/navigation/start", params={"map": "floor1"})["result"] is True
+
+
+def test_map_update_from_a_target_point(galileo: Harness) -> None:
+    galileo.ok("GET", "/navigation/start", params={"map": "floor1"})
+    galileo.runtime.advance(1.0)
+    galileo.ok("GET", "/navigation/stop")
+    body = galileo.ok("GET", "/map/update", params={"map": "floor1", "start_index": 0})
+    assert body == {"result": True}
+    galileo.runtime.advance(0.5)
+    assert galileo.ok("GET", "/system/galileo_status")["mapStatus"] == 1
+    assert galileo.ok("GET", "/map/stop") == {"result": True}
+
+
+def test_map_update_refusals_change_nothing(galileo: Harness) -> None:
+    for params in ({"map": "nomap"}, {"map": "floor1", "start_index": 999},
+                   {"map": "floor1", "path": "nopath", "start_index": 0},
+                   {"map": "floor1", "start_index": "first"}):
+        body = galileo.ok("GET", "/map/update", params=params)
+        assert body["result"] is False and body["description"], params
+        assert galileo.runtime.status().mode == "free"
