@@ -26,6 +26,13 @@ there. While some direction goes unconstrained the tracking window widens with t
 travelled (``odometry_drift``), so the walls that come into view at the end of the aisle or
 hall are within its reach.
 
+**Standing still.** While tracking, once a match has found the pose settled (a correction under
+a centimetre and a few tenths of a degree), scans taken before the wheels next move are matched
+at most every ``standstill_interval`` seconds: the same scan of the same walls would only find
+the same pose again. A robot waiting for a lift, a person or another robot then costs little,
+and a fleet of them too; people walking past do not move a standing pose, and the periodic match
+still catches a robot carried away on the spot.
+
 **Quality** is the fraction of used endpoints within ``inlier_distance`` of a map surface at the
 matched pose, smoothed by an exponential moving average over scans. It is 1 when the scan fits
 the map (in a corridor too: the walls fit, whatever the match cannot tell along it), and falls
@@ -145,6 +152,10 @@ class PoseTrackerConfig:
             the estimate off.
         max_gyro_bias: the bias estimate is clamped to this [rad/s], so a run of wrong matches
             cannot teach the tracker a spin.
+        standstill_interval: while the odometry has not moved since a match found the pose
+            settled, match at most this often [s]; 0 matches every scan.
+        settled_xy: a tracking correction smaller than this leaves the pose settled [m].
+        settled_theta: the same for heading [rad].
     """
 
     sigma: float = 0.05
@@ -180,6 +191,9 @@ class PoseTrackerConfig:
     odometry_drift: float = 0.02
     gyro_bias_time_constant: float = 120.0
     max_gyro_bias: float = 0.02
+    standstill_interval: float = 1.0
+    settled_xy: float = 0.01
+    settled_theta: float = math.radians(0.3)
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -191,14 +205,15 @@ class PoseTrackerConfig:
             "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
             "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
             "max_correction_xy", "max_correction_theta", "heading_length_scale",
-            "constraint_distance",
+            "constraint_distance", "settled_xy", "settled_theta",
         )
         for name in positive:
             if not getattr(self, name) > 0.0:
                 _fail(name, f"must be > 0, got {getattr(self, name)}")
         for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
                      "odometry_drift",
-                     "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points"):
+                     "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points",
+                     "standstill_interval"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
         for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
@@ -251,6 +266,8 @@ class PoseTracker:
         self._bias_time = 0.0
         self._unfixed_travel = 0.0  # [m] since the scan last fixed x and y both
         self._last_scan_stamp: float | None = None
+        # Odometry pose and time of the last match that found the pose settled while tracking.
+        self._settled_at: tuple[Pose2D, float] | None = None
         self._history_stamps: deque[float] = deque()
         self._history_poses: deque[Pose2D] = deque()
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
@@ -428,6 +445,8 @@ class PoseTracker:
         tracking = self._state is LocalizationState.TRACKING
         if not tracking and now < self._next_wide_search:
             return
+        if tracking and self._standing_settled(scan.stamp, now):
+            return
         step = c.beam_step if tracking else c.relocalize_beam_step
         points = scan_matcher.scan_points(
             scan.ranges, self._beam_angles(scan), range_min=scan.range_min,
@@ -467,6 +486,7 @@ class PoseTracker:
         quality = match.inliers if match.points else 0.0
 
         if tracking:
+            self._settled_at = None
             evidence = match.points >= c.min_evidence_points
             if evidence and quality >= c.accept_quality:
                 information = self._matcher.information(
@@ -477,6 +497,9 @@ class PoseTracker:
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                settled = (math.hypot(target.x - at_scan.x, target.y - at_scan.y) < c.settled_xy
+                           and abs(angle_diff(target.theta, at_scan.theta)) < c.settled_theta)
+                self._settled_at = (self._odometry_at(scan.stamp), now) if settled else None
                 if not any(abs(v[0]) + abs(v[1]) > 0.1 for v in con.unconstrained_directions()):
                     # Position is fixed in every direction, up to what the clamp left for the
                     # next scans: the window keeps room for that much.
@@ -502,6 +525,16 @@ class PoseTracker:
             self._set_state(LocalizationState.TRACKING, now)
         else:
             self._smooth_quality(quality)
+
+    def _standing_settled(self, stamp: float, now: float) -> bool:
+        """The wheels have not moved since a match found the pose settled, not long ago."""
+        if self._settled_at is None:
+            return False
+        odometry, at = self._settled_at
+        if now - at >= self.config.standstill_interval:
+            return False
+        moved = self._odometry_at(stamp).relative_to(odometry)
+        return abs(moved.x) + abs(moved.y) < 1e-6 and abs(moved.theta) < 1e-6
 
     def _check_lost(self, now: float) -> None:
         """The LOST timers, checked at every update so they fire on time between scans."""
@@ -530,6 +563,7 @@ class PoseTracker:
         return self._beam_cache[1]
 
     def _set_state(self, state: LocalizationState, now: float) -> None:
+        self._settled_at = None
         if state is not self._state:
             log.info("localization %s -> %s at t=%.3f", self._state.value, state.value, now)
             self._state = state

@@ -319,3 +319,27 @@ def test_config_rejects_out_of_range_values():
 def test_initialize_before_set_map_fails():
     with pytest.raises(InvalidRequest, match="set_map"):
         PoseTracker().initialize(Pose2D(), 0.0)
+
+
+def test_a_settled_standing_robot_matches_once_a_second_and_still_notices_a_carry(world):
+    pose = Pose2D(10.0, 18.0, 0.0)
+    sim = Simulation(world, seed=7, pose=pose, people=False)
+    tracker = _tracker(world)
+    tracker.initialize(pose, sim.clock.now())
+    _run(sim, tracker, 1.0)
+    # Standing: 45 scans in 3 s, the same walls; a match a second finds the same pose.
+    assert len({id(m) for m in _matches_while(sim, tracker, 3.0)}) <= 4
+    every_scan = _tracker(world, standstill_interval=0.0)
+    every_scan.initialize(pose, sim.clock.now())
+    _run(sim, every_scan, 1.0)
+    assert len({id(m) for m in _matches_while(sim, every_scan, 3.0)}) >= 40
+
+    # Carried 20 cm on the spot (odometry sees nothing): the next match pulls the pose over.
+    sim.teleport("floor1", Pose2D(10.2, 18.0, 0.0))
+    steps = _run(sim, tracker, 2.5)
+    assert all(s.estimate.state is TRACKING for s in steps)
+    assert steps[-1].error < 0.03
+
+    # Driving again: the pose is tracked as before.
+    driving = _run(sim, tracker, 2.0, waypoints=[(12.0, 18.0)])
+    assert max(s.error for s in driving) < 0.05
