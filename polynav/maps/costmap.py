@@ -304,20 +304,27 @@ class Costmap:
         self._base[region] = self._default
         for layer in self._layers[:-1]:
             layer.update_costs(self._base, window)
-        changed = win.of_mask(before != self._base[region])
-        if changed is not None:
-            # Inflation only where it can differ: within its radius of a cell whose composed
-            # cost changed. A scan's window spans every cell its beams flipped in the obstacle
-            # layer (wall cells marked again from a new angle, free space seen again), most of
-            # which change nothing below inflation; growing only the real changes keeps the
-            # distance transform, the costliest step of an update, to a few small windows.
-            inner = (changed[0] + window[0], changed[1] + window[1],
-                     changed[2] + window[0], changed[3] + window[1])
-            redo = win.grow(inner, self._inflation.cell_radius, self._info.width,
-                            self._info.height)
+        changed = before != self._base[region]
+        reach = self._inflation.cell_radius
+        # Inflation only where it can differ: within its radius of a cell whose composed cost
+        # changed, group by group. A scan's window spans every cell its beams flipped in the
+        # obstacle layer (wall cells marked again from a new angle, free space seen again),
+        # most of which change nothing below inflation, and the real changes (a walker here,
+        # a robot there) are often far apart: growing each group of them on its own keeps the
+        # distance transform, the costliest step of an update, to a few small windows.
+        # Every group's window is reset to the composed costs before any is inflated, so no
+        # inflation reads a lethal cell another group has just cleared; a window that overlaps
+        # another reads every lethal cell that can reach it, so each is complete on its own.
+        redos = []
+        for group in win.groups_of_mask(changed, 2 * reach + 1):
+            inner = (group[0] + window[0], group[1] + window[1],
+                     group[2] + window[0], group[3] + window[1])
+            redo = win.grow(inner, reach, self._info.width, self._info.height)
             self._master[win.slices(redo)] = self._base[win.slices(redo)]
+            redos.append(redo)
+        for redo in redos:
             self._inflation.update_costs(self._master, redo)
-        log.debug("costmap: recomposed window %s (changed %s)", window, changed)
+        log.debug("costmap: recomposed window %s (inflated %s)", window, redos)
         return window
 
 

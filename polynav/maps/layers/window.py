@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import numpy.typing as npt
+from scipy import ndimage
 
 from polynav.maps.interface import Window
 
@@ -53,6 +54,35 @@ def of_mask(mask: npt.NDArray[np.bool_]) -> Window | None:
         return None
     cols = np.flatnonzero(mask.any(axis=0))
     return (int(cols[0]), int(rows[0]), int(cols[-1]) + 1, int(rows[-1]) + 1)
+
+
+def groups_of_mask(mask: npt.NDArray[np.bool_], gap: int) -> list[Window]:
+    """Windows that together hold every ``True`` cell of ``mask``, one per group of cells.
+
+    Cells closer than about ``gap`` cells share a group (the mask is cut into tiles of ``gap``
+    cells, and touching tiles with a cell join); groups farther apart get windows of their
+    own. A walker on one side of the robot and a door closing on the other are then two small
+    windows instead of one that spans the scan.
+    """
+    whole = of_mask(mask)
+    if whole is None:
+        return []
+    t = max(int(gap), 1)
+    h, w = mask.shape
+    rows, cols = -(-h // t), -(-w // t)
+    tiles = np.zeros((rows * t, cols * t), dtype=np.bool_)
+    tiles[:h, :w] = mask
+    occupied = tiles.reshape(rows, t, cols, t).any(axis=(1, 3))
+    labels, count = ndimage.label(occupied, structure=np.ones((3, 3), dtype=np.bool_))
+    if count <= 1:
+        return [whole]
+    out = []
+    for box in ndimage.find_objects(labels):
+        y0, x0 = box[0].start * t, box[1].start * t
+        part = of_mask(mask[y0:box[0].stop * t, x0:box[1].stop * t])
+        if part is not None:
+            out.append((part[0] + x0, part[1] + y0, part[2] + x0, part[3] + y0))
+    return out
 
 
 def full(width: int, height: int) -> Window:
