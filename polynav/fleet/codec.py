@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import functools
 import types
 import typing
 from typing import Any
@@ -60,6 +61,18 @@ def _to_json(value: object) -> Any:
     return value
 
 
+@functools.cache
+def _fields(kind: type) -> tuple[tuple[str, str, Any, bool], ...]:
+    """Per field of a message dataclass: name, JSON key, type, required; read once per class
+    (resolving the type hints is most of the cost of decoding a message)."""
+    hints = typing.get_type_hints(kind, vars(messages))
+    return tuple(
+        (f.name, _camel(f.name), hints[f.name],
+         f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING)
+        for f in dataclasses.fields(kind)
+    )
+
+
 def _from_json(kind: Any, raw: Any, where: str) -> Any:
     origin = typing.get_origin(kind)
     if origin in (typing.Union, types.UnionType):
@@ -76,15 +89,13 @@ def _from_json(kind: Any, raw: Any, where: str) -> Any:
     if isinstance(kind, type) and dataclasses.is_dataclass(kind):
         if not isinstance(raw, dict):
             raise InvalidRequest(where, "must be an object")
-        hints = typing.get_type_hints(kind, vars(messages))
         values = {}
-        for f in dataclasses.fields(kind):
-            key = _camel(f.name)
+        for name, key, hint, required in _fields(kind):
             if key not in raw:
-                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+                if required:
                     raise InvalidRequest(f"{where}.{key}", "missing")
                 continue
-            values[f.name] = _from_json(hints[f.name], raw[key], f"{where}.{key}")
+            values[name] = _from_json(hint, raw[key], f"{where}.{key}")
         return kind(**values)
     if isinstance(kind, type) and issubclass(kind, enum.Enum):
         try:

@@ -332,3 +332,4 @@ def warm_up() -> None:
     """Compile the costmap's numba kernels on tiny inputs (call once at start-up)."""
     obstacle_kernel.warm_up()
     inflation_kernel.warm_up()
+    win.warm_up()

@@ -6,9 +6,9 @@ means "nothing changed".
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
 
 from polynav.maps.interface import Window
 
@@ -64,25 +64,67 @@ def groups_of_mask(mask: npt.NDArray[np.bool_], gap: int) -> list[Window]:
     own. A walker on one side of the robot and a door closing on the other are then two small
     windows instead of one that spans the scan.
     """
-    whole = of_mask(mask)
-    if whole is None:
-        return []
-    t = max(int(gap), 1)
+    boxes = _groups(np.ascontiguousarray(mask, dtype=np.bool_), max(int(gap), 1))
+    return [(int(b[0]), int(b[1]), int(b[2]), int(b[3])) for b in boxes]
+
+
+@numba.njit(cache=True, nogil=True)
+def _groups(mask: npt.NDArray[np.bool_], t: int) -> npt.NDArray[np.int64]:
     h, w = mask.shape
-    rows, cols = -(-h // t), -(-w // t)
-    tiles = np.zeros((rows * t, cols * t), dtype=np.bool_)
-    tiles[:h, :w] = mask
-    occupied = tiles.reshape(rows, t, cols, t).any(axis=(1, 3))
-    labels, count = ndimage.label(occupied, structure=np.ones((3, 3), dtype=np.bool_))
-    if count <= 1:
-        return [whole]
-    out = []
-    for box in ndimage.find_objects(labels):
-        y0, x0 = box[0].start * t, box[1].start * t
-        part = of_mask(mask[y0:box[0].stop * t, x0:box[1].stop * t])
-        if part is not None:
-            out.append((part[0] + x0, part[1] + y0, part[2] + x0, part[3] + y0))
-    return out
+    rows, cols = (h + t - 1) // t, (w + t - 1) // t
+    # Per tile, the bounding box of its True cells (x0 = w means "no cell").
+    box = np.empty((rows, cols, 4), dtype=np.int64)
+    box[:, :, 0] = w
+    box[:, :, 1] = h
+    box[:, :, 2] = 0
+    box[:, :, 3] = 0
+    for y in range(h):
+        ty = y // t
+        for x in range(w):
+            if mask[y, x]:
+                b = box[ty, x // t]
+                b[0] = min(b[0], x)
+                b[1] = min(b[1], y)
+                b[2] = max(b[2], x + 1)
+                b[3] = max(b[3], y + 1)
+    # Flood-fill the occupied tiles (8-connected) into groups, merging their boxes.
+    label = np.full((rows, cols), -1, dtype=np.int64)
+    out = np.empty((rows * cols, 4), dtype=np.int64)
+    stack = np.empty((rows * cols, 2), dtype=np.int64)
+    n = 0
+    for r0 in range(rows):
+        for c0 in range(cols):
+            if label[r0, c0] >= 0 or box[r0, c0, 0] == w:
+                continue
+            label[r0, c0] = n
+            g = out[n]
+            g[0], g[1], g[2], g[3] = w, h, 0, 0
+            top = 0
+            stack[0, 0], stack[0, 1] = r0, c0
+            top = 1
+            while top > 0:
+                top -= 1
+                r, c = stack[top, 0], stack[top, 1]
+                b = box[r, c]
+                g[0] = min(g[0], b[0])
+                g[1] = min(g[1], b[1])
+                g[2] = max(g[2], b[2])
+                g[3] = max(g[3], b[3])
+                for dr in range(-1, 2):
+                    for dc in range(-1, 2):
+                        rr, cc = r + dr, c + dc
+                        if (0 <= rr < rows and 0 <= cc < cols and label[rr, cc] < 0
+                                and box[rr, cc, 0] != w):
+                            label[rr, cc] = n
+                            stack[top, 0], stack[top, 1] = rr, cc
+                            top += 1
+            n += 1
+    return out[:n].copy()
+
+
+def warm_up() -> None:
+    """Compile the grouping kernel on a tiny mask."""
+    groups_of_mask(np.eye(3, dtype=np.bool_), 2)
 
 
 def full(width: int, height: int) -> Window:
