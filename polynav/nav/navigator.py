@@ -69,6 +69,7 @@ from polynav.nav.recoveries import (
     Wait,
     ladder_rung,
 )
+from polynav.nav.replanning import PeriodicReplan
 from polynav.nav.retry_budget import RetryBudget
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
 from polynav.planning.interface import GlobalPlanner
@@ -91,7 +92,9 @@ class NavigatorConfig:
     this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
-    ``replan_min_gain`` [m].
+    ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
+    route and keeps the rest; the whole way is planned again every ``full_replan_period``
+    (:mod:`~polynav.nav.replanning`).
     """
 
     replan_period: float = 3.0
@@ -116,6 +119,8 @@ class NavigatorConfig:
     recovery_wait: float = 2.0
     replan_hysteresis: float = 0.15
     replan_min_gain: float = 0.3
+    replan_reach: float = 10.0
+    full_replan_period: float = 15.0
 
     def __post_init__(self) -> None:
         for key in (
@@ -130,7 +135,8 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.replan_min_remaining", "must be >= 0")
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
-        for key in ("retry_min_time", "recovery_wait", "replan_min_gain"):
+        for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
+                    "full_replan_period"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:
@@ -172,6 +178,8 @@ class Navigator(ChargerPhases):
         self._footprint = footprint or Footprint.circle(robot_radius)
         self._costmap = costmap
         self._planner = planner
+        self._replan = PeriodicReplan(planner, reach=self.config.replan_reach,
+                                      full_period=self.config.full_replan_period)
         self._controller = controller
         self._progress = progress_checker
         self._sinks: list[EventSink] = [on_event] if on_event else []
@@ -422,6 +430,7 @@ class Navigator(ChargerPhases):
         except PlanningError as exc:
             self._on_plan_error(exc, pose, now)
             return False
+        self._replan.whole_way_planned(now)
         self._set_path(path, now)
         self._progress.reset(pose, now)
         self._enter(_Phase.FOLLOW, now)
@@ -480,12 +489,15 @@ class Navigator(ChargerPhases):
         the new one is clearly shorter. On failure the old path is kept too; the controller
         still guards it."""
         self._last_plan = now
+        remaining = self._remaining(pose)
         try:
-            path = self._plan_path(pose)
+            path = self._replan.plan(
+                self._costmap, pose, self._target, self._tracked, self._along, now,
+                goal_tolerance=self._require().options.near_tolerance,
+            )
         except PlanningError as exc:
             log.debug("periodic re-plan failed, keeping the path: %s", exc)
             return
-        remaining = self._remaining(pose)
         if self._tracked is not None and route_choice.keep_current(
             self._costmap, self._tracked, self._along, remaining=remaining,
             new_length=path.length, hysteresis=self.config.replan_hysteresis,
