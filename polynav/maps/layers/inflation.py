@@ -42,6 +42,7 @@ log = logging.getLogger(__name__)
 
 # Distances within this of a threshold count as on it, so 11 cells of 0.05 m is 0.55 m.
 _EPS = 1e-9
+_LETHAL = np.uint8(costs.LETHAL)
 
 
 def inflation_cost(
@@ -59,45 +60,94 @@ def inflation_cost(
 
 
 @numba.njit(cache=True, nogil=True)
+def _envelope(f: npt.NDArray[np.int64], v: npt.NDArray[np.int64],
+              z: npt.NDArray[np.float64]) -> None:
+    """The lower envelope of the parabolas (x - q)^2 + f[q] (its vertices ``v``, bounds ``z``)."""
+    k = 0
+    v[0] = 0
+    z[0] = -np.inf
+    z[1] = np.inf
+    for q in range(1, f.shape[0]):
+        s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
+        while s <= z[k]:
+            k -= 1
+            s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
+        k += 1
+        v[k] = q
+        z[k] = s
+        z[k + 1] = np.inf
+
+
+@numba.njit(cache=True, nogil=True)
+def _column_pass(lethal: npt.NDArray[np.bool_], g: npt.NDArray[np.int64]) -> bool:
+    """Distance along each column to the nearest lethal cell (``height + width``: none);
+    whether there is a lethal cell at all. Row by row, so memory is read in order."""
+    height, width = lethal.shape
+    far = height + width
+    found = False
+    for x in range(width):
+        found |= lethal[0, x]
+        g[0, x] = 0 if lethal[0, x] else far
+    for y in range(1, height):
+        for x in range(width):
+            found |= lethal[y, x]
+            g[y, x] = 0 if lethal[y, x] else min(g[y - 1, x] + 1, far)
+    for y in range(height - 2, -1, -1):
+        for x in range(width):
+            g[y, x] = min(g[y, x], g[y + 1, x] + 1)
+    return found
+
+
+@numba.njit(cache=True, nogil=True)
 def _squared_distances(lethal: npt.NDArray[np.bool_], out: npt.NDArray[np.int64]) -> None:
     height, width = lethal.shape
-    # Farther than any cell of the grid can be: stands for "no lethal cell in this column".
-    far = height + width
     g = np.empty((height, width), dtype=np.int64)
-    for x in range(width):
-        d = far
-        for y in range(height):
-            d = 0 if lethal[y, x] else min(d + 1, far)
-            g[y, x] = d
-        d = far
-        for y in range(height - 1, -1, -1):
-            d = 0 if lethal[y, x] else min(d + 1, far)
-            g[y, x] = min(g[y, x], d)
-    # Per row, the lower envelope of the parabolas (x - q)^2 + g(q)^2.
+    _column_pass(lethal, g)
     v = np.empty(width, dtype=np.int64)
     z = np.empty(width + 1, dtype=np.float64)
     f = np.empty(width, dtype=np.int64)
     for y in range(height):
         for q in range(width):
             f[q] = g[y, q] * g[y, q]
-        k = 0
-        v[0] = 0
-        z[0] = -np.inf
-        z[1] = np.inf
-        for q in range(1, width):
-            s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
-            while s <= z[k]:
-                k -= 1
-                s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * (q - v[k]))
-            k += 1
-            v[k] = q
-            z[k] = s
-            z[k + 1] = np.inf
+        _envelope(f, v, z)
         k = 0
         for q in range(width):
             while z[k + 1] < q:
                 k += 1
             out[y, q] = (q - v[k]) * (q - v[k]) + f[v[k]]
+
+
+@numba.njit(cache=True, nogil=True)
+def _inflate(master: npt.NDArray[np.uint8], table: npt.NDArray[np.uint8],
+             read: tuple[int, int, int, int], write: tuple[int, int, int, int]) -> None:
+    """Raise ``master`` in the ``write`` window to the inflation cost of its distance to the
+    nearest lethal cell of the ``read`` window (which holds every lethal cell that can reach
+    it). Only the write window's rows need the second pass, and only its cells are written."""
+    lethal = master[read[1]:read[3], read[0]:read[2]] == _LETHAL
+    height, width = lethal.shape
+    g = np.empty((height, width), dtype=np.int64)
+    if not _column_pass(lethal, g):
+        return
+    last = table.shape[0] - 1
+    v = np.empty(width, dtype=np.int64)
+    z = np.empty(width + 1, dtype=np.float64)
+    f = np.empty(width, dtype=np.int64)
+    q0, q1 = write[0] - read[0], write[2] - read[0]
+    for y in range(write[1] - read[1], write[3] - read[1]):
+        nearest = last
+        for q in range(width):
+            f[q] = g[y, q] * g[y, q]
+            nearest = min(nearest, f[q])
+        if nearest >= last:
+            continue  # no lethal cell within reach of this row: every cost stays
+        _envelope(f, v, z)
+        k = 0
+        row = master[read[1] + y]
+        for q in range(q0, q1):
+            while z[k + 1] < q:
+                k += 1
+            d2 = (q - v[k]) * (q - v[k]) + f[v[k]]
+            row[read[0] + q] = max(row[read[0] + q], table[min(d2, last)])
 
 
 def squared_distances(lethal: npt.NDArray[np.bool_]) -> npt.NDArray[np.int64]:
@@ -111,8 +161,11 @@ def squared_distances(lethal: npt.NDArray[np.bool_]) -> npt.NDArray[np.int64]:
 
 
 def warm_up() -> None:
-    """Compile the distance-transform kernel on a tiny grid."""
+    """Compile the distance-transform kernels on a tiny grid."""
     squared_distances(np.eye(3, dtype=np.bool_))
+    grid = np.zeros((3, 3), dtype=np.uint8)
+    grid[1, 1] = costs.LETHAL
+    _inflate(grid, np.array([costs.LETHAL, 0], dtype=np.uint8), (0, 0, 3, 3), (0, 0, 3, 3))
 
 
 class InflationLayer:
@@ -160,15 +213,4 @@ class InflationLayer:
         if self._cells == 0:
             return
         read = win.grow(window, self._cells, self._info.width, self._info.height)
-        lethal = master[win.slices(read)] == costs.LETHAL
-        if not lethal.any():
-            return
-        # The part of the read window that is the write window.
-        inner = (
-            slice(window[1] - read[1], window[3] - read[1]),
-            slice(window[0] - read[0], window[2] - read[0]),
-        )
-        d2 = squared_distances(lethal)[inner]
-        np.minimum(d2, self._table.shape[0] - 1, out=d2)
-        out = master[win.slices(window)]
-        np.maximum(out, self._table[d2], out=out)
+        _inflate(master, self._table, read, window)

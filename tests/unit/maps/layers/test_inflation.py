@@ -91,3 +91,21 @@ def test_squared_distances_on_a_single_cell_and_a_single_row() -> None:
 def test_squared_distances_without_lethal_cells_are_farther_than_the_grid() -> None:
     d2 = squared_distances(np.zeros((4, 6), dtype=bool))
     assert (d2 >= (4 + 6) ** 2).all()
+
+
+@pytest.mark.parametrize("density", [0.002, 0.02, 0.2])
+def test_a_window_is_inflated_exactly_as_scipys_transform_says(density: float) -> None:
+    rng = np.random.default_rng(3)
+    info = MapInfo(resolution=0.05, width=90, height=70)
+    layer = InflationLayer(info, **RADII)
+    master = np.zeros((70, 90), dtype=np.uint8)
+    master[rng.random((70, 90)) < density] = costs.LETHAL
+    master[rng.random((70, 90)) < 0.05] = 40  # costs below stay where inflation is lower
+    distance = ndimage.distance_transform_edt(master != costs.LETHAL) * info.resolution
+    expected = master.copy()
+    window = (17, 9, 61, 50)
+    for y in range(window[1], window[3]):
+        for x in range(window[0], window[2]):
+            expected[y, x] = max(master[y, x], inflation_cost(float(distance[y, x]), **RADII))
+    layer.update_costs(master, window)
+    np.testing.assert_array_equal(master, expected)
