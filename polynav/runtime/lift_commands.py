@@ -8,9 +8,9 @@ what happens inside.
 
 The lift sequence of a lift leg (``docs/lifts.md``), each step a :class:`LiftPhase`:
 
-1. ``going_to_lift``: drive towards the car, asking for its session (a lease on
-   ``lift:<car>``) on the way; to the outside point if granted, else to the car's waiting spot.
-2. ``waiting_for_session``: another robot holds the car; wait (first come, first served;
+1. ``going_to_lift``: drive to the car's waiting spot (its outside point where it has none).
+2. ``waiting_for_session``: there, ask for the car's session (a lease on ``lift:<car>``), and
+   wait while another robot holds the car (first come, first served;
    given up after :data:`SESSION_TIMEOUT`, and at once if the car goes out of service).
 3. ``calling``: the car is asked to this floor with its doors open, and the robot drives to
    the outside point; ``waiting_for_car`` until the car stands open here (given up after
@@ -207,22 +207,22 @@ class LiftCommands(LiftAccess):
         if run.nav_id is None:
             target, options = leg.goal, run.options if run.index == len(run.legs) - 1 else None
             if lift is not None:
+                # The car's session is asked for on arrival, not on the way: a robot that held
+                # the car while queueing for a corridor on its way there could wait for a robot
+                # that waits for the car (hold and wait, docs/fleet.md).
                 self._set_phase(run, LiftPhase.GOING_TO_LIFT, now)
                 run.car = lift.car
-                self._sessions().request(lift.car, now)
                 options = NEAR_LIFT_OPTIONS
-                if not self._sessions().granted(lift.car, now) and lift.waiting_from:
+                if lift.waiting_from:
                     target = lift.waiting_from
             self._leg_go(run, target, options)
             return
-        if lift is not None:
-            self._sessions().request(lift.car, now)
-            if self._out_of_service(lift.car):
-                self._reroute(run, now, f"lift {lift.car} went out of service")
-                return
+        if lift is not None and self._out_of_service(lift.car):
+            self._reroute(run, now, f"lift {lift.car} went out of service")
+            return
         result = self._leg_result(run)
         if lift is not None and result is NavigationState.FAILED and self._near(
-                lift.outside_from, NEAR_LIFT):
+                lift.waiting_from or lift.outside_from, NEAR_LIFT):
             # Near the lift but not on the spot (another robot waits there): wait here; the
             # call drives to the door once the car is this robot's.
             result = NavigationState.SUCCEEDED
