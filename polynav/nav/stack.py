@@ -9,6 +9,7 @@ comes from the caller), so it runs the same on simulated time and on the wall cl
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field, replace
 
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
@@ -36,7 +37,10 @@ class StackConfig:
     """Configuration of every component of the stack, plus the control rate [Hz].
 
     ``footprint`` is the robot's body, which the controller and the recoveries check for
-    collisions; ``None`` is a disk of the costmap's ``robot_radius``. The costmap's inscribed
+    collisions; ``None`` is a disk of the costmap's ``robot_radius``. While the robot stands
+    still (waiting for a lift, a corridor or a person), the costmap takes a scan at most every
+    ``standing_scan_period`` [s] (0: every scan): the scene changes no faster than people walk,
+    and a fleet's waiting robots map a quarter of the scans. The costmap's inscribed
     radius may not be below the body's (a planner planning for a smaller robot sends the body
     into gaps it does not fit), as Nav2 derives it from the footprint.
     """
@@ -50,8 +54,11 @@ class StackConfig:
     localization: PoseTrackerConfig = field(default_factory=PoseTrackerConfig)
     people: PeopleConfig = field(default_factory=PeopleConfig)
     footprint: Footprint | None = None
+    standing_scan_period: float = 0.2
 
     def __post_init__(self) -> None:
+        if not self.standing_scan_period >= 0.0:
+            raise ConfigError("standing_scan_period", "must be >= 0")
         if self.footprint is not None and (
             self.costmap.robot_radius < self.footprint.inscribed_radius - 1e-9
         ):
@@ -147,6 +154,7 @@ class NavigationStack:
         )
         self.software_estop = False
         self._last_scan_stamp: float | None = None
+        self._costmap_scan_stamp = -math.inf
         self._command = Twist()
 
     @property
@@ -157,6 +165,12 @@ class NavigationStack:
     def command(self) -> Twist:
         """The velocity commanded at the last tick."""
         return self._command
+
+    def _skip_scan(self, stamp: float, velocity: Twist) -> bool:
+        """Standing still, with a scan in the costmap less than ``standing_scan_period`` old."""
+        standing = (abs(velocity.linear) < 1e-3 and abs(velocity.angular) < 1e-3
+                    and self._command.linear == 0.0 and self._command.angular == 0.0)
+        return standing and stamp - self._costmap_scan_stamp < self.config.standing_scan_period
 
     def initialize(self, pose: Pose2D, now: float) -> None:
         """Tell localization roughly where the robot is (it refines the pose itself)."""
@@ -181,6 +195,8 @@ class NavigationStack:
             )
         if scan is not None:
             self._last_scan_stamp = scan.stamp
+        if scan is not None and not self._skip_scan(scan.stamp, odometry.twist):
+            self._costmap_scan_stamp = scan.stamp
             self.costmap.update_scan(estimate.pose, scan)  # recomposes the people layer too
         elif people.enabled:
             self.costmap.update()
