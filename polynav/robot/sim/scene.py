@@ -127,6 +127,23 @@ class Scene:
             out[k, 0], out[k, 1], out[k, 2] = pose.x, pose.y, b.config.robot_radius
         return out
 
+    def _others(self) -> list[npt.NDArray[np.float64]]:
+        """Per body, in order, :meth:`robots_near` of it: one array per floor, sliced."""
+        if len(self._bodies) == 1:
+            return [NO_CIRCLES]
+        rows: dict[str, list[int]] = {}
+        for k, b in enumerate(self._bodies):
+            rows.setdefault(b.floor, []).append(k)
+        out: list[npt.NDArray[np.float64]] = [NO_CIRCLES] * len(self._bodies)
+        for ks in rows.values():
+            if len(ks) == 1:
+                continue
+            circles = np.array([(b.true_pose.x, b.true_pose.y, b.config.robot_radius)
+                                for b in (self._bodies[k] for k in ks)], dtype=np.float64)
+            for j, k in enumerate(ks):
+                out[k] = np.concatenate((circles[:j], circles[j + 1:]))
+        return out
+
     def people_circles(self, floor: str) -> npt.NDArray[np.float64]:
         """(K, 3) rows of x, y, radius [m] of the people on ``floor`` (none while they are off)."""
         people = self.floors[floor].people
@@ -168,11 +185,11 @@ class Scene:
                     person.step_among(h, robots)
             people = {name: as_circles(state.people) if state.people else NO_CIRCLES
                       for name, state in self.floors.items()}
-        for body in self._bodies:
+        for body in self._bodies:  # each sees where the ones before it have moved to
             body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
         self.clock.set(now)
-        for body in self._bodies:
-            body._sense(now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+        for body, others in zip(self._bodies, self._others(), strict=True):
+            body._sense(now, people.get(body.floor, NO_CIRCLES), others)
 
 
     def _carry(self, arrival: Arrival) -> None:
