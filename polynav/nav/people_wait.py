@@ -33,6 +33,7 @@ log = logging.getLogger(__name__)
 _FACE_TO_FACE_MARGIN = 0.4  # [m] beyond the social distance: someone this near is face to face
 _HELD_SPEED = 0.02  # [m/s] slowed below this for people, the robot counts as held by them
 _ASIDE_MARGIN = 0.1  # [m] beyond the social distance: stepping aside closes in on no one here
+_CLOSING_LEAD = 0.5  # [s] ahead that someone coming on is judged (tracker lag, braking)
 _ASIDE_TRIES = 2  # spots tried in one give-way before backing up
 _ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there while stepping aside
 
@@ -212,8 +213,11 @@ class PeopleWait:
             towards = 0.0 if d == 0.0 else (dx * hx + dy * hy) / d  # cos(motion, person)
             if towards <= 0.0:
                 continue
-            receding = max(0.0, (p.vx * dx + p.vy * dy) / d)
-            allowed = max(0.0, d - cfg.social_distance) / cfg.approach_time + receding
+            radial = (p.vx * dx + p.vy * dy) / d
+            # Someone coming on is judged where they will be when the robot has braked: the
+            # tracked legs lag, and a robot at speed does not stop at once.
+            ahead = d + min(0.0, radial) * _CLOSING_LEAD
+            allowed = max(0.0, ahead - cfg.social_distance) / cfg.approach_time + max(0.0, radial)
             limit = min(limit, allowed / towards)
         if limit >= speed:
             return twist
@@ -241,7 +245,7 @@ class PeopleWait:
         for p in self.people.people:
             dx, dy = p.x - pose.x, p.y - pose.y
             d = math.hypot(dx, dy)
-            if d >= reach or d == 0.0:
+            if d == 0.0 or d + min(0.0, (p.vx * dx + p.vy * dy) / d) * _CLOSING_LEAD >= reach:
                 continue
             towards = (dx * hx + dy * hy) / d
             if towards > 0.0:

@@ -89,3 +89,15 @@ def test_stepping_aside_drives_at_no_one_in_their_space_but_keeps_turning() -> N
     # Someone beyond their space (and the margin) does not hold it.
     far = _wait(Person(1.2, 0.0))._aside_polite(Pose2D(), Twist(0.3, 0.0))
     assert far.linear == pytest.approx(0.3)
+
+
+def test_someone_coming_on_is_met_early_enough_to_brake() -> None:
+    # 1.1 m ahead, walking at the robot at 0.8 m/s: in 0.5 s they are at 0.7 m, inside their
+    # space; a robot still driving at them then would close in while it brakes.
+    coming = _wait(Person(1.1, 0.0, -0.8, 0.0)).slow(Pose2D(), Twist(0.6, 0.0))
+    standing = _wait(Person(1.1, 0.0)).slow(Pose2D(), Twist(0.6, 0.0))
+    assert coming.linear == 0.0
+    assert standing.linear == pytest.approx((1.1 - CFG.social_distance) / CFG.approach_time)
+    # Walking away, they are judged where they are (the robot follows at their pace).
+    leaving = _wait(Person(0.8, 0.0, 0.4, 0.0)).slow(Pose2D(), Twist(0.6, 0.0))
+    assert leaving.linear == pytest.approx(0.4)
