@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from polynav.geometry import Pose2D, Twist
 from polynav.maps import costs
 from polynav.nav.people import PeopleConfig, PeopleView, Person, aside_spots
 from polynav.nav.people_wait import PeopleWait
+from polynav.planning.path import Path
 from tests.unit.nav.test_navigator import FakeCostmap, ScriptedController, ScriptedPlanner
 
 CFG = PeopleConfig()
@@ -101,3 +103,20 @@ def test_someone_coming_on_is_met_early_enough_to_brake() -> None:
     # Walking away, they are judged where they are (the robot follows at their pace).
     leaving = _wait(Person(0.8, 0.0, 0.4, 0.0)).slow(Pose2D(), Twist(0.6, 0.0))
     assert leaving.linear == pytest.approx(0.4)
+
+
+def test_a_way_aside_held_by_someone_is_chosen_again_once_then_backed_off() -> None:
+    controller = ScriptedController()  # drives straight ahead at 0.5 m/s, whatever the spot
+    wait = PeopleWait(CFG, FakeCostmap(), ScriptedPlanner(), controller,  # type: ignore[arg-type]
+                      robot_radius=0.25)
+    wait.people = PeopleView((Person(0.6, 0.0),))  # face to face, inside their space
+    pose = Pose2D()
+    path = Path(np.array([[0.0, 0.0], [5.0, 0.0]]))
+    wait.begin(pose, 0.0)
+    twists = []
+    for k in range(int(3 * CFG.hold_before_wait / 0.1)):
+        step = wait.tick(pose, Twist(), CFG.give_way_after + k * 0.1, 0.1, path, lambda _: path)
+        twists.append(step.twist)
+    assert all(t.linear <= 0.005 + 1e-9 for t in twists)  # never at them
+    assert controller.paths == 2  # the way aside once, and another for where they are now
+    assert twists[-1].linear < 0.0  # then backing off: no standing face to face
