@@ -176,6 +176,8 @@ class PeopleWait:
         speed at which they walk away) may be at most ``(d - social_distance) /
         approach_time`` at distance ``d``: the robot eases up to the edge of their space and
         stops there, rather than drive into it; moving past, away, or turning is not limited.
+        Someone walking towards the robot counts at ``d`` less their closing walk over
+        :data:`_CLOSING_LEAD` (the tracker lags, and the robot needs time to brake).
         The plan (people layer) is what keeps the robot clear where there is room; this holds
         the line when the plan is late, or when there is no room and the wait takes over.
         With ``now`` given, a robot held still this way is remembered (:meth:`held`).
