@@ -26,6 +26,12 @@ _WAY_AHEAD = 4.0  # [m] how far along their walk (or towards the robot) people a
 _SPOT_RINGS = np.arange(0.6, 2.01, 0.2)  # [m] distances of the spots tried to step aside to
 _SPOT_BEARINGS = np.linspace(-math.pi, math.pi, 24, endpoint=False)
 _SPOT_MAX_COST = 128  # a spot well clear of walls, and outside every person's social disc
+_WALKING = 0.1  # [m/s] a person faster than this walks (their way is ahead of them)
+_ON_THE_LINE = 0.05  # [m] a robot this near a walker's line is on it (any way leaves it)
+_CLEAR_ENOUGH = 1.6  # [m] from everyone's way: farther is no better (then the least turn)
+_TURN_RATE = 0.8  # [rad/s] the turn before stepping aside, as expected of the controller
+_TRIP_STEP = 0.1  # [s] between the instants of a step-aside played against a walk
+_TRIP_MARGIN = 0.1  # [m] beyond the social distance: predictions are from tracked legs
 
 
 @dataclass(frozen=True, slots=True)
@@ -174,34 +180,95 @@ def aside_spots(
     from every such way, and the straight way to it brings the robot no nearer anyone than the
     social distance (or than it stands now, when nearer); the robot drives there and lets
     them pass.
+
+    A walker keeps coming while the robot steps aside, so where they stand now is not enough:
+    the robot's trip (a turn on the spot, then the straight way at the slow speed) is played
+    against their straight walk, and a spot is refused when the robot would be closing in on
+    them inside their space (plus :data:`_TRIP_MARGIN`) at any instant of it, or when the way
+    crosses to the other side of their line ahead of them (stepping across someone's way is
+    not leaving it). Of a ring of spots, those farthest from everyone's way come first: the
+    side the walker is not heading to.
     """
     ways = []
     for p in people.people:
         if math.hypot(p.x - pose.x, p.y - pose.y) > _WAY_AHEAD:
             continue
         speed = math.hypot(p.vx, p.vy)
-        if speed > 0.1:
+        if speed > _WALKING:
             ux, uy = p.vx / speed, p.vy / speed
         else:
             d = math.hypot(pose.x - p.x, pose.y - p.y) or 1.0
             ux, uy = (pose.x - p.x) / d, (pose.y - p.y) / d
         ways.append((p.x, p.y, p.x + _WAY_AHEAD * ux, p.y + _WAY_AHEAD * uy))
+    walkers = [p for p in people.people
+               if math.hypot(p.vx, p.vy) > _WALKING
+               and math.hypot(p.x - pose.x, p.y - pose.y) <= _WAY_AHEAD]
     # Getting there must not bring the robot nearer anyone than the social distance, or than
     # it already is when it stands nearer: stepping aside is to leave room, not to brush by.
     keep = [(p.x, p.y, min(config.social_distance, math.hypot(p.x - pose.x, p.y - pose.y)))
             for p in people.people]
-    spots = []
+    spots: list[Pose2D] = []
     for ring in _SPOT_RINGS:
+        found: list[tuple[float, float, Pose2D]] = []
         for bearing in _SPOT_BEARINGS:
             x = pose.x + float(ring) * math.cos(pose.theta + float(bearing))
             y = pose.y + float(ring) * math.sin(pose.theta + float(bearing))
             if costmap.cost_at(x, y) > _SPOT_MAX_COST:
                 continue
-            if all(_segment_distance(x, y, *way) >= config.social_distance for way in ways) and all(
+            clearance = min((_segment_distance(x, y, *way) for way in ways), default=math.inf)
+            if clearance < config.social_distance or not all(
                 _segment_distance(px, py, pose.x, pose.y, x, y) >= clear - 1e-6
                 for px, py, clear in keep
             ):
-                spots.append(Pose2D(x, y, pose.theta))
+                continue
+            if any(_crosses(pose, x, y, p) or _closes_in(pose, x, y, p, config)
+                   for p in walkers):
+                continue
+            found.append((-min(clearance, _CLEAR_ENOUGH), abs(float(bearing)),
+                          Pose2D(x, y, pose.theta)))
+        spots.extend(spot for _, _, spot in sorted(found, key=lambda f: (f[0], f[1])))
         if len(spots) >= limit:
             break
     return spots[:limit]
+
+
+def _crosses(pose: Pose2D, x: float, y: float, p: Person) -> bool:
+    """Whether the straight way from ``pose`` to (x, y) crosses the line of the walker ``p``
+    ahead of them, from the robot's side to the other (a robot on their line crosses none)."""
+    speed = math.hypot(p.vx, p.vy)
+    ux, uy = p.vx / speed, p.vy / speed
+    side_now = ux * (pose.y - p.y) - uy * (pose.x - p.x)
+    side_spot = ux * (y - p.y) - uy * (x - p.x)
+    if abs(side_now) < _ON_THE_LINE or side_now * side_spot > 0.0:
+        return False
+    # Where the way meets their line: ahead of them is in front of someone walking.
+    t = side_now / (side_now - side_spot)
+    cx, cy = pose.x + t * (x - pose.x), pose.y + t * (y - pose.y)
+    return ux * (cx - p.x) + uy * (cy - p.y) > 0.0
+
+
+def _closes_in(pose: Pose2D, x: float, y: float, p: Person, config: PeopleConfig) -> bool:
+    """Whether stepping from ``pose`` to (x, y) would close in on the walker ``p`` within
+    their social distance (plus :data:`_TRIP_MARGIN`) at some instant.
+
+    The trip: a turn on the spot to face (x, y) at :data:`_TURN_RATE`, then the straight way
+    at the slow speed; the walker: a straight walk at their velocity. Closing in is the
+    robot's own velocity having a component towards them while the gap shrinks (following a
+    faster walker who overtook it is not).
+    """
+    dx, dy = x - pose.x, y - pose.y
+    length = math.hypot(dx, dy)
+    if length == 0.0:
+        return False
+    ux, uy = dx / length, dy / length
+    turn = abs(math.remainder(math.atan2(dy, dx) - pose.theta, math.tau)) / _TURN_RATE
+    t = np.arange(turn, turn + length / config.slow_speed + _TRIP_STEP, _TRIP_STEP)
+    along = np.minimum((t - turn) * config.slow_speed, length)
+    rx = p.x + p.vx * t - (pose.x + ux * along)
+    ry = p.y + p.vy * t - (pose.y + uy * along)
+    moving = along < length
+    vx, vy = ux * config.slow_speed * moving, uy * config.slow_speed * moving
+    near = rx * rx + ry * ry < (config.social_distance + _TRIP_MARGIN) ** 2
+    towards = ux * rx + uy * ry > 0.0
+    shrinking = rx * (p.vx - vx) + ry * (p.vy - vy) < 0.0
+    return bool(np.any(moving & near & towards & shrinking))

@@ -32,6 +32,10 @@ log = logging.getLogger(__name__)
 
 _FACE_TO_FACE_MARGIN = 0.4  # [m] beyond the social distance: someone this near is face to face
 _HELD_SPEED = 0.02  # [m/s] slowed below this for people, the robot counts as held by them
+_ASIDE_MARGIN = 0.1  # [m] beyond the social distance: stepping aside closes in on no one here
+_CLOSING_LEAD = 0.5  # [s] ahead that someone coming on is judged (tracker lag, braking)
+_ASIDE_TRIES = 2  # spots tried in one give-way before backing up
+_ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there while stepping aside
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +76,8 @@ class PeopleWait:
         )
         self._backing_up = False
         self._aside: Pose2D | None = None
+        self._aside_held_since: float | None = None
+        self._aside_tries = 0
         self._held_since: float | None = None
 
     @property
@@ -147,6 +153,7 @@ class PeopleWait:
             cfg.social_distance + _FACE_TO_FACE_MARGIN
         )
         if face_to_face and now - self._last_give_way >= cfg.give_way_after:
+            self._aside_tries = 0
             self._start_give_way(pose, now)
             return WaitStep(self._tick_give_way(pose, velocity, now, dt) or Twist())
         if now - self._last_plan < cfg.wait_replan_period:
@@ -169,6 +176,8 @@ class PeopleWait:
         speed at which they walk away) may be at most ``(d - social_distance) /
         approach_time`` at distance ``d``: the robot eases up to the edge of their space and
         stops there, rather than drive into it; moving past, away, or turning is not limited.
+        Someone walking towards the robot counts at ``d`` less their closing walk over
+        :data:`_CLOSING_LEAD` (the tracker lags, and the robot needs time to brake).
         The plan (people layer) is what keeps the robot clear where there is room; this holds
         the line when the plan is late, or when there is no room and the wait takes over.
         With ``now`` given, a robot held still this way is remembered (:meth:`held`).
@@ -206,15 +215,50 @@ class PeopleWait:
             towards = 0.0 if d == 0.0 else (dx * hx + dy * hy) / d  # cos(motion, person)
             if towards <= 0.0:
                 continue
-            receding = max(0.0, (p.vx * dx + p.vy * dy) / d)
-            allowed = max(0.0, d - cfg.social_distance) / cfg.approach_time + receding
+            radial = (p.vx * dx + p.vy * dy) / d
+            # Someone coming on is judged where they will be when the robot has braked: the
+            # tracked legs lag, and a robot at speed does not stop at once.
+            ahead = d + min(0.0, radial) * _CLOSING_LEAD
+            allowed = max(0.0, ahead - cfg.social_distance) / cfg.approach_time + max(0.0, radial)
             limit = min(limit, allowed / towards)
         if limit >= speed:
             return twist
         k = limit / speed
         return Twist(twist.linear * k, twist.angular * k)
 
+    def _aside_polite(self, pose: Pose2D, twist: Twist) -> Twist:
+        """``twist`` while stepping aside: slow near people, and no closing in on anyone within
+        the social distance (plus :data:`_ASIDE_MARGIN`), but the turn is kept.
+
+        A walker coming on closes the gap anyway; the robot's own part is the component of its
+        velocity towards them, which is cut to :data:`_ASIDE_CREEP`. Unlike :meth:`_polite`,
+        the angular velocity is not scaled with the linear one: the robot keeps turning
+        towards its way aside (which :func:`aside_spots` chose leading away from people) and
+        drives on once it faces away from them, instead of standing face to face.
+        """
+        twist = self._polite(pose, twist, approach=False)
+        speed = abs(twist.linear)
+        if speed == 0.0:
+            return twist
+        sign = 1.0 if twist.linear > 0.0 else -1.0
+        hx, hy = sign * math.cos(pose.theta), sign * math.sin(pose.theta)
+        limit = speed
+        reach = self.config.social_distance + _ASIDE_MARGIN
+        for p in self.people.people:
+            dx, dy = p.x - pose.x, p.y - pose.y
+            d = math.hypot(dx, dy)
+            if d == 0.0 or d + min(0.0, (p.vx * dx + p.vy * dy) / d) * _CLOSING_LEAD >= reach:
+                continue
+            towards = (dx * hx + dy * hy) / d
+            if towards > 0.0:
+                limit = min(limit, _ASIDE_CREEP / towards)
+        if limit >= speed:
+            return twist
+        return Twist(sign * limit, twist.angular)
+
     def _start_give_way(self, pose: Pose2D, now: float) -> None:
+        self._aside_held_since = None
+        self._aside_tries += 1
         for spot in aside_spots(self._costmap, pose, self.people, self.config):
             try:
                 way = self._planner.plan(self._costmap, pose, spot)
@@ -234,17 +278,34 @@ class PeopleWait:
         if self._aside is not None:
             command = self._controller.compute(pose, velocity, self._costmap, dt)
             if command.status not in (ControlStatus.ARRIVED, ControlStatus.BLOCKED):
-                # Slowly, but not held off: the way aside may brush someone's space, and
-                # standing still face to face is what this move ends.
-                return self._polite(pose, command.twist, approach=False)
+                # Slowly, closing in on no one near, but turning on: standing still face to
+                # face is what this move ends.
+                twist = self._aside_polite(pose, command.twist)
+                if abs(twist.linear) >= _HELD_SPEED or abs(command.twist.linear) < _HELD_SPEED:
+                    self._aside_held_since = None
+                elif self._aside_held_since is None:
+                    self._aside_held_since = now
+                elif now - self._aside_held_since >= self.config.hold_before_wait:
+                    # Someone came into the way aside: another spot for where they are now,
+                    # once; after that backing off (or standing) leaves them room.
+                    self._aside = None
+                    self._controller.reset()
+                    if self._aside_tries < _ASIDE_TRIES:
+                        self._start_give_way(pose, now)
+                    else:
+                        log.info("giving way: backing up %.2f m", self.config.give_way_distance)
+                        self._backing_up = True
+                        self._back_up.start(pose, now)
+                    return self._tick_give_way(pose, velocity, now, dt) or Twist()
+                return twist
             self._aside = None
             self._controller.reset()
             self._last_give_way = now
             return None
         if self._backing_up:
-            twist = self._back_up.tick(pose, now)
-            if twist is not None:
-                return self._polite(pose, twist)  # not into someone behind
+            back = self._back_up.tick(pose, now)
+            if back is not None:
+                return self._polite(pose, back)  # not into someone behind
             self._backing_up = False
             self._last_give_way = now
         return None
