@@ -252,6 +252,9 @@ def test_a_robot_pushed_by_hand_sends_02005(harness: Harness, client: Client) ->
 
 
 def test_an_object_in_the_lidar_slot_sends_03001_once(harness: Harness, client: Client) -> None:
+    # A round trip first: notifications go to the connections the server has accepted, and
+    # under load it may not have accepted this one yet when the fault fires.
+    _ok(client, "/api/robot_status")
     harness.runtime.simulation.inject_fault("laser_slot_object")
     harness.runtime.advance(2.0)
     note = _notification(client, "03001")
