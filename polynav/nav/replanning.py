@@ -19,6 +19,7 @@ decides (blocked, or clearly shorter).
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 
@@ -53,7 +54,7 @@ class PeriodicReplan:
         self._planner = planner
         self.reach = reach
         self.full_period = full_period
-        self._last_full = -np.inf
+        self._last_full = -math.inf
 
     def whole_way_planned(self, now: float) -> None:
         """A plan of the whole way was made (the first of a goal, or after a failure)."""

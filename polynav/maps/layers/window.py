@@ -99,7 +99,6 @@ def _groups(mask: npt.NDArray[np.bool_], t: int) -> npt.NDArray[np.int64]:
             label[r0, c0] = n
             g = out[n]
             g[0], g[1], g[2], g[3] = w, h, 0, 0
-            top = 0
             stack[0, 0], stack[0, 1] = r0, c0
             top = 1
             while top > 0:
