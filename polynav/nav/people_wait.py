@@ -38,6 +38,13 @@ _ASIDE_TRIES = 2  # spots tried in one give-way before backing up
 _ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there while stepping aside
 
 
+def _judged_gap(d: float, radial: float) -> float:
+    """The gap [m] to someone ``d`` away whose walk along it is ``radial`` [m/s] (negative:
+    coming on), judged where they will be :data:`_CLOSING_LEAD` from now: the tracked legs
+    lag, and a robot at speed does not stop at once."""
+    return d + min(0.0, radial) * _CLOSING_LEAD
+
+
 @dataclass(frozen=True, slots=True)
 class WaitStep:
     """What one period of waiting asks of the navigator."""
@@ -216,9 +223,7 @@ class PeopleWait:
             if towards <= 0.0:
                 continue
             radial = (p.vx * dx + p.vy * dy) / d
-            # Someone coming on is judged where they will be when the robot has braked: the
-            # tracked legs lag, and a robot at speed does not stop at once.
-            ahead = d + min(0.0, radial) * _CLOSING_LEAD
+            ahead = _judged_gap(d, radial)
             allowed = max(0.0, ahead - cfg.social_distance) / cfg.approach_time + max(0.0, radial)
             limit = min(limit, allowed / towards)
         if limit >= speed:
@@ -247,7 +252,7 @@ class PeopleWait:
         for p in self.people.people:
             dx, dy = p.x - pose.x, p.y - pose.y
             d = math.hypot(dx, dy)
-            if d == 0.0 or d + min(0.0, (p.vx * dx + p.vy * dy) / d) * _CLOSING_LEAD >= reach:
+            if d == 0.0 or _judged_gap(d, (p.vx * dx + p.vy * dy) / d) >= reach:
                 continue
             towards = (dx * hx + dy * hy) / d
             if towards > 0.0:
