@@ -87,11 +87,8 @@ def map_update(ctx: Context, params: Params) -> Reply:
     """
     name = params.text("map", None) or sessions.current_map(ctx)
     ctx.store.map_record(name)  # NotFound before anything changes
-    start_index = params.integer("start_index", None)
-    point = None
-    if start_index is not None:
-        path = params.text("path", None) or sessions.current_path(ctx, name)
-        point = sessions.target_point(ctx, name, path, start_index).name
+    path = params.text("path", None) or sessions.current_path(ctx, name)
+    _, point = sessions.start_point(ctx, params, name, path)
     ctx.runtime.start_mapping(name, point=point)
     state = _state(ctx)
     state.saved_as, state.meta = name, metas(ctx).get(name)

@@ -47,10 +47,7 @@ def start(ctx: Context, params: Params) -> dict[str, object]:
     ctx.store.map_record(map_name)  # NotFound before anything changes
     path = params.text("path", None) or sessions.current_path(ctx, map_name)
     sessions.routes(ctx).route(map_name, path)
-    start_index = params.integer("start_index", None)
-    point = None
-    if start_index is not None:
-        point = sessions.target_point(ctx, map_name, path, start_index).name
+    start_index, point = sessions.start_point(ctx, params, map_name, path)
     if ctx.runtime.status().mode == "mapping":
         raise Conflict("the robot is mapping: stop mapping first")
     book(ctx).cancel()

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.params import Params
 from polynav.site import Point, PointKind
 from polynav.store.route_stops import DEFAULT_ROUTE, RouteBook
 
@@ -93,6 +94,22 @@ def charge_pile(ctx: Context, map_name: str) -> Point:
         if point.kind is PointKind.CHARGER:
             return point
     raise NotFound("charge pile on map", map_name)
+
+
+def start_point(
+    ctx: Context, params: Params, map_name: str, path: str
+) -> tuple[int | None, str | None]:
+    """The ``start_index`` of a start request and the name of the target point of (map, path)
+    it names (``None`` without one: polynav then finds the robot itself).
+
+    Raises:
+        InvalidRequest: a mistyped or out-of-range index.
+        NotFound: unknown path, or no charge pile.
+    """
+    index = params.integer("start_index", None)
+    if index is None:
+        return None, None
+    return index, target_point(ctx, map_name, path, index).name
 
 
 def target_point(ctx: Context, map_name: str, path: str, index: int) -> Point:
