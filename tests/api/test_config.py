@@ -41,3 +41,13 @@ def test_status_pacer_keeps_the_rate_on_sim_time_and_skips_after_a_stall() -> No
     assert pacer.due(5.0)  # after a stall: one message, no burst
     assert not pacer.due(5.1)
     assert pacer.due(5.2)
+
+
+def test_status_pacer_never_sends_within_half_a_period_after_a_late_message() -> None:
+    pacer = StatusPacer(5.0)
+    assert pacer.due(0.0) and pacer.due(0.2) and pacer.due(0.4)
+    assert pacer.due(0.76)  # 0.16 s late (a busy machine): not due again at 0.8
+    assert not pacer.due(0.8) and not pacer.due(0.9)
+    assert pacer.due(0.96)
+    assert pacer.due(1.22)  # 0.06 s late: the schedule holds
+    assert not pacer.due(1.3) and pacer.due(1.36)

@@ -56,8 +56,10 @@ def event_message(event: Any) -> dict[str, Any]:
 class StatusPacer:
     """Decides when the next status message is due, on simulated time.
 
-    Due at the first snapshot, then every ``1 / rate`` simulated seconds; after a stall (a paused
-    clock or a slow client) it restarts from the present instead of bursting to catch up.
+    Due at the first snapshot, then every ``1 / rate`` simulated seconds; a message sent late
+    keeps the schedule while the next one stays at least half a period after it, and after a
+    longer stall (a paused clock, a slow client, a busy machine) the schedule restarts from the
+    present instead of bursting to catch up.
     """
 
     def __init__(self, rate: float) -> None:
@@ -71,7 +73,8 @@ class StatusPacer:
         """Whether a status with this stamp should be sent (and count it if so)."""
         if self._next is None or stamp >= self._next - self._EPS:
             nxt = (self._next if self._next is not None else stamp) + self.period
-            self._next = nxt if nxt > stamp + self._EPS else stamp + self.period
+            keep = nxt >= stamp + self.period / 2 - self._EPS
+            self._next = nxt if keep else stamp + self.period
             return True
         return False
 
