@@ -22,7 +22,7 @@ from polynav.nav import events
 from polynav.nav.attempt import FailureReason, NavigationAttempt, NavigationState, Phase
 
 if TYPE_CHECKING:
-    from polynav.nav.navigator import NavigatorConfig
+    from polynav.nav.navigator_config import NavigatorConfig
 
 log = logging.getLogger(__name__)
 

@@ -23,7 +23,8 @@ from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.layers.people import PeopleLayer
 from polynav.maps.map import Map
 from polynav.nav.attempt import GoalOptions
-from polynav.nav.navigator import EventSink, Navigator, NavigatorConfig
+from polynav.nav.navigator import EventSink, Navigator
+from polynav.nav.navigator_config import NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import Robot

@@ -30,7 +30,8 @@ from polynav.maps import costs
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.map import FREE, Map
 from polynav.nav.attempt import GoalOptions, NavigationState
-from polynav.nav.navigator import Navigator, NavigatorConfig
+from polynav.nav.navigator import Navigator
+from polynav.nav.navigator_config import NavigatorConfig
 from polynav.planning.errors import PlanningError
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.robot.interface import LaserScan

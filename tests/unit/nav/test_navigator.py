@@ -20,7 +20,8 @@ from polynav.maps import costs
 from polynav.maps.map import MapInfo
 from polynav.nav import events
 from polynav.nav.attempt import FailureReason, NavigationState
-from polynav.nav.navigator import Navigator, NavigatorConfig
+from polynav.nav.navigator import Navigator
+from polynav.nav.navigator_config import NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView, Person
 from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError
 from polynav.planning.path import Path

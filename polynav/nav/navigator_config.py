@@ -1,0 +1,75 @@
+"""The navigator's timing and retry policy: how long it waits, how often it re-plans, when it
+gives up."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from polynav.errors import ConfigError
+
+
+@dataclass(frozen=True, slots=True)
+class NavigatorConfig:
+    """Timing and retry policy of the navigator [s, m].
+
+    ``progress_reset_distance`` is the size of a "place" for counting failures: failures farther
+    than this from the robot are forgotten. ``retry_min_time``: a place is given up only after
+    this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
+    and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
+    one only if shorter by this fraction of the remaining length, and by at least
+    ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
+    route and keeps the rest; the whole way is planned again every ``full_replan_period``
+    (:mod:`~polynav.nav.replanning`).
+    """
+
+    replan_period: float = 3.0
+    replan_min_remaining: float = 1.0
+    blocked_wait: float = 1.5
+    max_retries: int = 4
+    progress_reset_distance: float = 1.0
+    localization_grace: float = 5.0
+    estop_fail_after: float | None = None
+    undock_speed: float = 0.15
+    undock_retry_after: float = 10.0
+    undock_max_retries: int = 3
+    dock_approach: float = 0.5
+    dock_speed: float = 0.1
+    dock_contact_wait: float = 3.0
+    dock_timeout: float = 40.0
+    retry_min_time: float = 30.0
+    recovery_clear_radius: float = 1.5
+    recovery_backup_distance: float = 0.3
+    recovery_backup_speed: float = 0.15
+    recovery_rotate_angle: float = math.pi / 2
+    recovery_wait: float = 2.0
+    replan_hysteresis: float = 0.15
+    replan_min_gain: float = 0.3
+    replan_reach: float = 10.0
+    full_replan_period: float = 15.0
+
+    def __post_init__(self) -> None:
+        for key in (
+            "replan_period", "blocked_wait", "localization_grace", "undock_speed",
+            "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
+            "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
+            "recovery_backup_speed", "recovery_rotate_angle",
+        ):
+            if getattr(self, key) <= 0.0:
+                raise ConfigError(f"nav.navigator.{key}", "must be > 0")
+        if self.replan_min_remaining < 0.0:
+            raise ConfigError("nav.navigator.replan_min_remaining", "must be >= 0")
+        if self.progress_reset_distance <= 0.0:
+            raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
+        for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
+                    "full_replan_period"):
+            if getattr(self, key) < 0.0:
+                raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
+        if not 0.0 <= self.replan_hysteresis < 1.0:
+            raise ConfigError("nav.navigator.replan_hysteresis", "must be within [0, 1)")
+        if self.max_retries < 0:
+            raise ConfigError("nav.navigator.max_retries", "must be >= 0")
+        if self.undock_max_retries < 0:
+            raise ConfigError("nav.navigator.undock_max_retries", "must be >= 0")
+        if self.estop_fail_after is not None and self.estop_fail_after <= 0.0:
+            raise ConfigError("nav.navigator.estop_fail_after", "must be > 0 or None")
