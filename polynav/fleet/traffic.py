@@ -7,7 +7,10 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    zone request); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot whose goal starts inside a zone
-   it does not hold waits where it stands. Granted, it goes on.
+   it does not hold waits where it stands, unless its path leaves that zone within
+   ``leave_within`` metres: a robot at a zone's edge on its way out frees the mouth the
+   holder must come out of (waiting there, five robots once walled the holder in). Granted,
+   it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
    even where it stands: a parked robot is an obstacle to plan round, not a lock.
@@ -57,6 +60,8 @@ class TrafficConfig:
         lease_duration: each grant or renewal lasts this long [s].
         renew_before: a lease is renewed when less than this is left of it [s].
         check_period: how often the rule looks at the path [s].
+        leave_within: a robot in a zone it does not hold, whose path is out of it within this
+            distance [m], is leaving it: it needs no lease and does not wait.
     """
 
     lookahead: float = 4.0
@@ -64,10 +69,11 @@ class TrafficConfig:
     lease_duration: float = 30.0
     renew_before: float = 10.0
     check_period: float = 0.2
+    leave_within: float = 1.5
 
     def __post_init__(self) -> None:
         for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
-                     "check_period"):
+                     "check_period", "leave_within"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
@@ -206,11 +212,14 @@ class TrafficRule:
             return set(), None, None
         pose = runtime.status().pose
         needed: set[str] = set()
+        path: Path | None = navigator.path
         current = zmap.zone_at(pose.x, pose.y)
         inside = zmap.zone_id(current) if current else None
+        if (inside is not None and path is not None and not self._granted(inside)
+                and zmap.leaves(path, pose.x, pose.y, current, within=self.config.leave_within)):
+            inside = None  # on its way out
         if inside is not None:
             needed.add(inside)
-        path: Path | None = navigator.path
         ahead = None
         if path is not None:
             found = zmap.zone_ahead(path, pose.x, pose.y, lookahead=self.config.lookahead,

@@ -72,12 +72,14 @@ class ZoneMap:
         grid: that map (for its frame).
         labels: zone number per cell, 0 outside every zone.
         count: how many zones there are (numbers 1..count).
+        core: the narrow cells themselves, before the zones grew round them.
     """
 
     map_name: str
     grid: Map
     labels: npt.NDArray[np.int32]
     count: int
+    core: npt.NDArray[np.bool_]
 
     def zone_id(self, number: int) -> str:
         """The lease book's name of zone ``number``: ``zone:<map>/<number>``."""
@@ -98,22 +100,40 @@ class ZoneMap:
 
         The path is sampled every half cell, so a zone a cell wide is never stepped over.
         """
+        s, labels, _ = self._labels_along(path, x, y, lookahead)
+        hits = np.flatnonzero((labels != 0) & (labels != skip))
+        if hits.shape[0] == 0:
+            return None
+        k = int(hits[0])
+        return int(labels[k]), float(s[k])
+
+    def leaves(self, path: Path, x: float, y: float, zone: int, *, within: float) -> bool:
+        """Whether ``path``, from the point nearest to (x, y), is out of zone ``zone`` within
+        ``within`` [m] along it without touching the zone's narrow core: a robot at the zone's
+        edge heading away from the passage, not through it."""
+        _, labels, core = self._labels_along(path, x, y, within)
+        out = np.flatnonzero(labels != zone)
+        return out.shape[0] > 0 and not bool(np.any(core[:out[0]]))
+
+    def _labels_along(
+        self, path: Path, x: float, y: float, reach: float,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.bool_]]:
+        """Arc lengths [m] every half cell along ``path`` from (x, y) up to ``reach``, the zone
+        number at each, and whether each is in a zone's narrow core."""
         points = path.points
         if points.shape[0] == 0:
-            return None
+            return np.zeros(0), np.zeros(0, dtype=np.int32), np.zeros(0, dtype=bool)
         d2 = (points[:, 0] - x) ** 2 + (points[:, 1] - y) ** 2
         start = int(np.argmin(d2))
         ahead = np.vstack(([x, y], points[start:]))
         seg = np.hypot(*np.diff(ahead, axis=0).T)
         along = np.concatenate(([0.0], np.cumsum(seg)))
-        # The points up to and including the first one at or past the lookahead.
-        end = min(along.shape[0], int(np.searchsorted(along, lookahead, side="left")) + 1)
-        # Resample every half cell up to the lookahead, so a zone a cell wide is never stepped
-        # over, and look every sample up at once.
+        # The points up to and including the first one at or past the reach.
+        end = min(along.shape[0], int(np.searchsorted(along, reach, side="left")) + 1)
         step = 0.5 * self.grid.info.resolution
-        reach = min(lookahead, float(along[end - 1]))
-        s = np.arange(0.0, reach + step, step)
-        s = s[s <= reach]
+        last = min(reach, float(along[end - 1]))
+        s = np.arange(0.0, last + step, step)
+        s = s[s <= last]
         xs = np.interp(s, along[:end], ahead[:end, 0])
         ys = np.interp(s, along[:end], ahead[:end, 1])
         cells = self.grid.info.world_to_cells(np.column_stack((xs, ys)))
@@ -122,11 +142,9 @@ class ZoneMap:
                   & (cells[:, 1] < info.height))
         labels = np.zeros(s.shape[0], dtype=np.int32)
         labels[inside] = self.labels[cells[inside, 1], cells[inside, 0]]
-        hits = np.flatnonzero((labels != 0) & (labels != skip))
-        if hits.shape[0] == 0:
-            return None
-        k = int(hits[0])
-        return int(labels[k]), float(s[k])
+        core = np.zeros(s.shape[0], dtype=bool)
+        core[inside] = self.core[cells[inside, 1], cells[inside, 0]]
+        return s, labels, core
 
 
 def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> ZoneMap:
@@ -156,7 +174,7 @@ def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> Zo
     labels = np.where(region, groups, 0).astype(np.int32)
     labels, count = _renumber(labels)
     log.info("map %s: %d traffic zones", map_name, count)
-    return ZoneMap(map_name=map_name, grid=grid, labels=labels, count=count)
+    return ZoneMap(map_name=map_name, grid=grid, labels=labels, count=count, core=narrow)
 
 
 def _run_lengths(free: npt.NDArray[np.bool_]) -> npt.NDArray[np.float64]:

@@ -61,3 +61,14 @@ def test_bad_zone_config_names_the_key() -> None:
     with pytest.raises(ConfigError) as err:
         ZoneConfig(narrow_width=0.4, robot_radius=0.25)
     assert err.value.key == "fleet.zones.narrow_width"
+
+
+def test_a_path_leaves_the_zone_within_a_distance() -> None:
+    zones = find_zones("m", _two_rooms(1.0))
+    east = Path(np.array([[4.6, 2.0], [7.0, 2.0]]))
+    west = Path(np.array([[4.6, 2.0], [1.0, 2.0]]))
+    assert zones.zone_at(4.6, 2.0) == 1
+    assert zones.leaves(east, 4.6, 2.0, 1, within=1.5)
+    assert not zones.leaves(west, 4.6, 2.0, 1, within=1.5)  # it goes through the door
+    ends_inside = Path(np.array([[4.6, 2.0], [4.2, 2.0]]))
+    assert not zones.leaves(ends_inside, 4.6, 2.0, 1, within=1.5)

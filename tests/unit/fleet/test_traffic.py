@@ -1,0 +1,107 @@
+"""One robot's side of the traffic rule: what it asks for, when it stops, when it may go."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from polynav.fleet import messages as m
+from polynav.fleet.traffic import TrafficConfig, TrafficRule
+from polynav.fleet.zones import find_zones
+from polynav.geometry import Pose2D
+from polynav.nav.attempt import NavigationState
+from polynav.planning.path import Path
+from tests.unit.fleet.test_zones import _two_rooms
+
+
+@dataclass
+class _Navigator:
+    path: Path
+    state: NavigationState = NavigationState.RUNNING
+
+
+@dataclass
+class _Stack:
+    navigator: _Navigator
+
+
+@dataclass
+class _Status:
+    pose: Pose2D
+
+
+@dataclass
+class _Robot:
+    """The few things of a robot runtime the rule reads and does."""
+
+    pose: Pose2D
+    path: Path
+    map_name: str = "m"
+    navigation_stack: _Stack = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.navigation_stack = _Stack(_Navigator(self.path))
+
+    def status(self) -> _Status:
+        return _Status(self.pose)
+
+    def now(self) -> float:
+        return 0.0
+
+    def pause(self) -> None:
+        self.navigation_stack.navigator.state = NavigationState.PAUSED
+
+    def resume(self) -> None:
+        self.navigation_stack.navigator.state = NavigationState.RUNNING
+
+
+def _rule(sent: list[tuple[str, str, m.ZoneRequestType]]) -> TrafficRule:
+    zones = {"m": find_zones("m", _two_rooms(1.0))}
+    return TrafficRule("r1", zones, TrafficConfig(),
+                       lambda rid, zone, kind, _d: sent.append((rid, zone, kind)))
+
+
+def _queued(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]]) -> None:
+    rid, zone, _ = sent[-1]
+    rule.on_response(m.ZoneResponse(header_id=1, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.QUEUED))
+
+
+def test_a_robot_at_a_doors_edge_heading_through_it_waits_for_the_lease() -> None:
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(4.6, 2.0, np.pi), Path(np.array([[4.6, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    assert [(z, k) for _, z, k in sent] == [("zone:m/1", m.ZoneRequestType.ACCESS)]
+    _queued(rule, sent)
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1"
+    assert robot.navigation_stack.navigator.state is NavigationState.PAUSED
+
+
+def test_a_robot_at_a_doors_edge_heading_away_leaves_without_a_lease() -> None:
+    # Waiting there, it would wall in whoever holds the door and must come out of it.
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(4.6, 2.0, 0.0), Path(np.array([[4.6, 2.0], [7.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert sent == []
+    assert rule.waiting_for is None
+    assert robot.navigation_stack.navigator.state is NavigationState.RUNNING
+
+
+def test_a_waiting_robot_whose_new_path_leads_away_goes_on() -> None:
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(4.6, 2.0, np.pi), Path(np.array([[4.6, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    _queued(rule, sent)
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1"
+    robot.navigation_stack.navigator.path = Path(np.array([[4.6, 2.0], [7.0, 3.5]]))
+    rule.tick(2.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for is None
+    assert robot.navigation_stack.navigator.state is NavigationState.RUNNING
+    assert sent[-1][1:] == ("zone:m/1", m.ZoneRequestType.RELEASE)
