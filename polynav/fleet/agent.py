@@ -242,9 +242,10 @@ class RobotAgent:
         self._state_dirty = False
 
     def _send_zone_request(self, request_id: str, zone_id: str,
-                           request_type: m.ZoneRequestType, duration: float) -> None:
+                           request_type: m.ZoneRequestType, duration: float,
+                           flow: str | None = None) -> None:
         self._transport.publish(
             m.topic(self.serial_number, m.ZoneRequest),
             m.ZoneRequest(next(self._headers), self.serial_number, request_id, zone_id,
-                          request_type, duration))
+                          request_type, duration, flow))
         self._state_dirty = True

@@ -17,6 +17,11 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
 - **Waiters are served first come, first served.** When the resource is full, or others already
   wait, the holder joins the end of the queue. When capacity frees (release, expiry) the head of
   the queue is granted at once; a newcomer never overtakes a waiter.
+- **One way at a time.** A request may name a *flow* (the way the holder goes through, e.g.
+  ``"E"`` along a corridor): holders going the same way share a resource beyond its capacity
+  (robots following one another through a corridor never meet head-on), while one going
+  another way waits until they are all out. Sharing never overtakes the queue: a newcomer
+  joins a flow only when no one waits, so the other way gets its turn once the flow drains.
 - **No one waits for ever.** Each waiter has a deadline (``max_wait``); past it the waiter leaves
   the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. And a holder cannot
   keep a resource by renewing for ever while others wait: past ``max_hold`` its renewal is refused
@@ -82,6 +87,8 @@ class Lease:
         holder: who holds it (a robot id).
         granted_at: when it was granted [s]; ``max_hold`` counts from here.
         expires_at: the lease is live while ``now < expires_at`` [s].
+        flow: the way the holder goes through, shared with holders of the same flow; None
+            for a lease of its own.
     """
 
     lease_id: int
@@ -89,6 +96,7 @@ class Lease:
     holder: str
     granted_at: float
     expires_at: float
+    flow: str | None = None
 
     def live_at(self, now: float) -> bool:
         return now < self.expires_at
@@ -125,6 +133,7 @@ class Waiter:
     since: float
     deadline: float
     duration: float
+    flow: str | None = None
 
 
 @dataclass(slots=True)
@@ -228,7 +237,8 @@ class LeaseBook:
             self._serve_queue(name, res, now)
 
     def request(self, resource: str, holder: str, *, now: float,
-                duration: float | None = None, max_wait: float | None = None) -> Lease | None:
+                duration: float | None = None, max_wait: float | None = None,
+                flow: str | None = None) -> Lease | None:
         """Ask for ``resource`` for ``duration`` [s]: the lease if granted now, else None (queued).
 
         Asking again is safe: a holder gets its live lease back unchanged (use :meth:`renew` to
@@ -242,13 +252,17 @@ class LeaseBook:
             duration: how long the lease lasts once granted [s]; the book's default if None.
             max_wait: how long to wait at most [s]; the book's ``max_wait`` if None (and never
                 longer than it).
+            flow: the way the holder goes through: shared with holders of the same flow
+                beyond the capacity (module docstring); None: a lease of its own.
 
         Raises:
-            InvalidRequest: an empty name, a duration out of (0, max_duration], a max_wait <= 0,
-                or time running backwards.
+            InvalidRequest: an empty name or flow, a duration out of (0, max_duration], a
+                max_wait <= 0, or time running backwards.
         """
         _check_name("resource", resource)
         _check_name("holder", holder)
+        if flow is not None:
+            _check_name("flow", flow)
         length = self._duration(duration)
         if max_wait is not None and not max_wait > 0.0:
             raise InvalidRequest("max_wait", f"must be > 0, got {max_wait}")
@@ -260,9 +274,10 @@ class LeaseBook:
             return held
         if any(w.holder == holder for w in res.queue):
             return None
-        if not res.queue and len(res.leases) < res.capacity:
-            return self._grant(resource, res, holder, now, length)
-        res.queue.append(Waiter(holder=holder, since=now, deadline=now + wait, duration=length))
+        if not res.queue and _admits(res, flow):
+            return self._grant(resource, res, holder, now, length, flow)
+        res.queue.append(Waiter(holder=holder, since=now, deadline=now + wait, duration=length,
+                                flow=flow))
         log.info("%s queued for %s at t=%.3f (place %d)", holder, resource, now, len(res.queue) - 1)
         self._events.append(LeaseEvent(LeaseEventKind.QUEUED, resource, holder, now))
         return None
@@ -352,14 +367,14 @@ class LeaseBook:
                 log.info("%s gave up waiting for %s at t=%.3f", w.holder, name, now)
                 self._events.append(
                     LeaseEvent(LeaseEventKind.WAIT_TIMED_OUT, name, w.holder, w.deadline))
-        while res.queue and len(res.leases) < res.capacity:
+        while res.queue and _admits(res, res.queue[0].flow):
             w = res.queue.popleft()
-            self._grant(name, res, w.holder, now, w.duration)
+            self._grant(name, res, w.holder, now, w.duration, w.flow)
 
     def _grant(self, name: str, res: _Resource, holder: str, now: float,
-               duration: float) -> Lease:
+               duration: float, flow: str | None = None) -> Lease:
         lease = Lease(lease_id=self._next_id, resource=name, holder=holder,
-                      granted_at=now, expires_at=now + duration)
+                      granted_at=now, expires_at=now + duration, flow=flow)
         self._next_id += 1
         res.leases[holder] = lease
         log.info("%s granted %s at t=%.3f until t=%.3f", holder, name, now, lease.expires_at)
@@ -368,6 +383,15 @@ class LeaseBook:
 
     def _emit(self, kind: LeaseEventKind, lease: Lease, *, at: float) -> None:
         self._events.append(LeaseEvent(kind, lease.resource, lease.holder, at, lease))
+
+
+def _admits(res: _Resource, flow: str | None) -> bool:
+    """Whether ``res`` can take one more holder of ``flow`` now (queue aside)."""
+    if len(res.leases) < res.capacity:
+        # Below capacity: anyone, unless holders of a flow are inside and this one goes
+        # another way.
+        return flow is None or all(lease.flow in (None, flow) for lease in res.leases.values())
+    return flow is not None and all(lease.flow == flow for lease in res.leases.values())
 
 
 def _check_name(field_name: str, value: str) -> None:

@@ -135,8 +135,8 @@ class MasterControl:
             if self.leases.lease(zone, serial) is None:
                 # A grant, now or when the robot's turn comes, is answered from the book's
                 # GRANTED event (see _forward_events), so it is answered once.
-                if self.leases.request(zone, serial, now=now,
-                                       duration=request.duration) is None:
+                if self.leases.request(zone, serial, now=now, duration=request.duration,
+                                       flow=request.flow) is None:
                     self._respond(serial, request.request_id, zone, m.GrantType.QUEUED, None)
                 return
             lease = self.leases.renew(zone, serial, now=now, duration=request.duration)

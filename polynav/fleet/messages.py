@@ -79,7 +79,11 @@ class ZoneRequestType(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class ZoneRequest:
-    """A robot asks for a zone (a narrow passage, a lift) for ``duration`` [s] (VDA 5050 3.0)."""
+    """A robot asks for a zone (a narrow passage, a lift) for ``duration`` [s] (VDA 5050 3.0).
+
+    ``flow`` (a polynav extension) is the way the robot goes through the zone, e.g. ``"E"``:
+    robots going the same way may share it (:mod:`polynav.fleet.lease`); None asks for it alone.
+    """
 
     header_id: int
     serial_number: str
@@ -87,6 +91,7 @@ class ZoneRequest:
     zone_id: str
     request_type: ZoneRequestType
     duration: float = 30.0
+    flow: str | None = None
 
 
 class GrantType(enum.Enum):

@@ -29,9 +29,8 @@ from __future__ import annotations
 import itertools
 import logging
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from polynav.errors import ConfigError, PolynavError
 from polynav.fleet import messages as m
@@ -46,8 +45,11 @@ log = logging.getLogger(__name__)
 
 _KEY = "fleet.traffic."
 
-SendRequest = Callable[[str, str, m.ZoneRequestType, float], None]
-"""Send a zone request: (request id, zone id, type, duration [s])."""
+class SendRequest(Protocol):
+    """Send a zone request: request id, zone id, type, duration [s], and the way through."""
+
+    def __call__(self, request_id: str, zone_id: str, request_type: m.ZoneRequestType,
+                 duration: float, flow: str | None = None) -> None: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -160,9 +162,9 @@ class TrafficRule:
             return
         self._next_check = now + self.config.check_period
         needed, current, ahead = self._needed(runtime)
-        for zone_id in needed:
+        for zone_id, flow in needed.items():
             if zone_id not in self._leases:
-                self._request(zone_id)
+                self._request(zone_id, flow)
         for zone_id, lease in list(self._leases.items()):
             if zone_id not in needed:
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
@@ -199,37 +201,43 @@ class TrafficRule:
         return lease is not None and lease.granted
 
     def _needed(self, runtime: RobotRuntime
-                ) -> tuple[set[str], str | None, tuple[str, float] | None]:
-        """The zones the robot needs now, the zone it stands in, and the zone ahead with its
-        distance."""
+                ) -> tuple[dict[str, str | None], str | None, tuple[str, float] | None]:
+        """The zones the robot needs now (with the way it goes through those it has not asked
+        for yet), the zone it stands in, and the zone ahead with its distance."""
         stack = runtime.navigation_stack
         name = runtime.map_name
         zmap = self._zones.get(name) if name is not None else None
         if stack is None or zmap is None:
-            return set(), None, None
+            return {}, None, None
         navigator = stack.navigator
         if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
-            return set(), None, None
+            return {}, None, None
         pose = runtime.status().pose
-        needed: set[str] = set()
         path: Path | None = navigator.path
+        numbers: dict[str, int] = {}
         current = zmap.zone_at(pose.x, pose.y)
         inside = zmap.zone_id(current) if current else None
         if (inside is not None and path is not None and not self._granted(inside)
                 and zmap.leaves(path, pose.x, pose.y, current, within=self.config.leave_within)):
             inside = None  # on its way out
         if inside is not None:
-            needed.add(inside)
+            numbers[inside] = current
         ahead = None
         if path is not None:
             found = zmap.zone_ahead(path, pose.x, pose.y, lookahead=self.config.lookahead,
                                     skip=current)
             if found is not None:
                 ahead = (zmap.zone_id(found[0]), found[1])
-                needed.add(ahead[0])
+                numbers[ahead[0]] = found[0]
+        needed = {
+            zone_id: None if zone_id in self._leases or path is None
+            else zmap.flow(path, pose.x, pose.y, number)
+            for zone_id, number in numbers.items()
+        }
         return needed, inside, ahead
 
-    def _request(self, zone_id: str) -> None:
+    def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
         self._leases[zone_id] = _ZoneLease(request_id)
-        self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration)
+        self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
+                   flow)

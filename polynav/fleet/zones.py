@@ -15,6 +15,12 @@ are no passage and are left out. Each connected group of narrow cells, grown by 
 zones closer than ``merge_gap`` are one zone, so a robot never needs two leases at once to pass
 a door and the narrow bit right behind it.
 
+Robots going the same way through a zone never meet head-on in it, so they may share it: the
+*flow* of a path through a zone is the compass sector of the line from where it enters the zone
+to where it leaves it (east along a corridor, north through a door), and the lease book lets
+holders of one flow in together (:mod:`polynav.fleet.lease`). A way through shorter than half a
+metre (a robot turning round at a door) has no flow and is asked for alone.
+
 This finds passages along the map's axes, which is how buildings are drawn; a narrow passage at
 45° to the grid is not found (a documented limit, docs/fleet.md).
 """
@@ -36,6 +42,9 @@ from polynav.planning.path import Path
 log = logging.getLogger(__name__)
 
 _KEY = "fleet.zones."
+
+_FLOW_MIN = 0.5
+"""A way through a zone shorter than this [m] has no clear direction (module docstring)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,7 +109,7 @@ class ZoneMap:
 
         The path is sampled every half cell, so a zone a cell wide is never stepped over.
         """
-        s, labels, _ = self._labels_along(path, x, y, lookahead)
+        s, _, labels, _ = self._samples(path, x, y, lookahead)
         hits = np.flatnonzero((labels != 0) & (labels != skip))
         if hits.shape[0] == 0:
             return None
@@ -111,21 +120,40 @@ class ZoneMap:
         """Whether ``path``, from the point nearest to (x, y), is out of zone ``zone`` within
         ``within`` [m] along it without touching the zone's narrow core: a robot at the zone's
         edge heading away from the passage, not through it."""
-        _, labels, core = self._labels_along(path, x, y, within)
+        _, _, labels, core = self._samples(path, x, y, within)
         out = np.flatnonzero(labels != zone)
         return out.shape[0] > 0 and not bool(np.any(core[:out[0]]))
 
-    def _labels_along(
+    def flow(self, path: Path, x: float, y: float, zone: int) -> str | None:
+        """The way ``path``, from the point nearest to (x, y), goes through zone ``zone``: the
+        compass sector (``"E"``, ``"N"``, ``"W"``, ``"S"``, in the map's frame) of the line from
+        where it enters the zone (or (x, y), inside it) to where it leaves it (or ends). None
+        when the path does not go through the zone or goes less than ``_FLOW_MIN`` across it
+        (no clear way: the robot asks for the zone alone)."""
+        _, xy, labels, _ = self._samples(path, x, y, math.inf)
+        inside = np.flatnonzero(labels == zone)
+        if inside.shape[0] == 0:
+            return None
+        first = int(inside[0])
+        gone = np.flatnonzero(labels[first:] != zone)
+        last = first + int(gone[0]) - 1 if gone.shape[0] else labels.shape[0] - 1
+        (x0, y0), (x1, y1) = xy[first], xy[last]
+        if math.hypot(x1 - x0, y1 - y0) < _FLOW_MIN:
+            return None
+        sector = int(round(math.atan2(y1 - y0, x1 - x0) / (math.pi / 2))) % 4
+        return "ENWS"[sector]
+
+    def _samples(
         self, path: Path, x: float, y: float, reach: float,
-    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.bool_]]:
-        """Arc lengths [m] every half cell along ``path`` from (x, y) up to ``reach``, the zone
-        number at each, and whether each is in a zone's narrow core."""
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.int32],
+               npt.NDArray[np.bool_]]:
+        """Samples every half cell along ``path`` from (x, y) up to ``reach`` [m]: their arc
+        lengths [m], points (M, 2), zone numbers, and whether each is in a zone's narrow core."""
         points = path.points
         if points.shape[0] == 0:
-            return np.zeros(0), np.zeros(0, dtype=np.int32), np.zeros(0, dtype=bool)
-        d2 = (points[:, 0] - x) ** 2 + (points[:, 1] - y) ** 2
-        start = int(np.argmin(d2))
-        ahead = np.vstack(([x, y], points[start:]))
+            return (np.zeros(0), np.zeros((0, 2)), np.zeros(0, dtype=np.int32),
+                    np.zeros(0, dtype=bool))
+        ahead = np.vstack(([x, y], _rest_of(points, x, y)))
         seg = np.hypot(*np.diff(ahead, axis=0).T)
         along = np.concatenate(([0.0], np.cumsum(seg)))
         # The points up to and including the first one at or past the reach.
@@ -136,7 +164,8 @@ class ZoneMap:
         s = s[s <= last]
         xs = np.interp(s, along[:end], ahead[:end, 0])
         ys = np.interp(s, along[:end], ahead[:end, 1])
-        cells = self.grid.info.world_to_cells(np.column_stack((xs, ys)))
+        xy = np.column_stack((xs, ys))
+        cells = self.grid.info.world_to_cells(xy)
         info = self.grid.info
         inside = ((cells[:, 0] >= 0) & (cells[:, 0] < info.width) & (cells[:, 1] >= 0)
                   & (cells[:, 1] < info.height))
@@ -144,7 +173,21 @@ class ZoneMap:
         labels[inside] = self.labels[cells[inside, 1], cells[inside, 0]]
         core = np.zeros(s.shape[0], dtype=bool)
         core[inside] = self.core[cells[inside, 1], cells[inside, 0]]
-        return s, labels, core
+        return s, xy, labels, core
+
+
+def _rest_of(points: npt.NDArray[np.float64], x: float, y: float) -> npt.NDArray[np.float64]:
+    """The polyline ``points`` from the point on it nearest to (x, y) on (a sparse path's
+    nearest *vertex* may lie behind the robot)."""
+    if points.shape[0] == 1:
+        return points
+    a, b = points[:-1], points[1:]
+    d = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-18)
+    t = np.clip(((x - a[:, 0]) * d[:, 0] + (y - a[:, 1]) * d[:, 1]) / length2, 0.0, 1.0)
+    foot = a + t[:, None] * d
+    k = int(np.argmin((foot[:, 0] - x) ** 2 + (foot[:, 1] - y) ** 2))
+    return np.vstack((foot[k], points[k + 1:]))
 
 
 def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> ZoneMap:

@@ -28,6 +28,8 @@ STATE = m.State(
     STATE,
     m.InstantActions(3, "robot1", (m.Action("a1", m.ActionType.CANCEL_ORDER),)),
     m.ZoneRequest(4, "robot1", "robot1-9", "zone:floor1/3", m.ZoneRequestType.ACCESS, 30.0),
+    m.ZoneRequest(4, "robot1", "robot1-9", "zone:floor1/3", m.ZoneRequestType.ACCESS, 30.0,
+                  "E"),
     m.ZoneResponse(5, "robot1", "robot1-9", "zone:floor1/3", m.GrantType.GRANTED, 42.0),
     m.ZoneResponse(6, "robot1", "robot1-9", "zone:floor1/3", m.GrantType.QUEUED),
 ])
@@ -57,6 +59,8 @@ def test_json_uses_vda_5050_camel_case_names() -> None:
               b' "nodes": {}}', "order.nodes"),
     ("zoneResponse", b'{"headerId": 1, "serialNumber": "r", "requestId": "q", "zoneId": "z",'
                      b' "grantType": "MAYBE"}', "zoneResponse.grantType"),
+    ("zoneRequest", b'{"headerId": 1, "serialNumber": "r", "requestId": "q", "zoneId": "z",'
+                    b' "requestType": "ACCESS", "flow": 3}', "zoneRequest.flow"),
     ("teleport", b"{}", "topic"),
 ])
 def test_bad_messages_are_refused_naming_the_field(kind: str, data: bytes, field: str) -> None:

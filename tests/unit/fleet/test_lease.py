@@ -256,3 +256,49 @@ def test_bad_config_names_the_key(kwargs: dict[str, float]) -> None:
     with pytest.raises(ConfigError) as err:
         LeaseBookConfig(**kwargs)
     assert err.value.key.startswith("fleet.lease.")
+
+
+def test_holders_going_the_same_way_share_a_passage(book: LeaseBook) -> None:
+    assert book.request("zone:c", "r1", now=0.0, flow="E") is not None
+    second = book.request("zone:c", "r2", now=1.0, flow="E")
+    assert second is not None and second.flow == "E"
+    assert {lease.holder for lease in book.leases("zone:c")} == {"r1", "r2"}
+
+
+def test_one_going_the_other_way_waits_until_the_flow_has_drained(book: LeaseBook) -> None:
+    book.request("zone:c", "r1", now=0.0, flow="E")
+    book.request("zone:c", "r2", now=0.5, flow="E")
+    assert book.request("zone:c", "r3", now=1.0, flow="W") is None
+    # A newcomer of the flow inside does not overtake the one waiting for the other way.
+    assert book.request("zone:c", "r4", now=1.5, flow="E") is None
+    book.release("zone:c", "r1", now=2.0)
+    assert book.lease("zone:c", "r3") is None
+    book.release("zone:c", "r2", now=3.0)
+    assert book.lease("zone:c", "r3") is not None
+    assert book.lease("zone:c", "r4") is None  # now r4 waits for the westward one
+    book.release("zone:c", "r3", now=4.0)
+    assert book.lease("zone:c", "r4") is not None
+
+
+def test_waiters_of_one_flow_are_let_in_together(book: LeaseBook) -> None:
+    book.request("zone:c", "r1", now=0.0, flow="W")
+    book.request("zone:c", "r2", now=1.0, flow="E")
+    book.request("zone:c", "r3", now=1.5, flow="E")
+    book.request("zone:c", "r4", now=2.0, flow="W")
+    book.release("zone:c", "r1", now=3.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r2", "r3"]
+    assert [w.holder for w in book.waiters("zone:c")] == ["r4"]
+
+
+def test_a_holder_without_a_flow_keeps_the_passage_to_itself(book: LeaseBook) -> None:
+    book.request("zone:c", "r1", now=0.0)
+    assert book.request("zone:c", "r2", now=1.0, flow="E") is None
+    book.release("zone:c", "r1", now=2.0)
+    assert book.lease("zone:c", "r2") is not None
+    assert book.request("zone:c", "r3", now=3.0) is None  # no flow: it waits for its own turn
+
+
+def test_an_empty_flow_is_refused(book: LeaseBook) -> None:
+    with pytest.raises(InvalidRequest):
+        book.request("zone:c", "r1", now=0.0, flow=" ")
+    assert book.leases("zone:c") == ()

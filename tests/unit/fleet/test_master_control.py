@@ -23,9 +23,9 @@ class Robot:
         self.responses = transport.subscribe(m.topic(serial, m.ZoneResponse))
 
     def ask(self, request_id: str, zone: str,
-            kind: m.ZoneRequestType = m.ZoneRequestType.ACCESS) -> None:
+            kind: m.ZoneRequestType = m.ZoneRequestType.ACCESS, flow: str | None = None) -> None:
         self.transport.publish(m.topic(self.serial, m.ZoneRequest),
-                               m.ZoneRequest(1, self.serial, request_id, zone, kind, 10.0))
+                               m.ZoneRequest(1, self.serial, request_id, zone, kind, 10.0, flow))
 
     def answers(self) -> list[tuple[str, m.GrantType, float | None]]:
         out = []
@@ -69,6 +69,16 @@ def test_zone_is_granted_queued_then_granted_to_the_waiter_on_release(
     r1.ask("a", "zone:floor1/1", m.ZoneRequestType.RELEASE)
     master.tick(2.0)
     assert r2.answers() == [("b", m.GrantType.GRANTED, 12.0)]
+
+
+def test_robots_going_the_same_way_are_granted_a_zone_together(
+        setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, r2 = setup
+    r1.ask("a", "zone:floor1/1", flow="E")
+    r2.ask("b", "zone:floor1/1", flow="E")
+    master.tick(1.0)
+    assert r1.answers() == [("a", m.GrantType.GRANTED, 11.0)]
+    assert r2.answers() == [("b", m.GrantType.GRANTED, 11.0)]
 
 
 def test_renewal_extends_and_silence_expires(setup: tuple[MasterControl, Robot, Robot]) -> None:

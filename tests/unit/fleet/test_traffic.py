@@ -56,10 +56,17 @@ class _Robot:
         self.navigation_stack.navigator.state = NavigationState.RUNNING
 
 
-def _rule(sent: list[tuple[str, str, m.ZoneRequestType]]) -> TrafficRule:
+def _rule(sent: list[tuple[str, str, m.ZoneRequestType]],
+          flows: list[str | None] | None = None) -> TrafficRule:
     zones = {"m": find_zones("m", _two_rooms(1.0))}
-    return TrafficRule("r1", zones, TrafficConfig(),
-                       lambda rid, zone, kind, _d: sent.append((rid, zone, kind)))
+
+    def send(rid: str, zone: str, kind: m.ZoneRequestType, _duration: float,
+             flow: str | None = None) -> None:
+        sent.append((rid, zone, kind))
+        if flows is not None:
+            flows.append(flow)
+
+    return TrafficRule("r1", zones, TrafficConfig(), send)
 
 
 def _queued(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]]) -> None:
@@ -70,10 +77,12 @@ def _queued(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]]) -
 
 def test_a_robot_at_a_doors_edge_heading_through_it_waits_for_the_lease() -> None:
     sent: list[tuple[str, str, m.ZoneRequestType]] = []
-    rule = _rule(sent)
+    flows: list[str | None] = []
+    rule = _rule(sent, flows)
     robot = _Robot(Pose2D(4.6, 2.0, np.pi), Path(np.array([[4.6, 2.0], [1.0, 2.0]])))
     rule.tick(0.0, robot)  # type: ignore[arg-type]
     assert [(z, k) for _, z, k in sent] == [("zone:m/1", m.ZoneRequestType.ACCESS)]
+    assert flows == ["W"]  # the way it goes through: others going west may share the door
     _queued(rule, sent)
     rule.tick(1.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1"

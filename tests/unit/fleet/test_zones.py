@@ -72,3 +72,17 @@ def test_a_path_leaves_the_zone_within_a_distance() -> None:
     assert not zones.leaves(west, 4.6, 2.0, 1, within=1.5)  # it goes through the door
     ends_inside = Path(np.array([[4.6, 2.0], [4.2, 2.0]]))
     assert not zones.leaves(ends_inside, 4.6, 2.0, 1, within=1.5)
+
+
+def test_the_flow_of_a_path_through_a_zone_is_the_way_it_goes() -> None:
+    zones = find_zones("m", _two_rooms(1.0))
+    east = Path(np.array([[1.0, 2.0], [7.0, 2.0]]))
+    assert zones.flow(east, 1.0, 2.0, 1) == "E"
+    assert zones.flow(Path(east.points[::-1].copy()), 7.0, 2.0, 1) == "W"
+    # From inside the zone: the way from the robot to where the path leaves it.
+    assert zones.flow(east, 4.0, 2.0, 1) == "E"
+    # A path that turns back at the door has no clear way through it.
+    turn = Path(np.array([[1.0, 2.0], [3.6, 2.0], [1.0, 2.1]]))
+    assert zones.flow(turn, 1.0, 2.0, 1) is None
+    # A path that never reaches the zone has none either.
+    assert zones.flow(Path(np.array([[1.0, 3.5], [2.0, 3.5]])), 1.0, 3.5, 1) is None
