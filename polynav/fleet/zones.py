@@ -16,10 +16,13 @@ zones closer than ``merge_gap`` are one zone, so a robot never needs two leases 
 a door and the narrow bit right behind it.
 
 Robots going the same way through a zone never meet head-on in it, so they may share it: the
-*flow* of a path through a zone is the compass sector of the line from where it enters the zone
-to where it leaves it (east along a corridor, north through a door), and the lease book lets
-holders of one flow in together (:mod:`polynav.fleet.lease`). A way through shorter than half a
-metre (a robot turning round at a door) has no flow and is asked for alone.
+*flow* of a path through a zone is the compass sector of its heading where it enters the zone
+and where it leaves it (``"EE"`` along a corridor eastwards, ``"NE"`` out of a door on its
+south side and east along it), and the lease book lets holders of one flow in together
+(:mod:`polynav.fleet.lease`). Both ends count: a robot coming out of a door and turning east
+and one coming from the west to turn into that door both head east overall, yet meet in the
+door. A way through shorter than half a metre (a robot turning round at a door) has no flow and
+is asked for alone.
 
 This finds passages along the map's axes, which is how buildings are drawn; a narrow passage at
 45° to the grid is not found (a documented limit, docs/fleet.md).
@@ -126,10 +129,11 @@ class ZoneMap:
 
     def flow(self, path: Path, x: float, y: float, zone: int) -> str | None:
         """The way ``path``, from the point nearest to (x, y), goes through zone ``zone``: the
-        compass sector (``"E"``, ``"N"``, ``"W"``, ``"S"``, in the map's frame) of the line from
-        where it enters the zone (or (x, y), inside it) to where it leaves it (or ends). None
-        when the path does not go through the zone or goes less than ``_FLOW_MIN`` across it
-        (no clear way: the robot asks for the zone alone)."""
+        compass sectors (``E``, ``N``, ``W``, ``S``, in the map's frame) of its heading where it
+        enters the zone (or at (x, y), inside it) and where it leaves it (or ends), e.g.
+        ``"NE"``: out of a door northwards, then east along the corridor. None when the path
+        does not go through the zone or goes less than ``_FLOW_MIN`` across it (no clear way:
+        the robot asks for the zone alone)."""
         _, xy, labels, _ = self._samples(path, x, y, math.inf)
         inside = np.flatnonzero(labels == zone)
         if inside.shape[0] == 0:
@@ -137,11 +141,13 @@ class ZoneMap:
         first = int(inside[0])
         gone = np.flatnonzero(labels[first:] != zone)
         last = first + int(gone[0]) - 1 if gone.shape[0] else labels.shape[0] - 1
-        (x0, y0), (x1, y1) = xy[first], xy[last]
-        if math.hypot(x1 - x0, y1 - y0) < _FLOW_MIN:
+        if math.hypot(*(xy[last] - xy[first])) < _FLOW_MIN:
             return None
-        sector = int(round(math.atan2(y1 - y0, x1 - x0) / (math.pi / 2))) % 4
-        return "ENWS"[sector]
+        # The heading over the first and the last _FLOW_MIN of the way (samples every half cell).
+        k = max(1, int(round(_FLOW_MIN / (0.5 * self.grid.info.resolution))))
+        inward = xy[min(first + k, last)] - xy[first]
+        outward = xy[last] - xy[max(last - k, first)]
+        return _sector(inward) + _sector(outward)
 
     def _samples(
         self, path: Path, x: float, y: float, reach: float,
@@ -174,6 +180,12 @@ class ZoneMap:
         core = np.zeros(s.shape[0], dtype=bool)
         core[inside] = self.core[cells[inside, 1], cells[inside, 0]]
         return s, xy, labels, core
+
+
+def _sector(direction: npt.NDArray[np.float64]) -> str:
+    """The compass sector of ``direction`` (dx, dy): E, N, W or S."""
+    angle = math.atan2(float(direction[1]), float(direction[0]))
+    return "ENWS"[int(round(angle / (math.pi / 2))) % 4]
 
 
 def _rest_of(points: npt.NDArray[np.float64], x: float, y: float) -> npt.NDArray[np.float64]:

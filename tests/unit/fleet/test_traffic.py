@@ -82,7 +82,7 @@ def test_a_robot_at_a_doors_edge_heading_through_it_waits_for_the_lease() -> Non
     robot = _Robot(Pose2D(4.6, 2.0, np.pi), Path(np.array([[4.6, 2.0], [1.0, 2.0]])))
     rule.tick(0.0, robot)  # type: ignore[arg-type]
     assert [(z, k) for _, z, k in sent] == [("zone:m/1", m.ZoneRequestType.ACCESS)]
-    assert flows == ["W"]  # the way it goes through: others going west may share the door
+    assert flows == ["WW"]  # the way it goes through: others going west may share the door
     _queued(rule, sent)
     rule.tick(1.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1"

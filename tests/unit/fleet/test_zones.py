@@ -77,12 +77,38 @@ def test_a_path_leaves_the_zone_within_a_distance() -> None:
 def test_the_flow_of_a_path_through_a_zone_is_the_way_it_goes() -> None:
     zones = find_zones("m", _two_rooms(1.0))
     east = Path(np.array([[1.0, 2.0], [7.0, 2.0]]))
-    assert zones.flow(east, 1.0, 2.0, 1) == "E"
-    assert zones.flow(Path(east.points[::-1].copy()), 7.0, 2.0, 1) == "W"
-    # From inside the zone: the way from the robot to where the path leaves it.
-    assert zones.flow(east, 4.0, 2.0, 1) == "E"
+    assert zones.flow(east, 1.0, 2.0, 1) == "EE"
+    assert zones.flow(Path(east.points[::-1].copy()), 7.0, 2.0, 1) == "WW"
+    # From inside the zone: from the robot to where the path leaves it.
+    assert zones.flow(east, 4.0, 2.0, 1) == "EE"
+
     # A path that turns back at the door has no clear way through it.
     turn = Path(np.array([[1.0, 2.0], [3.6, 2.0], [1.0, 2.1]]))
     assert zones.flow(turn, 1.0, 2.0, 1) is None
     # A path that never reaches the zone has none either.
     assert zones.flow(Path(np.array([[1.0, 3.5], [2.0, 3.5]])), 1.0, 3.5, 1) is None
+
+
+def _corridor_with_a_door() -> Map:
+    """A corridor 1 m wide (y 4..5) along x 0..10 above a room (y 0..3.9), joined by a door
+    at x 4.5..5.5 in the wall between them (y 3.9..4.0)."""
+    w, h = int(10.0 / RES), int(5.2 / RES)
+    occ = np.ones((h, w), dtype=bool)
+    occ[int(4.0 / RES):int(5.0 / RES), :] = False
+    occ[int(0.1 / RES):int(3.9 / RES), int(0.1 / RES):int(9.9 / RES)] = False
+    occ[int(3.9 / RES):int(4.0 / RES), int(4.5 / RES):int(5.5 / RES)] = False
+    return Map.from_occupied(occ, resolution=RES)
+
+
+def test_ways_east_into_a_door_and_out_of_it_are_two_flows() -> None:
+    # Both head east overall, but one comes out of the door and the other turns into it:
+    # they would meet in the door.
+    zones = find_zones("m", _corridor_with_a_door())
+    zone = zones.zone_at(5.0, 4.5)
+    assert zone != 0
+    out_of = Path(np.array([[5.0, 2.0], [5.0, 4.5], [9.5, 4.5]]))
+    into = Path(np.array([[0.5, 4.5], [5.0, 4.5], [5.0, 2.0]]))
+    along = Path(np.array([[0.5, 4.5], [9.5, 4.5]]))
+    assert zones.flow(out_of, 5.0, 2.0, zone) == "NE"
+    assert zones.flow(into, 0.5, 4.5, zone) == "ES"
+    assert zones.flow(along, 0.5, 4.5, zone) == "EE"
