@@ -3,8 +3,8 @@
 Two kinds of check live here. Cost lookups under points (:func:`costs_at`) read the inflated
 costmap, where the robot *centre* collides where a cell is INSCRIBED or LETHAL: exact for a round
 robot of the inscribed radius, and what the proximity regulation reads. Footprint checks
-(:func:`first_footprint_collision` over :func:`arc_poses`, :func:`path_poses` or a turn in place)
-place the robot's real body, circle or polygon, at each pose and test it against LETHAL cells
+(:func:`first_footprint_collision` over :func:`arc_poses`, ``TrackedPath.poses_at`` or a turn in
+place) place the robot's real body, circle or polygon, at each pose and test it against LETHAL cells
 (:mod:`polynav.footprint`): a rectangle may pass a gap lengthwise that its circumscribed circle
 could not, and turning on the spot sweeps its corners, not a point. Poses are sampled at half a
 cell so no cell along the way is skipped, whatever the spacing of the planner's points.
@@ -94,13 +94,6 @@ def arc_poses(pose: Pose2D, kappa: float, length: float, step: float) -> npt.NDA
     out[:, :2] = points
     out[:, 2] = pose.theta + kappa * s
     return out
-
-
-def path_poses(
-    points: npt.NDArray[np.float64], headings: npt.NDArray[np.float64]
-) -> npt.NDArray[np.float64]:
-    """Poses (N, 3) from points (N, 2) [m] and headings (N,) [rad]."""
-    return np.column_stack((points, headings))
 
 
 def first_footprint_collision(
