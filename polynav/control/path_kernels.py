@@ -18,6 +18,8 @@ import numba
 import numpy as np
 import numpy.typing as npt
 
+from polynav.control import collision
+
 
 @numba.njit(cache=True, nogil=True)
 def segments(cumulative: npt.NDArray[np.float64], start: float, stop: float) -> tuple[int, int]:
@@ -162,10 +164,12 @@ def lookahead(
 
 @functools.cache
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the kernels on a two-segment path, once per process:
+    """Compile (or load from numba's cache) these kernels on a two-segment path, and the
+    collision module's arc kernel, once per process:
     a controller calls it when built, so the first control period is not late by a compile."""
     points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
     cumulative = np.array([0.0, 1.0, 2.0])
     project(points, cumulative, 0.5, 0.1, 0.0, 2.0, True, 0.0, 0.05)
     sample(points, cumulative, np.array([0.0, 0.5, 1.5, 3.0]))
     lookahead(points, cumulative, 0.5, 0.1, 0.5, 0.8, 2.0)
+    collision.warm_up()
