@@ -34,12 +34,36 @@ log = logging.getLogger(__name__)
 def costs_at(costmap: CostGrid, points: npt.NDArray[np.float64]) -> npt.NDArray[np.int64]:
     """Costs under ``points`` (N, 2) [m]; UNKNOWN for points outside the grid."""
     info = costmap.info
-    cells = info.world_to_cells(points)
-    ix, iy = cells[:, 0], cells[:, 1]
-    inside = (ix >= 0) & (iy >= 0) & (ix < info.width) & (iy < info.height)
-    values = np.full(points.shape[0], costs.UNKNOWN, dtype=np.int64)
-    values[inside] = costmap.costs[iy[inside], ix[inside]]
-    return values
+    theta = info.origin.theta
+    return _costs_at(
+        costmap.costs, info.origin.x, info.origin.y, math.cos(theta), math.sin(theta),
+        info.resolution, np.asarray(points, dtype=np.float64).reshape(-1, 2),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _costs_at(
+    grid: npt.NDArray[np.uint8],
+    ox: float,
+    oy: float,
+    c: float,
+    s: float,
+    resolution: float,
+    points: npt.NDArray[np.float64],
+) -> npt.NDArray[np.int64]:
+    """:func:`costs_at` in one pass, with ``MapInfo.world_to_cells``' arithmetic."""
+    height, width = grid.shape
+    out = np.empty(points.shape[0], dtype=np.int64)
+    for k in range(points.shape[0]):
+        dx = points[k, 0] - ox
+        dy = points[k, 1] - oy
+        ix = int(math.floor((c * dx + s * dy) / resolution))
+        iy = int(math.floor((-s * dx + c * dy) / resolution))
+        if 0 <= ix < width and 0 <= iy < height:
+            out[k] = grid[iy, ix]
+        else:
+            out[k] = costs.UNKNOWN
+    return out
 
 
 def cost_at(costmap: CostGrid, x: float, y: float) -> int:
@@ -106,8 +130,14 @@ def _arc(
 
 
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the arc kernel."""
+    """Compile (or load from numba's cache) the arc and cost kernels, for writable and
+    read-only grids (a costmap hands out a read-only view)."""
     _arc(0.0, 0.0, 0.0, 0.5, 1.0, 4)
+    grid = np.zeros((2, 2), dtype=np.uint8)
+    points = np.array([[0.5, 0.5], [3.0, 0.5]])
+    _costs_at(grid, 0.0, 0.0, 1.0, 0.0, 1.0, points)
+    grid.flags.writeable = False
+    _costs_at(grid, 0.0, 0.0, 1.0, 0.0, 1.0, points)
 
 
 def first_footprint_collision(
