@@ -57,7 +57,7 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav import footprint as body
-from polynav.control import collision, regulation
+from polynav.control import collision, path_kernels, regulation
 from polynav.control.goal_checker import GoalChecker
 from polynav.control.interface import ControlCommand, ControlStatus
 from polynav.control.pose_filter import PoseFilter
@@ -91,6 +91,7 @@ class RegulatedPurePursuit:
     def __init__(
         self, config: PurePursuitConfig | None = None, *, footprint: Footprint | None = None
     ) -> None:
+        path_kernels.warm_up()
         self.config = config or PurePursuitConfig()
         self.footprint = footprint or DEFAULT_FOOTPRINT
         self._goal_checker = GoalChecker(
@@ -323,8 +324,8 @@ class RegulatedPurePursuit:
         horizon = max(cfg.slowdown_distance, stop_at)
         arc_s = np.arange(self._place, min(path.length, self._place + horizon) + step, step)
         arc_s = np.minimum(arc_s, path.length)
-        ahead_points = path.points_at(arc_s)
-        ahead = collision.costs_at(costmap, ahead_points)
+        ahead_poses = path.poses_at(arc_s)
+        ahead = collision.costs_at(costmap, ahead_poses[:, :2])
 
         speed = regulation.curvature_speed(
             cfg.max_linear_velocity, kappa, min_radius=cfg.regulated_min_radius
@@ -346,9 +347,7 @@ class RegulatedPurePursuit:
             deceleration=cfg.linear_deceleration,
         )
 
-        hit = collision.first_footprint_collision(
-            self.footprint, costmap, collision.path_poses(ahead_points, path.headings_at(arc_s))
-        )
+        hit = collision.first_footprint_collision(self.footprint, costmap, ahead_poses)
         if hit is not None:
             obstacle = float(arc_s[hit]) - self._place
             if obstacle <= stop_at:

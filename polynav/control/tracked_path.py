@@ -17,11 +17,12 @@ terms of the arc length ``s`` [m] from the first point:
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
+
+from polynav.control import path_kernels as kernels
 
 log = logging.getLogger(__name__)
 
@@ -74,12 +75,7 @@ class TrackedPath:
         """Points (M, 2) at arc lengths ``s`` (M,) [m], clamped to the path."""
         if self.points.shape[0] == 1:
             return np.repeat(self.points, len(s), axis=0)
-        return np.column_stack(
-            (
-                np.interp(s, self.cumulative, self.points[:, 0]),
-                np.interp(s, self.cumulative, self.points[:, 1]),
-            )
-        )
+        return self.poses_at(s)[:, :2]
 
     def headings_at(self, s: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """Directions [rad] of the segments holding arc lengths ``s`` (M,); 0 for one point.
@@ -88,17 +84,16 @@ class TrackedPath:
         """
         if self.points.shape[0] == 1:
             return np.zeros(len(s))
-        seg = np.searchsorted(self.cumulative, s, side="right") - 1
-        seg = np.clip(seg, 0, self.points.shape[0] - 2)
-        d = self.points[seg + 1] - self.points[seg]
-        return np.arctan2(d[:, 1], d[:, 0])
+        return self.poses_at(s)[:, 2]
 
-    def _segments(self, start: float, stop: float) -> tuple[int, int]:
-        """Indices ``i0..i1`` of the segments (from point i to i+1) overlapping [start, stop]."""
-        last = self.points.shape[0] - 2
-        i0 = int(np.searchsorted(self.cumulative, start, side="right")) - 1
-        i1 = int(np.searchsorted(self.cumulative, stop, side="left"))
-        return (min(max(i0, 0), last), min(max(i1, i0 + 1), last + 1))
+    def poses_at(self, s: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """Poses (M, 3) at arc lengths ``s`` (M,) [m]: :meth:`points_at` and :meth:`headings_at`
+        in one pass (the controller wants both, every period)."""
+        if self.points.shape[0] == 1:
+            out = np.zeros((len(s), 3))
+            out[:, :2] = self.points[0]
+            return out
+        return kernels.sample(self.points, self.cumulative, np.asarray(s, dtype=np.float64))
 
     def project(
         self, x: float, y: float, *, start: float, window: float, heading: float | None = None
@@ -113,25 +108,10 @@ class TrackedPath:
         """
         if self.points.shape[0] == 1:
             return 0.0
-        i0, i1 = self._segments(start, start + window)
-        a = self.points[i0:i1]
-        b = self.points[i0 + 1 : i1 + 1]
-        s_a = self.cumulative[i0:i1]
-        seg = self.cumulative[i0 + 1 : i1 + 1] - s_a
-        d = b - a
-        t = ((x - a[:, 0]) * d[:, 0] + (y - a[:, 1]) * d[:, 1]) / (seg * seg)
-        # Keep the answer inside the window at both ends.
-        t_lo = np.clip((start - s_a) / seg, 0.0, 1.0)
-        t_hi = np.clip((start + window - s_a) / seg, 0.0, 1.0)
-        t = np.clip(t, t_lo, t_hi)
-        gap = np.hypot(a[:, 0] + t * d[:, 0] - x, a[:, 1] + t * d[:, 1] - y)
-        k = int(np.argmin(gap))
-        if heading is not None:
-            near = np.flatnonzero(gap <= gap[k] + _TIE)
-            if near.size > 1:
-                along = d[near, 0] * math.cos(heading) + d[near, 1] * math.sin(heading)
-                k = int(near[np.argmax(along / seg[near])])
-        return float(s_a[k] + t[k] * seg[k])
+        return float(kernels.project(
+            self.points, self.cumulative, float(x), float(y), float(start), float(window),
+            heading is not None, 0.0 if heading is None else float(heading), _TIE,
+        ))
 
     def lookahead(
         self, x: float, y: float, *, start: float, radius: float, window: float
@@ -152,35 +132,11 @@ class TrackedPath:
             the circle for the whole window; or ``None`` when the rest of the path lies inside
             the circle (the caller steers at the goal itself).
         """
-        r2 = radius * radius
-        ax, ay = self.point_at(start)
-        if (ax - x) ** 2 + (ay - y) ** 2 >= r2:
-            return (ax, ay)
-        j0 = int(np.searchsorted(self.cumulative, start, side="right"))
-        j1 = int(np.searchsorted(self.cumulative, start + window, side="right")) + 1
-        ahead = self.points[j0:j1]
-        if ahead.shape[0] == 0:
-            return None
-        outside = np.flatnonzero((ahead[:, 0] - x) ** 2 + (ahead[:, 1] - y) ** 2 >= r2)
-        if outside.size == 0:
-            if j1 >= self.points.shape[0]:
-                return None
-            return (float(ahead[-1, 0]), float(ahead[-1, 1]))
-        k = int(outside[0])
-        if k > 0:
-            ax, ay = float(ahead[k - 1, 0]), float(ahead[k - 1, 1])
-        bx, by = float(ahead[k, 0]), float(ahead[k, 1])
-        return _exit_crossing((ax - x, ay - y), (bx - x, by - y), radius, (x, y))
-
-
-def _exit_crossing(
-    a: tuple[float, float], b: tuple[float, float], radius: float, centre: tuple[float, float]
-) -> tuple[float, float]:
-    """Where segment a→b (relative to ``centre``, a inside the circle, b outside) leaves it."""
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    qa = dx * dx + dy * dy
-    qb = 2.0 * (a[0] * dx + a[1] * dy)
-    qc = a[0] * a[0] + a[1] * a[1] - radius * radius
-    disc = max(qb * qb - 4.0 * qa * qc, 0.0)
-    t = min(max((-qb + math.sqrt(disc)) / (2.0 * qa), 0.0), 1.0)
-    return (centre[0] + a[0] + t * dx, centre[1] + a[1] + t * dy)
+        if self.points.shape[0] == 1:
+            ax, ay = self.end
+            return (ax, ay) if (ax - x) ** 2 + (ay - y) ** 2 >= radius * radius else None
+        found, cx, cy = kernels.lookahead(
+            self.points, self.cumulative, float(x), float(y), float(start), float(radius),
+            float(window),
+        )
+        return (cx, cy) if found else None

@@ -50,3 +50,13 @@ def test_arc_points_follow_a_circle() -> None:
 def test_arc_points_straight() -> None:
     pts = collision.arc_points(Pose2D(0.0, 0.0, 0.0), 0.0, 1.0, 0.25)
     assert pts.tolist() == [[0.0, 0.0], [0.25, 0.0], [0.5, 0.0], [0.75, 0.0], [1.0, 0.0]]
+
+
+def test_arc_poses_carry_the_heading_along_the_arc() -> None:
+    poses = collision.arc_poses(Pose2D(0.0, 0.0, 0.5), 2.0, 1.0, 0.3)
+    assert poses.shape == (5, 3)  # ceil(1.0 / 0.3) = 4 steps, both ends included
+    assert poses[0].tolist() == [0.0, 0.0, 0.5]
+    assert poses[:, 2] == pytest.approx(0.5 + 2.0 * np.linspace(0.0, 1.0, 5))
+    # Every point lies on the circle of radius 1/kappa about the turn's centre.
+    centre = np.array([-math.sin(0.5), math.cos(0.5)]) / 2.0
+    assert np.hypot(*(poses[:, :2] - centre).T) == pytest.approx(0.5)

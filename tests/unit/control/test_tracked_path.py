@@ -84,3 +84,26 @@ def test_single_point_path() -> None:
     assert point.project(0.0, 0.0, start=0.0, window=1.0) == 0.0
     assert point.lookahead(0.0, 0.0, start=0.0, radius=0.5, window=1.0) == (1.0, 1.0)
     assert point.lookahead(0.9, 1.0, start=0.0, radius=0.5, window=1.0) is None
+
+
+def test_poses_at_are_the_points_and_the_headings_of_their_segments() -> None:
+    s = np.array([-1.0, 0.5, 2.0, 3.5, 9.0])
+    poses = L_PATH.poses_at(s)
+    assert poses[:, :2].tolist() == L_PATH.points_at(s).tolist()
+    assert poses[:, 2].tolist() == L_PATH.headings_at(s).tolist()
+    assert poses[:, 2].tolist() == pytest.approx([0.0, 0.0, math.pi / 2, math.pi / 2, math.pi / 2])
+    point = TrackedPath.from_points([[1.0, 2.0]])
+    assert point.poses_at(np.array([0.0, 3.0])).tolist() == [[1.0, 2.0, 0.0], [1.0, 2.0, 0.0]]
+
+
+def test_project_with_a_window_before_the_path_answers_its_start() -> None:
+    # A window wholly before the first point still holds the first segment.
+    assert L_PATH.project(0.5, 0.3, start=-3.0, window=1.0) == 0.0
+
+
+def test_project_picks_the_first_of_equally_near_stretches_without_a_heading() -> None:
+    # Two parallel legs 0.04 m either side of the robot: nearest first, then by heading.
+    u_turn = TrackedPath.from_points([[0.0, 0.02], [2.0, 0.02], [2.0, -0.02], [0.0, -0.02]])
+    assert u_turn.project(1.0, 0.0, start=0.0, window=5.0) == pytest.approx(1.0)
+    back = u_turn.project(1.0, 0.0, start=0.0, window=5.0, heading=math.pi)
+    assert back == pytest.approx(2.04 + 1.0)
