@@ -46,7 +46,7 @@ class NavigatorConfig:
     replan_hysteresis: float = 0.15
     replan_min_gain: float = 0.3
     replan_reach: float = 10.0
-    full_replan_period: float = 15.0
+    full_replan_period: float = 30.0
 
     def __post_init__(self) -> None:
         for key in (
