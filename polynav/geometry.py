@@ -49,10 +49,7 @@ class Pose2D:
     theta: float = 0.0
 
     def __post_init__(self) -> None:
-        # Most headings are already wrapped; a pose is built hundreds of thousands of times a
-        # simulated hour, so skip the arithmetic (and the write) for them.
-        if type(self.theta) is not float or not -math.pi < self.theta <= math.pi:
-            object.__setattr__(self, "theta", wrap_angle(self.theta))
+        object.__setattr__(self, "theta", wrap_angle(self.theta))
 
     def compose(self, other: Pose2D) -> Pose2D:
         """``self ∘ other``: ``other`` is expressed in this pose's frame; result in the parent."""
