@@ -18,7 +18,7 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   wait, the holder joins the end of the queue. When capacity frees (release, expiry) the head of
   the queue is granted at once; a newcomer never overtakes a waiter.
 - **One way at a time.** A request may name a *flow* (the way the holder goes through, e.g.
-  ``"E"`` along a corridor): holders going the same way share a resource beyond its capacity
+  ``"EE"``: east along a corridor): holders going the same way share a resource beyond its capacity
   (robots following one another through a corridor never meet head-on), while one going
   another way waits until they are all out. Sharing never overtakes the queue: a newcomer
   joins a flow only when no one waits, so the other way gets its turn once the flow drains.

@@ -4,7 +4,8 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
 
 1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first traffic
    zone (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet (a VDA 5050
-   zone request); so is the zone it stands in.
+   zone request, with the way it goes through: robots going the same way may share the zone,
+   :mod:`polynav.fleet.zones`); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot whose goal starts inside a zone
    it does not hold waits where it stands, unless its path leaves that zone within
