@@ -113,7 +113,8 @@ class Navigator(ChargerPhases):
         self._costmap = costmap
         self._planner = planner
         self._replan = PeriodicReplan(planner, reach=self.config.replan_reach,
-                                      full_period=self.config.full_replan_period)
+                                      full_period=self.config.full_replan_period,
+                                      watch_for=self.config.people_detour_watch)
         self._controller = controller
         self._progress = progress_checker
         self._sinks: list[EventSink] = [on_event] if on_event else []
@@ -299,6 +300,7 @@ class Navigator(ChargerPhases):
                            f"people blocked the way for {self._wait.config.patience:g} s", now)
                 return Twist()
             if step.path is not None:
+                self._replan.watch(now)
                 self._set_path(step.path, now)
                 self._progress.reset(pose, now)
                 self._enter(_Phase.FOLLOW, now)
@@ -432,14 +434,18 @@ class Navigator(ChargerPhases):
         except PlanningError as exc:
             log.debug("periodic re-plan failed, keeping the path: %s", exc)
             return
-        if self._tracked is not None and route_choice.keep_current(
-            self._costmap, self._tracked, self._along, remaining=remaining,
-            new_length=path.length, hysteresis=self.config.replan_hysteresis,
-            min_gain=self.config.replan_min_gain,
-        ):
-            log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)", remaining,
-                      path.length)
-            return
+        if self._tracked is not None:
+            if not route_choice.route_blocked(self._costmap, self._tracked, self._along):
+                if not route_choice.clearly_shorter(
+                    remaining=remaining, new_length=path.length,
+                    hysteresis=self.config.replan_hysteresis,
+                    min_gain=self.config.replan_min_gain,
+                ):
+                    log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)",
+                              remaining, path.length)
+                    return
+            elif self._wait.blocks(pose, self._path):
+                self._replan.watch(now)
         self._set_path(path, now)
 
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:

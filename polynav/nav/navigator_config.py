@@ -19,7 +19,8 @@ class NavigatorConfig:
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
     ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
-    route and keeps the rest; the whole way is planned again every ``full_replan_period``
+    route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
+    at every re-plan for ``people_detour_watch`` after people closed the route
     (:mod:`~polynav.nav.replanning`).
     """
 
@@ -47,6 +48,7 @@ class NavigatorConfig:
     replan_min_gain: float = 0.3
     replan_reach: float = 10.0
     full_replan_period: float = 30.0
+    people_detour_watch: float = 15.0
 
     def __post_init__(self) -> None:
         for key in (
@@ -62,7 +64,7 @@ class NavigatorConfig:
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
-                    "full_replan_period"):
+                    "full_replan_period", "people_detour_watch"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

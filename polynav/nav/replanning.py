@@ -12,6 +12,12 @@ when one has opened (the door that was blocked when the route was chosen). When 
 cannot be planned (its end point is occupied, or no way reaches it) the whole way is planned at
 once.
 
+People are the exception to "now and then": when they close the route (a walker in a door) and
+the robot takes a way round, the way they closed is usually the shorter and opens again within
+seconds, as they walk on. Waiting up to ``full_period`` to notice sends the robot the long way
+round, often into a narrower passage with people of its own. So after such a detour (:meth:`watch`)
+every re-plan plans the whole way for ``watch_for`` seconds.
+
 Whichever was planned, the new route replaces the current one only as :mod:`route_choice`
 decides (blocked, or clearly shorter).
 """
@@ -48,13 +54,22 @@ class PeriodicReplan:
         reach: how far ahead along the route [m] a near re-plan rejoins it; 0 always plans the
             whole way.
         full_period: the whole way is planned at least this often [s].
+        watch_for: after a detour round people, the whole way is planned at every re-plan for
+            this long [s].
     """
 
-    def __init__(self, planner: GlobalPlanner, *, reach: float, full_period: float) -> None:
+    def __init__(self, planner: GlobalPlanner, *, reach: float, full_period: float,
+                 watch_for: float = 0.0) -> None:
         self._planner = planner
         self.reach = reach
         self.full_period = full_period
+        self.watch_for = watch_for
         self._last_full = -math.inf
+        self._watch_until = -math.inf
+
+    def watch(self, now: float) -> None:
+        """People closed the route and the robot took a way round them (module docstring)."""
+        self._watch_until = now + self.watch_for
 
     def whole_way_planned(self, now: float) -> None:
         """A plan of the whole way was made (the first of a goal, or after a failure)."""
@@ -82,6 +97,7 @@ class PeriodicReplan:
             route is not None
             and self.reach > 0.0
             and now - self._last_full < self.full_period
+            and now >= self._watch_until
             and rejoin < route.length
         ):
             x, y = route.point_at(rejoin)

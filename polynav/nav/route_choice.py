@@ -33,25 +33,10 @@ def route_blocked(costmap: CostGrid, route: TrackedPath, along: float) -> bool:
     return collision.first_collision(values) is not None
 
 
-def keep_current(
-    costmap: CostGrid,
-    route: TrackedPath,
-    along: float,
-    *,
-    remaining: float,
-    new_length: float,
-    hysteresis: float,
-    min_gain: float,
+def clearly_shorter(
+    *, remaining: float, new_length: float, hysteresis: float, min_gain: float
 ) -> bool:
-    """Keep driving ``route`` rather than switch to a new one of ``new_length`` [m]?
-
-    Args:
-        costmap: the live costs.
-        route: the current route, the robot ``along`` [m] on it with ``remaining`` [m] to go.
-        new_length: the new route's length [m].
-        hysteresis: the new route must be shorter by this fraction of ``remaining`` ...
-        min_gain: ... and by at least this [m].
-    """
-    if route_blocked(costmap, route, along):
-        return False
-    return remaining - new_length < max(hysteresis * remaining, min_gain)
+    """Is a new route of ``new_length`` [m] worth leaving an unblocked one with ``remaining``
+    [m] to go? Only if shorter by ``hysteresis`` of ``remaining`` and by at least ``min_gain``
+    [m]."""
+    return remaining - new_length >= max(hysteresis * remaining, min_gain)

@@ -89,3 +89,48 @@ def test_gives_up_with_blocked_by_person_after_the_patience_only() -> None:
     assert attempt.ended_at - waiting.stamp == pytest.approx(25.0, abs=0.2)
     assert driver.sim.true_pose.x < DOOR[0]  # it never pushed through
     assert driver.sim.collisions == []
+
+
+def _two_doors(person: PersonRoute) -> World:
+    """The two rooms 12 m deep, joined by the near door (y = 3 m) and a far one (y = 11 m): the
+    way through the far door is 10 m longer."""
+    width, height = int(12.0 / RES), int(12.0 / RES)
+    data = np.zeros((height, width), dtype=np.int8)
+    wall = 4
+    data[:wall, :] = data[-wall:, :] = 100
+    data[:, :wall] = data[:, -wall:] = 100
+    mid = int(DOOR[0] / RES)
+    data[:, mid - 2: mid + 2] = 100
+    for y in (DOOR[1], 11.0):
+        data[int((y - 0.5) / RES): int((y + 0.5) / RES), mid - 2: mid + 2] = 0
+    for x, y in ((1.0, 1.0), (4.5, 5.0), (1.5, 8.5), (8.0, 1.2), (10.8, 4.6), (9.5, 9.0)):
+        ix, iy = int(x / RES), int(y / RES)
+        data[iy - 6: iy + 6, ix - 6: ix + 6] = 100
+    grid = Map(MapInfo(RES, width, height, Pose2D(0.0, 0.0, 0.0)), data)
+    floor = WorldFloor("f", 1, "f", grid, (), None, (person,))
+    return World("two_doors", (floor,), "f", START)
+
+
+def test_takes_the_near_door_again_once_the_person_in_it_walks_on() -> None:
+    # The walker stands in the near door from 3.5 s to 11.5 s. The robot sets off the long way
+    # round through the far door; once the walker has gone, the whole way is planned again at the
+    # next re-plan and the robot turns back, rather than keep to the long way for up to the full
+    # re-plan period.
+    person = PersonRoute(((6.8, 5.0), DOOR), speed=0.6, loop=False)
+    driver = simulate(
+        _two_doors(person), seed=3, sim_config=SimConfig(person_pause=8.0),
+        stack_config=StackConfig(people=PeopleConfig(patience=60.0)),
+    )
+    driver.stack.go_to(GOAL, driver.now)
+    farthest = 0.0
+
+    def done() -> bool:
+        nonlocal farthest
+        farthest = max(farthest, driver.sim.true_pose.y)
+        return driver.stack.navigator.state.finished
+
+    assert driver.run_until(done, timeout=120.0)
+    attempt = driver.stack.navigator.attempt
+    assert attempt is not None and attempt.state is NavigationState.SUCCEEDED, attempt
+    assert farthest < 8.0, farthest  # never through the far door
+    assert driver.sim.collisions == []

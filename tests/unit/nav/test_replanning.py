@@ -89,3 +89,17 @@ def test_the_whole_way_is_planned_every_full_period_near_the_end_and_when_the_st
     always.whole_way_planned(0.0)
     always.plan(costmap, start, GOAL, ROUTE, 0.0, 3.0, goal_tolerance=None)
     assert planner.goals[-1] == GOAL
+
+
+def test_after_a_detour_round_people_every_replan_plans_the_whole_way_for_a_while() -> None:
+    planner = CountingPlanner()
+    replan = PeriodicReplan(planner, reach=8.0, full_period=30.0, watch_for=10.0)
+    replan.whole_way_planned(0.0)
+    costmap = _hall()
+    start = Pose2D(1.0, 3.0, 0.0)
+    replan.watch(3.0)  # people closed the route at t = 3 s: a way round them was taken
+    for now in (6.0, 9.0, 12.0):
+        replan.plan(costmap, start, GOAL, ROUTE, 0.0, now, goal_tolerance=None)
+        assert planner.goals[-1] == GOAL  # the way they closed may be open again
+    replan.plan(costmap, start, GOAL, ROUTE, 0.0, 15.0, goal_tolerance=None)
+    assert planner.goals[-1].x == 9.0  # the watch is over: near stretches again
