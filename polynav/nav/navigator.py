@@ -435,17 +435,16 @@ class Navigator(ChargerPhases):
             log.debug("periodic re-plan failed, keeping the path: %s", exc)
             return
         if self._tracked is not None:
-            if not route_choice.route_blocked(self._costmap, self._tracked, self._along):
-                if not route_choice.clearly_shorter(
-                    remaining=remaining, new_length=path.length,
-                    hysteresis=self.config.replan_hysteresis,
-                    min_gain=self.config.replan_min_gain,
-                ):
-                    log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)",
-                              remaining, path.length)
-                    return
-            elif self._wait.blocks(pose, self._path):
-                self._replan.watch(now)
+            blocked = route_choice.route_blocked(self._costmap, self._tracked, self._along)
+            if not blocked and not route_choice.clearly_shorter(
+                remaining=remaining, new_length=path.length,
+                hysteresis=self.config.replan_hysteresis, min_gain=self.config.replan_min_gain,
+            ):
+                log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)", remaining,
+                          path.length)
+                return
+            if blocked and self._wait.blocks(pose, self._path):
+                self._replan.watch(now)  # people closed it: they may soon open it again
         self._set_path(path, now)
 
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:

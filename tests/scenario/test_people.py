@@ -27,17 +27,26 @@ START = Pose2D(2.5, 3.0, 0.0)
 GOAL = Pose2D(9.5, 3.0, 0.0)
 
 
-def _two_rooms(person: PersonRoute) -> World:
-    width, height = int(12.0 / RES), int(6.0 / RES)
+def _two_rooms(
+    person: PersonRoute,
+    *,
+    depth: float = 6.0,
+    doors: tuple[float, ...] = (DOOR[1],),
+    furniture: tuple[tuple[float, float], ...] = ((1.0, 1.0), (4.5, 5.0), (8.0, 1.2), (10.8, 4.6)),
+) -> World:
+    """Two rooms 6 m wide and ``depth`` deep, joined by doors 1 m wide at heights ``doors`` in
+    the wall between them, with the furniture that pins the scan down along both walls of each
+    room."""
+    width, height = int(12.0 / RES), int(depth / RES)
     data = np.zeros((height, width), dtype=np.int8)
     wall = 4  # cells: 0.2 m walls
     data[:wall, :] = data[-wall:, :] = 100
     data[:, :wall] = data[:, -wall:] = 100
     mid = int(DOOR[0] / RES)
     data[:, mid - 2: mid + 2] = 100
-    data[int(2.5 / RES): int(3.5 / RES), mid - 2: mid + 2] = 0  # the door, 1 m wide
-    # Furniture, so the scan pins the pose down along both walls of each room.
-    for x, y in ((1.0, 1.0), (4.5, 5.0), (8.0, 1.2), (10.8, 4.6)):
+    for y in doors:
+        data[int((y - 0.5) / RES): int((y + 0.5) / RES), mid - 2: mid + 2] = 0
+    for x, y in furniture:
         ix, iy = int(x / RES), int(y / RES)
         data[iy - 6: iy + 6, ix - 6: ix + 6] = 100
     grid = Map(MapInfo(RES, width, height, Pose2D(0.0, 0.0, 0.0)), data)
@@ -94,21 +103,10 @@ def test_gives_up_with_blocked_by_person_after_the_patience_only() -> None:
 def _two_doors(person: PersonRoute) -> World:
     """The two rooms 12 m deep, joined by the near door (y = 3 m) and a far one (y = 11 m): the
     way through the far door is 10 m longer."""
-    width, height = int(12.0 / RES), int(12.0 / RES)
-    data = np.zeros((height, width), dtype=np.int8)
-    wall = 4
-    data[:wall, :] = data[-wall:, :] = 100
-    data[:, :wall] = data[:, -wall:] = 100
-    mid = int(DOOR[0] / RES)
-    data[:, mid - 2: mid + 2] = 100
-    for y in (DOOR[1], 11.0):
-        data[int((y - 0.5) / RES): int((y + 0.5) / RES), mid - 2: mid + 2] = 0
-    for x, y in ((1.0, 1.0), (4.5, 5.0), (1.5, 8.5), (8.0, 1.2), (10.8, 4.6), (9.5, 9.0)):
-        ix, iy = int(x / RES), int(y / RES)
-        data[iy - 6: iy + 6, ix - 6: ix + 6] = 100
-    grid = Map(MapInfo(RES, width, height, Pose2D(0.0, 0.0, 0.0)), data)
-    floor = WorldFloor("f", 1, "f", grid, (), None, (person,))
-    return World("two_doors", (floor,), "f", START)
+    return _two_rooms(
+        person, depth=12.0, doors=(DOOR[1], 11.0),
+        furniture=((1.0, 1.0), (4.5, 5.0), (1.5, 8.5), (8.0, 1.2), (10.8, 4.6), (9.5, 9.0)),
+    )
 
 
 def test_takes_the_near_door_again_once_the_person_in_it_walks_on() -> None:
