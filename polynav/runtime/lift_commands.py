@@ -24,8 +24,10 @@ The lift sequence of a lift leg (``docs/lifts.md``), each step a :class:`LiftPha
    retry; then the session is ended (``left``) and the route goes on.
 
 A car out of service, full, or that never came is excluded and the rest re-routed from where the
-robot stands: onto the other car where one serves the floor, else the goal fails with the
-router's reason ("lift out of service").
+robot stands: onto the other car where one serves the floor. Where none does, a car given up
+for a passing cause (busy, full, never came, blocked) is queued for again, up to
+:data:`MAX_REQUEUES` times; else the goal fails with the router's reason ("lift out of
+service").
 """
 
 from __future__ import annotations
@@ -70,6 +72,7 @@ from polynav.runtime.route_run import (
     CALL_TIMEOUT,
     IN_CAR,
     MAX_DOOR_RETRIES,
+    MAX_REQUEUES,
     NEAR_LIFT,
     NEAR_LIFT_OPTIONS,
     RETRY_PAUSE,
@@ -482,13 +485,38 @@ class LiftCommands(LiftAccess):
             route = self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
                                      run.goal, run.goal_point, excluded=run.excluded)
         except NoRoute as exc:
-            self._end_route(NavigationState.FAILED, str(exc))
-            return
+            route = self._requeue(run, now)
+            if route is None:
+                self._end_route(NavigationState.FAILED, str(exc))
+                return
         run.legs, run.index = list(route.legs), 0
         run.phase, run.since, run.retries, run.called = None, now, 0, False
         run.announced_wait = False
         self._publish(RouteStarted(now, run.attempt_id, tuple(leg.kind for leg in route.legs),
                                    route.cars))
+
+    def _requeue(self, run: RouteRun, now: float) -> Route | None:
+        """With no other car left, the route over the cars given up for a passing cause.
+
+        A car that was busy, full, slow to come or blocked at its door will likely serve
+        later, and the only car for a floor is the only way there: the robot queues for it
+        again (at most :data:`MAX_REQUEUES` times) instead of failing the goal. Cars out of
+        service stay excluded.
+        """
+        again = {car for car in run.excluded if not self._out_of_service(car)}
+        if not again or run.requeues >= MAX_REQUEUES:
+            return None
+        assert self._map_name is not None and self._stack is not None
+        try:
+            route = self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
+                                     run.goal, run.goal_point, excluded=run.excluded - again)
+        except NoRoute:
+            return None
+        run.requeues += 1
+        run.excluded -= again
+        log.info("%s route %d: no other car; queueing again for %s", self.robot_id,
+                 run.attempt_id, ", ".join(sorted(again)))
+        return route
 
     def _switch_map(self, run: RouteRun, map_name: str, pose: Pose2D) -> None:
         """Navigate on ``map_name`` from now on, localized at ``pose`` (no mode change)."""

@@ -25,6 +25,9 @@ SESSION_TIMEOUT = 600.0
 """A car's session not granted within this [s] (other robots kept it) is given up."""
 MAX_DOOR_RETRIES = 3
 """Entering or leaving a car blocked this many times gives that car up (or the route)."""
+MAX_REQUEUES = 2
+"""How often a goal queues again for the cars it gave up for a passing cause (busy, full, never
+came, door blocked) when no other car serves; then it fails with the router's reason."""
 RETRY_PAUSE = 3.0
 """Wait [s] before driving through a blocked car door again."""
 AT_POINT = 0.3
@@ -45,6 +48,7 @@ class RouteRun:
         phase: the lift sequence's phase while in a lift leg (or going to one).
         car: the car whose session this robot asked for or holds.
         excluded: cars given up during this goal (full, blocked, did not come).
+        requeues: how often the goal queued again for cars it had given up.
         since: when the current phase began [s]; ``retries`` door retries in it.
         resume_at: a retry waits until then [s].
         backing_in: leaving the car failed; the robot drives back in before trying again.
@@ -65,6 +69,7 @@ class RouteRun:
     phase: LiftPhase | None = None
     car: str | None = None
     excluded: set[str] = field(default_factory=set)
+    requeues: int = 0
     since: float = 0.0
     retries: int = 0
     resume_at: float = 0.0

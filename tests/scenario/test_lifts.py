@@ -140,6 +140,36 @@ def test_a_full_car_is_passed_over_for_the_next(runtime: RobotRuntime) -> None:
     assert "already failed: lift_1, lift_2" in status.reason
 
 
+def test_the_only_car_full_is_queued_for_again_and_taken_once_it_empties(
+        runtime: RobotRuntime) -> None:
+    """Floor 3 has one car: given up when full, it is the only way, so the robot queues again."""
+    car = runtime.simulation.scene.lifts["lift_1"]
+    car.board_people(2)  # capacity 2: full
+    sub = runtime.bus.subscribe(10_000)
+    runtime.go_to(point="room_301", map_name="floor3")
+    assert runtime.advance_until(
+        lambda: any(isinstance(e, LiftPhaseChanged) and e.detail == "lift lift_1 is full"
+                    for e in sub.get_nowait()), 300.0)
+    assert runtime.status().navigation_state == "running"
+    car.board_people(-2)  # they get out
+    assert runtime.advance_until(lambda: _ended(runtime), 400.0)
+    status = runtime.status()
+    assert status.navigation_state == "succeeded", status.reason
+    assert runtime.simulation.floor == "floor3"
+    assert status.route is not None and status.route["excluded_cars"] == []
+
+
+def test_queueing_again_is_bounded_a_car_that_stays_full_fails_the_goal(
+        runtime: RobotRuntime) -> None:
+    runtime.simulation.scene.lifts["lift_1"].board_people(2)  # full for good
+    runtime.go_to(point="room_301", map_name="floor3")
+    assert runtime.advance_until(lambda: _ended(runtime), 300.0)
+    status = runtime.status()
+    assert status.navigation_state == "failed" and status.reason is not None
+    assert "already failed: lift_1" in status.reason
+    assert runtime.simulation.floor == "floor1"
+
+
 def test_two_robots_to_other_floors_at_once_both_arrive_one_waits_for_the_car(
         world: World, store: SiteStore) -> None:
     building = Building(store, world, robots=2, config=RuntimeConfig(people=False, seed=5))
