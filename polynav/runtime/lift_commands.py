@@ -481,11 +481,12 @@ class LiftCommands(LiftAccess):
             run.nav_id = None
         self._give_up_car(run, now)
         assert self._map_name is not None and self._stack is not None
+        route: Route | None
         try:
             route = self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
                                      run.goal, run.goal_point, excluded=run.excluded)
         except NoRoute as exc:
-            route = self._requeue(run, now)
+            route = self._requeue(run)
             if route is None:
                 self._end_route(NavigationState.FAILED, str(exc))
                 return
@@ -495,7 +496,7 @@ class LiftCommands(LiftAccess):
         self._publish(RouteStarted(now, run.attempt_id, tuple(leg.kind for leg in route.legs),
                                    route.cars))
 
-    def _requeue(self, run: RouteRun, now: float) -> Route | None:
+    def _requeue(self, run: RouteRun) -> Route | None:
         """With no other car left, the route over the cars given up for a passing cause.
 
         A car that was busy, full, slow to come or blocked at its door will likely serve
