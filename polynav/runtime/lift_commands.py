@@ -25,7 +25,7 @@ The lift sequence of a lift leg (``docs/lifts.md``), each step a :class:`LiftPha
 
 A car out of service, full, or that never came is excluded and the rest re-routed from where the
 robot stands: onto the other car where one serves the floor. Where none does, a car given up
-for a passing cause (busy, full, never came, blocked) is queued for again, up to
+for a passing cause (busy, full, blocked at the door) is queued for again, up to
 :data:`MAX_REQUEUES` times; else the goal fails with the router's reason ("lift out of
 service").
 """
@@ -75,6 +75,7 @@ from polynav.runtime.route_run import (
     MAX_REQUEUES,
     NEAR_LIFT,
     NEAR_LIFT_OPTIONS,
+    OUT_OF_CAR,
     RETRY_PAUSE,
     RIDE_TIMEOUT,
     SESSION_TIMEOUT,
@@ -300,15 +301,21 @@ class LiftCommands(LiftAccess):
         if run.nav_id is not None:
             result = self._leg_result(run)
             if result is None:
-                return
-            run.nav_id = None
-            if result is not NavigationState.SUCCEEDED:
+                state = car.state()
+                if not state.ready_at(leg.from_floor) or state.full:
+                    return
+                # The car stands open: drive straight in instead of stopping at its door
+                # first (the stop costs the car's next user some 8 s of a busy car).
+                self._drop_leg_goal(run)
+            elif result is not NavigationState.SUCCEEDED:
+                run.nav_id = None
                 run.retries += 1
                 if run.retries > MAX_DOOR_RETRIES:
                     self._reroute(run, now, f"could not reach {leg.car}'s door")
                 else:
                     run.resume_at = now + RETRY_PAUSE
                 return
+            run.nav_id = None
         if run.phase is LiftPhase.CALLING:
             self._set_phase(run, LiftPhase.WAITING_FOR_CAR, now)
         state = car.state()
@@ -321,6 +328,7 @@ class LiftCommands(LiftAccess):
             self._leg_go(run, leg.inside_from, IN_CAR)
         elif now - run.since > CALL_TIMEOUT:
             run.excluded.add(leg.car)
+            run.faulty.add(leg.car)
             self._reroute(run, now, f"lift {leg.car} did not come within {CALL_TIMEOUT:g} s")
 
     def _enter_tick(self, run: RouteRun, leg: LiftLeg, car: Lift, now: float) -> None:
@@ -365,7 +373,7 @@ class LiftCommands(LiftAccess):
         if run.nav_id is None:
             if now >= run.resume_at and car.state().ready_at(leg.to_floor):
                 target = leg.inside_to if run.backing_in else leg.outside_to
-                self._leg_go(run, target, IN_CAR if run.backing_in else None)
+                self._leg_go(run, target, IN_CAR if run.backing_in else OUT_OF_CAR)
             return
         result = self._leg_result(run)
         if result is None:
@@ -441,6 +449,14 @@ class LiftCommands(LiftAccess):
         run.distance += attempt.distance_travelled
         return attempt.state
 
+    def _drop_leg_goal(self, run: RouteRun) -> None:
+        """Stop counting the running leg goal (a new one replaces it), keeping its distance."""
+        stack = self._stack
+        attempt = stack.navigator.attempt if stack is not None else None
+        if attempt is not None and attempt.attempt_id == run.nav_id:
+            run.distance += attempt.distance_travelled
+        run.nav_id = None
+
     def _leg_reason(self) -> str:
         stack = self._stack
         attempt = stack.navigator.attempt if stack is not None else None
@@ -499,12 +515,12 @@ class LiftCommands(LiftAccess):
     def _requeue(self, run: RouteRun) -> Route | None:
         """With no other car left, the route over the cars given up for a passing cause.
 
-        A car that was busy, full, slow to come or blocked at its door will likely serve
-        later, and the only car for a floor is the only way there: the robot queues for it
-        again (at most :data:`MAX_REQUEUES` times) instead of failing the goal. Cars out of
-        service stay excluded.
+        A car that was busy, full or blocked at its door will likely serve later, and the only
+        car for a floor is the only way there: the robot queues for it again (at most
+        :data:`MAX_REQUEUES` times) instead of failing the goal. Cars out of service, and cars
+        that did not come when called (broken, or an operator's), stay excluded.
         """
-        again = {car for car in run.excluded if not self._out_of_service(car)}
+        again = {car for car in run.excluded - run.faulty if not self._out_of_service(car)}
         if not again or run.requeues >= MAX_REQUEUES:
             return None
         assert self._map_name is not None and self._stack is not None

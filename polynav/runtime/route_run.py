@@ -26,8 +26,8 @@ SESSION_TIMEOUT = 600.0
 MAX_DOOR_RETRIES = 3
 """Entering or leaving a car blocked this many times gives that car up (or the route)."""
 MAX_REQUEUES = 2
-"""How often a goal queues again for the cars it gave up for a passing cause (busy, full, never
-came, door blocked) when no other car serves; then it fails with the router's reason."""
+"""How often a goal queues again for the cars it gave up for a passing cause (busy, full, door
+blocked) when no other car serves; then it fails with the router's reason."""
 RETRY_PAUSE = 3.0
 """Wait [s] before driving through a blocked car door again."""
 AT_POINT = 0.3
@@ -49,6 +49,7 @@ class RouteRun:
         car: the car whose session this robot asked for or holds.
         excluded: cars given up during this goal (full, blocked, did not come).
         requeues: how often the goal queued again for cars it had given up.
+        faulty: given-up cars never queued for again (called, they did not come).
         since: when the current phase began [s]; ``retries`` door retries in it.
         resume_at: a retry waits until then [s].
         backing_in: leaving the car failed; the robot drives back in before trying again.
@@ -70,6 +71,7 @@ class RouteRun:
     car: str | None = None
     excluded: set[str] = field(default_factory=set)
     requeues: int = 0
+    faulty: set[str] = field(default_factory=set)
     since: float = 0.0
     retries: int = 0
     resume_at: float = 0.0
@@ -117,6 +119,10 @@ AT_DOOR = GoalOptions(near_tolerance=0.3)
 IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1)
 """Goals into and out of a car: a loose heading (the car is small) and one retry, so that a
 blocked door is reported to the sequence (which retries after a pause) rather than fought."""
+
+OUT_OF_CAR = GoalOptions(pass_tolerance=0.5, max_retries=1)
+"""Out of a car to its outside point: out once past it, with no stop or turn there (the next
+leg drives on; a stop and a half turn on the spot kept the car from its next user 4 s longer)."""
 
 
 def carried(pose: Pose2D, inside_from: Pose2D, inside_to: Pose2D) -> Pose2D:

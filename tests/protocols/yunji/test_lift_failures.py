@@ -8,8 +8,9 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
-from polynav.robot.lift import LiftRequest
+from polynav.robot.lift import LiftMode, LiftRequest
 from polynav.robot.sim.lift_car import SimLiftCar
+from polynav.runtime.route_run import MAX_REQUEUES
 from tests.protocols.yunji.conftest import Client, Harness
 
 TIMEOUT = 600.0  # simulated seconds
@@ -25,9 +26,10 @@ def _car(h: Harness) -> SimLiftCar:
     return h.runtime.simulation.scene.lifts["lift_1"]
 
 
-def _run_until(h: Harness, client: Client, running_status: str | None) -> dict[str, Any]:
+def _run_until(h: Harness, client: Client, running_status: str | None,
+               timeout: float = TIMEOUT) -> dict[str, Any]:
     """Advance until ``running_status`` shows (None: until the move ends); the status then."""
-    for _ in range(int(TIMEOUT / 0.5)):
+    for _ in range(int(timeout / 0.5)):
         h.runtime.advance(0.5)
         status = _ok(client, "/api/robot_status")["results"]
         if running_status is None and status["move_status"] != "running":
@@ -60,10 +62,13 @@ def test_car_held_by_an_operator_waits_for_the_unlock(harness: Harness, client: 
 
 
 def test_a_full_car_is_given_up_with_04033(harness: Harness, client: Client) -> None:
+    """The only car to floor 3, full for good: given up (04033), queued for again twice (the
+    only way there), then the move fails."""
     _car(harness).board_people(2)
     _ok(client, "/api/move?marker=room_301")
     assert _run_until(harness, client, None)["move_status"] == "failed"
-    assert _lift_codes(client) == ["01001", "04000", "04001", "04010", "04033", "01003"]
+    tries = ["04000", "04001", "04010", "04033"] * (1 + MAX_REQUEUES)
+    assert _lift_codes(client) == ["01001", *tries, "01003"]
 
 
 def test_a_car_that_does_not_come_within_3_minutes_sends_04013(
@@ -93,23 +98,48 @@ def test_a_ride_over_3_minutes_sends_04023(harness: Harness, client: Client) -> 
     assert "04021" not in codes
 
 
+def _tries(codes: list[str]) -> list[list[str]]:
+    """The lift codes of a move split into its tries of the car (each from ``04000``)."""
+    tries: list[list[str]] = []
+    for code in codes:
+        if code == "04000":
+            tries.append([])
+        if tries and code.startswith("040"):
+            tries[-1].append(code)
+    return tries
+
+
 def test_something_in_the_car_blocks_the_entry_with_04032(
     harness: Harness, client: Client
 ) -> None:
+    """Entering retried, the car given up (the only one: queued for again twice), then failed."""
     harness.runtime.simulation.place_obstacle("floor1", 37.0, 20.4, 0.35)
     _ok(client, "/api/move?marker=room_301")
     assert _run_until(harness, client, None)["move_status"] == "failed"
     codes = _lift_codes(client)
-    assert codes[:6] == ["01001", "04000", "04001", "04010", "04011", "04030"]
-    assert codes[6:-1] and set(codes[6:-1]) == {"04032"}
-    assert codes[-1] == "01003"
+    assert codes[0] == "01001" and codes[-1] == "01003"
+    tries = _tries(codes)
+    assert len(tries) == 1 + MAX_REQUEUES
+    for codes_of_try in tries:
+        assert codes_of_try[:5] == ["04000", "04001", "04010", "04011", "04030"]
+        assert codes_of_try[5:] and set(codes_of_try[5:]) == {"04032"}
 
 
 def test_a_blocked_way_to_the_door_sends_04002(harness: Harness, client: Client) -> None:
+    """The car stuck away, the way to its door blocked: 04002 on each try (the only car to
+    floor 3: queued for again twice), then failed. (A car already standing open is driven into
+    straight from the waiting spot, so the blocked way only counts while the car is away.)"""
+    car = _car(harness)
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", "floor3"))
+    harness.runtime.advance(15.0)
+    harness.runtime.request_lift("lift_1", LiftRequest("operator", end_session=True))
+    car.spec = replace(car.spec, speed=1e-4)  # stuck between floors
+    harness.runtime.set_lift_mode("lift_2", LiftMode.OUT_OF_SERVICE)  # no way round by floor 2
     harness.runtime.simulation.place_obstacle("floor1", 37.0, 17.6, 0.6)
     _ok(client, "/api/move?marker=room_301")
-    assert _run_until(harness, client, None)["move_status"] == "failed"
-    assert _lift_codes(client) == ["01001", "04000", "04001", "04010", "04002", "01003"]
+    assert _run_until(harness, client, None, 1500.0)["move_status"] == "failed"
+    tries = ["04000", "04001", "04010", "04002"] * (1 + MAX_REQUEUES)
+    assert _lift_codes(client) == ["01001", *tries, "01003"]
 
 
 def test_a_blocked_way_out_goes_back_in_and_retries(harness: Harness, client: Client) -> None:
