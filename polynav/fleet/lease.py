@@ -23,10 +23,13 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   another way waits until they are all out. Sharing never overtakes the queue: a newcomer
   joins a flow only when no one waits, so the other way gets its turn once the flow drains.
 - **No one waits for ever.** Each waiter has a deadline (``max_wait``); past it the waiter leaves
-  the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. And a holder cannot
-  keep a resource by renewing for ever while others wait: past ``max_hold`` its renewal is refused
-  (:class:`~polynav.fleet.errors.LeaseRefused`). With both, every waiter is either granted or told
-  to give up within a bounded time.
+  the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. One that asks again
+  within ``reask_grace`` of its time-out still wants the resource: it goes back in the queue by
+  when it first asked, not at the end (at the end, a robot behind five others for a lift car
+  was sent to the back again every 180 s and waited 500 s while later robots rode). And a
+  holder cannot keep a resource by renewing for ever while others wait: past ``max_hold`` its
+  renewal is refused (:class:`~polynav.fleet.errors.LeaseRefused`). With both, every waiter is
+  either granted or told to give up within a bounded time.
 
 The book is pure: no clock, no threads, no I/O. Every call takes ``now`` [s], first brings the
 book up to that time (expiring leases, timing out waiters, granting to the next in line), then acts.
@@ -59,15 +62,18 @@ class LeaseBookConfig:
         max_wait: a waiter that has not been granted within this leaves the queue [s].
         max_hold: while others wait, a holder may not renew once it has held the resource this
             long since it was granted [s]; alone, it may renew for ever.
+        reask_grace: a waiter timed out that asks again within this [s] keeps its place by
+            when it first asked.
     """
 
     default_duration: float = 30.0
     max_duration: float = 300.0
     max_wait: float = 180.0
     max_hold: float = 600.0
+    reask_grace: float = 10.0
 
     def __post_init__(self) -> None:
-        for name in ("default_duration", "max_duration", "max_wait", "max_hold"):
+        for name in ("default_duration", "max_duration", "max_wait", "max_hold", "reask_grace"):
             value = getattr(self, name)
             if not value > 0.0:
                 raise ConfigError(_KEY + name, f"must be > 0, got {value}")
@@ -152,6 +158,7 @@ class LeaseBook:
         self._events: list[LeaseEvent] = []
         self._now = float("-inf")
         self._next_id = 1
+        self._timed_out: dict[tuple[str, str], Waiter] = {}  # (resource, holder): as it left
 
     # ------------------------------------------------------------------ set-up and queries
 
@@ -228,6 +235,10 @@ class LeaseBook:
         if now < self._now:
             raise InvalidRequest("now", f"time runs backwards ({now} < {self._now})")
         self._now = now
+        grace = self.config.reask_grace
+        for key, w in list(self._timed_out.items()):
+            if now - w.deadline > grace:
+                del self._timed_out[key]
         for name, res in self._resources.items():
             for holder, lease in list(res.leases.items()):
                 if not lease.live_at(now):
@@ -276,9 +287,17 @@ class LeaseBook:
             return None
         if not res.queue and _admits(res, flow):
             return self._grant(resource, res, holder, now, length, flow)
-        res.queue.append(Waiter(holder=holder, since=now, deadline=now + wait, duration=length,
-                                flow=flow))
-        log.info("%s queued for %s at t=%.3f (place %d)", holder, resource, now, len(res.queue) - 1)
+        before = self._timed_out.pop((resource, holder), None)
+        waiter = Waiter(holder=holder, since=now if before is None else before.since,
+                        deadline=now + wait, duration=length, flow=flow)
+        place = next((i for i, w in enumerate(res.queue) if w.since > waiter.since),
+                     len(res.queue))
+        res.queue.insert(place, waiter)
+        if place == 0:
+            self._serve_queue(resource, res, now)  # back at the head: it may go at once
+            if holder in res.leases:
+                return res.leases[holder]
+        log.info("%s queued for %s at t=%.3f (place %d)", holder, resource, now, place)
         self._events.append(LeaseEvent(LeaseEventKind.QUEUED, resource, holder, now))
         return None
 
@@ -364,6 +383,7 @@ class LeaseBook:
         for w in list(res.queue):
             if w.deadline <= now:
                 res.queue.remove(w)
+                self._timed_out[(name, w.holder)] = w
                 log.info("%s gave up waiting for %s at t=%.3f", w.holder, name, now)
                 self._events.append(
                     LeaseEvent(LeaseEventKind.WAIT_TIMED_OUT, name, w.holder, w.deadline))

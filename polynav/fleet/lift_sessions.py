@@ -5,7 +5,7 @@ LiftSessions`); in a building this is the implementation its agent puts in. A se
 on the zone ``lift:<car>`` of the master control's lease book: asked for with a ``zoneRequest``
 (``ACCESS``, :data:`~polynav.runtime.lift_sessions.SESSION_LEASE` seconds), renewed while held,
 given back with ``RELEASE``. The lease book queues robots first come, first served, answers a
-waiter ``REJECTED`` after its ``max_wait`` (it then asks again at the back of the queue) and
+waiter ``REJECTED`` after its ``max_wait`` (it then asks again at once, keeping its place) and
 lets a lease lapse when its robot stops renewing, so no robot holds a car for ever.
 """
 

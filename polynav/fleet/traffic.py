@@ -16,9 +16,9 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
    even where it stands: a parked robot is an obstacle to plan round, not a lock.
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
-   the robot then asks again, at the back of the queue, so that it re-plans and backs off
-   behind those who came first, and a holder cannot keep a zone past ``max_hold`` while others
-   wait (:mod:`polynav.fleet.lease`).
+   the robot then re-plans and asks again (at once, so it keeps its place by when it first
+   asked), and a holder cannot keep a zone past ``max_hold`` while others wait
+   (:mod:`polynav.fleet.lease`).
 
 Since a robot never waits for a zone while it stands in another (zones closer than a stop
 distance are merged into one), no two robots can each hold what the other waits for: the
@@ -136,8 +136,8 @@ class TrafficRule:
         elif grant is m.GrantType.QUEUED:
             lease.granted, lease.queued = False, True
         elif grant in (m.GrantType.REJECTED, m.GrantType.REVOKED, m.GrantType.EXPIRED):
-            # Lost or waited too long: forget it, and the next check asks again (at the back of
-            # the queue).
+            # Lost or waited too long: forget it, and the next check asks again (a waiter
+            # asking again at once keeps its place in the queue).
             if grant is m.GrantType.REJECTED:
                 self.rejections += 1
                 log.warning("%s: gave up waiting for %s; asking again", self.holder,

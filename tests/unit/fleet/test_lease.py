@@ -127,6 +127,46 @@ def test_waiter_past_its_deadline_leaves_the_queue_and_is_never_granted(book: Le
     assert [(e.holder, e.at) for e in timed_out] == [("r2", 6.0)]
 
 
+def test_a_timed_out_waiter_asking_again_at_once_keeps_its_place(book: LeaseBook) -> None:
+    """Told to give up, r2 asks again at once: still ahead of r3 and r4, who came later."""
+    book.request("lift:A", "r1", now=0.0, duration=60.0)
+    book.request("lift:A", "r2", now=1.0, max_wait=5.0)
+    book.request("lift:A", "r3", now=2.0)
+    book.request("lift:A", "r4", now=3.0)
+    book.tick(6.5)
+    assert [w.holder for w in book.waiters("lift:A")] == ["r3", "r4"]
+    assert book.request("lift:A", "r2", now=7.0) is None
+    assert [w.holder for w in book.waiters("lift:A")] == ["r2", "r3", "r4"]
+    assert book.waiters("lift:A")[0].deadline == 37.0  # a fresh deadline
+    book.release("lift:A", "r1", now=8.0)
+    assert [lease.holder for lease in book.leases("lift:A")] == ["r2"]
+
+
+def test_asking_again_long_after_timing_out_goes_to_the_back(book: LeaseBook) -> None:
+    book.request("lift:A", "r1", now=0.0, duration=60.0)
+    book.request("lift:A", "r2", now=1.0, max_wait=5.0)
+    book.request("lift:A", "r3", now=2.0)
+    book.tick(6.5)
+    book.request("lift:A", "r2", now=6.0 + book.config.reask_grace + 1.0)
+    assert [w.holder for w in book.waiters("lift:A")] == ["r3", "r2"]
+
+
+def test_a_waiter_back_at_the_head_going_the_flows_way_is_let_in_at_once() -> None:
+    """r2 (east) timed out behind r0; r3 (east) got in after r0; r4 (west) waits for the east
+    flow to drain. r2 asks again at once: older than r4, and going east, it joins r3."""
+    book = LeaseBook(LeaseBookConfig(max_wait=100.0))
+    book.request("zone:c", "r0", now=0.0)
+    book.request("zone:c", "r2", now=1.0, flow="EE", max_wait=5.0)
+    book.request("zone:c", "r3", now=1.5, flow="EE")
+    book.request("zone:c", "r4", now=2.0, flow="WW")
+    book.tick(6.0)  # r2 gave up
+    book.release("zone:c", "r0", now=6.2)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r3"]
+    lease = book.request("zone:c", "r2", now=7.0, flow="EE")
+    assert lease is not None and lease.holder == "r2"
+    assert [w.holder for w in book.waiters("zone:c")] == ["r4"]
+
+
 def test_max_wait_is_capped_by_the_books_limit(book: LeaseBook) -> None:
     book.request("lift:A", "r1", now=0.0, duration=60.0)
     book.request("lift:A", "r2", now=0.0, max_wait=1000.0)
