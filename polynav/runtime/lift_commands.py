@@ -14,14 +14,16 @@ The lift sequence of a lift leg (``docs/lifts.md``), each step a :class:`LiftPha
    given up after :data:`SESSION_TIMEOUT`, and at once if the car goes out of service).
 3. ``calling``: the car is asked to this floor with its doors open, and the robot drives to
    the outside point; ``waiting_for_car`` until the car stands open here (given up after
-   :data:`CALL_TIMEOUT`: the car is excluded and the goal re-routed).
+   :data:`CALL_TIMEOUT`: the car is excluded and the goal re-routed). A car that stands open
+   is driven into at once, without stopping at the outside point first.
 4. ``entering``: drive to the inside point. A full car is given up for the next one; blocked
    (the navigator failed): retry after a pause, up to :data:`MAX_DOOR_RETRIES`.
 5. ``riding``: the car is asked to the target floor; when it stands there the map is switched
    and localization restarted at the lift's known position (``switching_map``). A ride over
    :data:`RIDE_TIMEOUT` fails the goal.
-6. ``exiting``: drive to the outside point of the new floor. Blocked: back into the car, wait,
-   retry; then the session is ended (``left``) and the route goes on.
+6. ``exiting``: drive out past the outside point of the new floor (no stop there). Blocked:
+   back into the car, wait, retry; then the session is ended (``left``) and the route goes
+   on.
 
 A car out of service, full, or that never came is excluded and the rest re-routed from where the
 robot stands: onto the other car where one serves the floor. Where none does, a car given up
