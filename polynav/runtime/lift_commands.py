@@ -498,11 +498,9 @@ class LiftCommands(LiftAccess):
             self._stack.navigator.cancel(now)
             run.nav_id = None
         self._give_up_car(run, now)
-        assert self._map_name is not None and self._stack is not None
         route: Route | None
         try:
-            route = self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
-                                     run.goal, run.goal_point, excluded=run.excluded)
+            route = self._rest_of_route(run, run.excluded)
         except NoRoute as exc:
             route = self._requeue(run)
             if route is None:
@@ -525,10 +523,8 @@ class LiftCommands(LiftAccess):
         again = {car for car in run.excluded - run.faulty if not self._out_of_service(car)}
         if not again or run.requeues >= MAX_REQUEUES:
             return None
-        assert self._map_name is not None and self._stack is not None
         try:
-            route = self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
-                                     run.goal, run.goal_point, excluded=run.excluded - again)
+            route = self._rest_of_route(run, run.excluded - again)
         except NoRoute:
             return None
         run.requeues += 1
@@ -536,6 +532,16 @@ class LiftCommands(LiftAccess):
         log.info("%s route %d: no other car; queueing again for %s", self.robot_id,
                  run.attempt_id, ", ".join(sorted(again)))
         return route
+
+    def _rest_of_route(self, run: RouteRun, excluded: set[str]) -> Route:
+        """The route from where the robot stands to ``run``'s goal, leaving ``excluded`` out.
+
+        Raises:
+            NoRoute: no car that is left takes it there.
+        """
+        assert self._map_name is not None and self._stack is not None
+        return self._plan_route(self._map_name, self._stack.estimate.pose, run.goal_map,
+                                run.goal, run.goal_point, excluded=excluded)
 
     def _switch_map(self, run: RouteRun, map_name: str, pose: Pose2D) -> None:
         """Navigate on ``map_name`` from now on, localized at ``pose`` (no mode change)."""
