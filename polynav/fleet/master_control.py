@@ -5,8 +5,9 @@ each robot only through messages on a :class:`~polynav.fleet.interface.Transport
 
 - it sends **orders** (a list of points to go through) and **instant actions** (cancel);
 - it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
-  with its expiry, or QUEUED; a waiter is sent GRANTED when its turn comes, REJECTED when it
-  has waited ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
+  with its expiry, or QUEUED with the waiter's place in line, sent again whenever the place
+  changes; a waiter is sent GRANTED when its turn comes, REJECTED when it has waited
+  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
 - it keeps the last **state** of each robot, which ``GET /api/fleet`` shows.
 
 It runs on the site's clock: :meth:`MasterControl.tick` is called between physics steps.
@@ -55,6 +56,9 @@ class MasterControl:
         # The request id each (zone, robot) was last asked with: a grant that comes later (the
         # waiter's turn) answers that request.
         self._request_ids: dict[tuple[str, str], str] = {}
+        # The (request id, place in line) each waiter was last told, so a place is sent once
+        # each time it changes.
+        self._told_places: dict[tuple[str, str], tuple[str, int]] = {}
         self.zone_requests = 0
 
     def add_robot(self, serial_number: str) -> None:
@@ -121,6 +125,7 @@ class MasterControl:
                 self._answer(serial, request, now)
         self.leases.tick(now)
         self._forward_events()
+        self._tell_places()
 
     def _answer(self, serial: str, request: m.ZoneRequest, now: float) -> None:
         self.zone_requests += 1
@@ -135,9 +140,9 @@ class MasterControl:
             if self.leases.lease(zone, serial) is None:
                 # A grant, now or when the robot's turn comes, is answered from the book's
                 # GRANTED event (see _forward_events), so it is answered once.
-                if self.leases.request(zone, serial, now=now, duration=request.duration,
-                                       flow=request.flow) is None:
-                    self._respond(serial, request.request_id, zone, m.GrantType.QUEUED, None)
+                # A waiter is answered QUEUED, with its place, by _tell_places.
+                self.leases.request(zone, serial, now=now, duration=request.duration,
+                                    flow=request.flow)
                 return
             lease = self.leases.renew(zone, serial, now=now, duration=request.duration)
         except PolynavError as exc:
@@ -165,11 +170,30 @@ class MasterControl:
                 self._respond(event.holder, request_id, event.resource, m.GrantType.REJECTED,
                               None)
 
+    def _tell_places(self) -> None:
+        """Send each waiter QUEUED with its place in line when it is new or has changed: a robot
+        further back waits further from the zone, leaving its mouth clear for whoever comes out
+        (:mod:`polynav.fleet.traffic`)."""
+        waiting: set[tuple[str, str]] = set()
+        for zone in self.leases.resources():
+            for place, waiter in enumerate(self.leases.waiters(zone)):
+                key = (zone, waiter.holder)
+                request_id = self._request_ids.get(key)
+                if request_id is None or waiter.holder not in self._robots:
+                    continue
+                waiting.add(key)
+                if self._told_places.get(key) != (request_id, place):
+                    self._told_places[key] = (request_id, place)
+                    self._respond(waiter.holder, request_id, zone, m.GrantType.QUEUED, None,
+                                  place)
+        for key in self._told_places.keys() - waiting:
+            del self._told_places[key]
+
     def _respond(self, serial: str, request_id: str, zone: str, grant: m.GrantType,
-                 expiry: float | None) -> None:
+                 expiry: float | None, place: int | None = None) -> None:
         self.transport.publish(
             m.topic(serial, m.ZoneResponse),
-            m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry))
+            m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry, place))
 
     def _robot(self, serial_number: str) -> _Robot:
         robot = self._robots.get(serial_number)

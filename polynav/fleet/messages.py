@@ -107,7 +107,11 @@ class GrantType(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class ZoneResponse:
-    """The fleet's answer: granted until ``lease_expiry`` [s of site time], queued, or not."""
+    """The fleet's answer: granted until ``lease_expiry`` [s of site time], queued, or not.
+
+    ``queue_position`` (polynav's addition, JSON ``queuePosition``) is a QUEUED robot's place in
+    line, 0 next; the fleet sends QUEUED again whenever it changes.
+    """
 
     header_id: int
     serial_number: str
@@ -115,6 +119,7 @@ class ZoneResponse:
     zone_id: str
     grant_type: GrantType
     lease_expiry: float | None = None
+    queue_position: int | None = None
 
 
 @dataclass(frozen=True, slots=True)

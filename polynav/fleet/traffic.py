@@ -7,9 +7,11 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    zone request, with the way it goes through: robots going the same way may share the zone,
    :mod:`polynav.fleet.zones`); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
-   robot stops there (its goal is paused) and waits; a robot whose goal starts inside a zone
-   it does not hold waits where it stands, unless its path leaves that zone within
-   ``leave_within`` metres: a robot at a zone's edge on its way out frees the mouth the
+   robot stops there (its goal is paused) and waits; a robot told it is not next in line stops
+   ``queue_spacing`` further back for each robot ahead of it, and moves up as they go in, so the
+   waiters do not crowd the mouth of the zone the holder must come out of. A robot whose goal
+   starts inside a zone it does not hold waits where it stands, unless its path leaves that
+   zone within ``leave_within`` metres: a robot at a zone's edge on its way out frees the mouth the
    holder must come out of (waiting there, five robots once walled the holder in). Granted,
    it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
@@ -65,6 +67,8 @@ class TrafficConfig:
         check_period: how often the rule looks at the path [s].
         leave_within: a robot in a zone it does not hold, whose path is out of it within this
             distance [m], is leaving it: it needs no lease and does not wait.
+        queue_spacing: a waiter stops this much further back per robot ahead of it in line [m]
+            (never further than ``lookahead``, where it asked).
     """
 
     lookahead: float = 4.0
@@ -73,10 +77,11 @@ class TrafficConfig:
     renew_before: float = 10.0
     check_period: float = 0.2
     leave_within: float = 1.5
+    queue_spacing: float = 1.5
 
     def __post_init__(self) -> None:
         for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
-                     "check_period", "leave_within"):
+                     "check_period", "leave_within", "queue_spacing"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
@@ -91,6 +96,7 @@ class _ZoneLease:
     request_id: str
     granted: bool = False
     queued: bool = False
+    place: int = 0
     expiry: float = -math.inf
     renew_sent: float = -math.inf
 
@@ -135,6 +141,7 @@ class TrafficRule:
                 math.inf)
         elif grant is m.GrantType.QUEUED:
             lease.granted, lease.queued = False, True
+            lease.place = max(response.queue_position or 0, 0)
         elif grant in (m.GrantType.REJECTED, m.GrantType.REVOKED, m.GrantType.EXPIRED):
             # Lost or waited too long: forget it, and the next check asks again (a waiter
             # asking again at once keeps its place in the queue).
@@ -180,13 +187,17 @@ class TrafficRule:
             if self._paused_for not in needed or (waited is not None and waited.granted):
                 log.info("%s: %s granted, going on", self.holder, self._paused_for)
                 self.resume_goal(runtime)
+            elif (ahead is not None and ahead[0] == self._paused_for
+                  and ahead[1] > self._stop_distance(ahead[0]) + self.config.queue_spacing / 2):
+                log.info("%s: moving up in line for %s", self.holder, ahead[0])
+                self.resume_goal(runtime)
             return
         blocking = None
         inside = self._leases.get(current) if current is not None else None
         if current is not None and inside is not None and inside.queued:
             blocking = current, 0.0  # it starts in a zone another robot holds: it waits there
-        elif ahead is not None and ahead[1] <= self.config.stop_distance and not self._granted(
-                ahead[0]):
+        elif (ahead is not None and ahead[1] <= self._stop_distance(ahead[0])
+              and not self._granted(ahead[0])):
             blocking = ahead
         stack = runtime.navigation_stack
         if (blocking is not None and stack is not None
@@ -196,6 +207,14 @@ class TrafficRule:
             self._wait_started = now
             self.waits += 1
             log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
+
+    def _stop_distance(self, zone_id: str) -> float:
+        """How far before ``zone_id`` the robot stops if it is not granted: further back the
+        further it is from the front of the line."""
+        lease = self._leases.get(zone_id)
+        place = lease.place if lease is not None and lease.queued else 0
+        config = self.config
+        return min(config.stop_distance + config.queue_spacing * place, config.lookahead)
 
     def _granted(self, zone_id: str) -> bool:
         lease = self._leases.get(zone_id)

@@ -32,6 +32,8 @@ STATE = m.State(
                   "E"),
     m.ZoneResponse(5, "robot1", "robot1-9", "zone:floor1/3", m.GrantType.GRANTED, 42.0),
     m.ZoneResponse(6, "robot1", "robot1-9", "zone:floor1/3", m.GrantType.QUEUED),
+    m.ZoneResponse(7, "robot1", "robot1-9", "zone:floor1/3", m.GrantType.QUEUED,
+                   queue_position=2),
 ])
 def test_every_message_survives_the_round_trip(message: m.Message) -> None:
     kind = m.TOPICS[type(message)]
@@ -44,6 +46,8 @@ def test_json_uses_vda_5050_camel_case_names() -> None:
     assert raw["nodes"][0] == {"nodeId": "office_1", "sequenceId": 0, "released": True,
                                "nodePosition": {"x": 14.3, "y": 20.5, "theta": 1.57,
                                                 "mapId": "floor1"}}
+    queued = m.ZoneResponse(7, "r", "q", "z", m.GrantType.QUEUED, queue_position=2)
+    assert orjson.loads(codec.encode(queued))["queuePosition"] == 2
     state = orjson.loads(codec.encode(STATE))
     assert state["agvPosition"]["positionInitialized"] is True
     assert state["errors"][0]["errorType"] == "orderFailed"
@@ -59,6 +63,9 @@ def test_json_uses_vda_5050_camel_case_names() -> None:
               b' "nodes": {}}', "order.nodes"),
     ("zoneResponse", b'{"headerId": 1, "serialNumber": "r", "requestId": "q", "zoneId": "z",'
                      b' "grantType": "MAYBE"}', "zoneResponse.grantType"),
+    ("zoneResponse", b'{"headerId": 1, "serialNumber": "r", "requestId": "q", "zoneId": "z",'
+                     b' "grantType": "QUEUED", "queuePosition": "2"}',
+     "zoneResponse.queuePosition"),
     ("zoneRequest", b'{"headerId": 1, "serialNumber": "r", "requestId": "q", "zoneId": "z",'
                     b' "requestType": "ACCESS", "flow": 3}', "zoneRequest.flow"),
     ("teleport", b"{}", "topic"),

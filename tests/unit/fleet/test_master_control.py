@@ -81,6 +81,33 @@ def test_robots_going_the_same_way_are_granted_a_zone_together(
     assert r2.answers() == [("b", m.GrantType.GRANTED, 11.0)]
 
 
+def test_each_waiter_is_told_its_place_in_line_again_when_it_changes(
+        setup: tuple[MasterControl, Robot, Robot]) -> None:
+    master, r1, r2 = setup
+    master.add_robot("r3")
+    r3 = Robot(r1.transport, "r3")
+    r1.ask("a", "zone:floor1/1")
+    r2.ask("b", "zone:floor1/1")
+    r3.ask("c", "zone:floor1/1")
+    master.tick(1.0)
+    assert _places(r2) == [("b", m.GrantType.QUEUED, 0)]
+    assert _places(r3) == [("c", m.GrantType.QUEUED, 1)]
+    master.tick(2.0)
+    assert _places(r2) == [] and _places(r3) == []  # told once, not at every tick
+    r1.ask("a", "zone:floor1/1", m.ZoneRequestType.RELEASE)
+    master.tick(3.0)
+    assert _places(r2) == [("b", m.GrantType.GRANTED, None)]
+    assert _places(r3) == [("c", m.GrantType.QUEUED, 0)]  # next now: it moves up
+
+
+def _places(robot: Robot) -> list[tuple[str, m.GrantType, int | None]]:
+    out = []
+    for r in robot.responses.drain():
+        assert isinstance(r, m.ZoneResponse)
+        out.append((r.request_id, r.grant_type, r.queue_position))
+    return out
+
+
 def test_renewal_extends_and_silence_expires(setup: tuple[MasterControl, Robot, Robot]) -> None:
     master, r1, _ = setup
     r1.ask("a", "zone:floor1/1")

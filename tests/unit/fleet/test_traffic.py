@@ -114,3 +114,49 @@ def test_a_waiting_robot_whose_new_path_leads_away_goes_on() -> None:
     assert rule.waiting_for is None
     assert robot.navigation_stack.navigator.state is NavigationState.RUNNING
     assert sent[-1][1:] == ("zone:m/1", m.ZoneRequestType.RELEASE)
+
+
+def _told_place(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]],
+                place: int) -> None:
+    rid, zone, _ = sent[0]
+    rule.on_response(m.ZoneResponse(header_id=1, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.QUEUED,
+                                    queue_position=place))
+
+
+def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
+    # Five robots once stood at a door's mouth waiting for it, walling in the holder that had
+    # to come out: each robot not next in line keeps queue_spacing more room per robot ahead.
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(7.9, 2.0, np.pi), Path(np.array([[7.9, 2.0], [1.0, 2.0]])))
+    navigator = robot.navigation_stack.navigator
+    rule.tick(0.0, robot)  # type: ignore[arg-type]  # the door is 3.1 m ahead: asked for
+    _told_place(rule, sent, 1)
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING  # 1 + 1.5 = 2.5 m is its stop
+    robot.pose = Pose2D(7.0, 2.0, np.pi)  # 2.2 m ahead
+    rule.tick(2.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
+    rule.tick(3.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.PAUSED  # no one ahead went in yet
+    _told_place(rule, sent, 0)  # the robot ahead went in: it moves up
+    rule.tick(4.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for is None and navigator.state is NavigationState.RUNNING
+    robot.pose = Pose2D(6.0, 2.0, np.pi)  # 1.2 m ahead: not yet at the front stop
+    rule.tick(5.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING
+    robot.pose = Pose2D(5.7, 2.0, np.pi)  # 0.9 m ahead: the front stop
+    rule.tick(6.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
+    assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]  # one request throughout
+
+
+def test_a_robot_far_back_in_line_stops_where_it_asked() -> None:
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(7.9, 2.0, np.pi), Path(np.array([[7.9, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    _told_place(rule, sent, 5)  # 1 + 5 x 1.5 m is past the lookahead: it stops at once
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1"
