@@ -8,8 +8,10 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    :mod:`polynav.fleet.zones`); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot told it is not next in line stops
-   ``queue_spacing`` further back for each robot ahead of it, and moves up as they go in, so the
-   waiters do not crowd the mouth of the zone the holder must come out of. A robot whose goal
+   ``queue_spacing`` further back for each robot ahead of it, so the waiters do not crowd the
+   mouth of the zone the holder must come out of. A waiter stays where it stopped until granted:
+   moving up as those ahead went in, a robot first in line wove into the robots standing
+   between it and the mouth and failed stuck (10 robots, seed 2). A robot whose goal
    starts inside a zone it does not hold waits where it stands, unless its path leaves that
    zone within ``leave_within`` metres: a robot at a zone's edge on its way out frees the mouth the
    holder must come out of (waiting there, five robots once walled the holder in). Granted,
@@ -169,7 +171,7 @@ class TrafficRule:
         if now < self._next_check:
             return
         self._next_check = now + self.config.check_period
-        needed, current, ahead = self._needed(runtime)
+        needed, current, ahead, in_zone = self._needed(runtime)
         for zone_id, flow in needed.items():
             if zone_id not in self._leases:
                 self._request(zone_id, flow)
@@ -187,16 +189,12 @@ class TrafficRule:
             if self._paused_for not in needed or (waited is not None and waited.granted):
                 log.info("%s: %s granted, going on", self.holder, self._paused_for)
                 self.resume_goal(runtime)
-            elif (ahead is not None and ahead[0] == self._paused_for
-                  and ahead[1] > self._stop_distance(ahead[0]) + self.config.queue_spacing / 2):
-                log.info("%s: moving up in line for %s", self.holder, ahead[0])
-                self.resume_goal(runtime)
             return
         blocking = None
         inside = self._leases.get(current) if current is not None else None
         if current is not None and inside is not None and inside.queued:
             blocking = current, 0.0  # it starts in a zone another robot holds: it waits there
-        elif (ahead is not None and ahead[1] <= self._stop_distance(ahead[0])
+        elif (ahead is not None and ahead[1] <= self._stop_distance(ahead[0], in_zone)
               and not self._granted(ahead[0])):
             blocking = ahead
         stack = runtime.navigation_stack
@@ -208,11 +206,12 @@ class TrafficRule:
             self.waits += 1
             log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
 
-    def _stop_distance(self, zone_id: str) -> float:
+    def _stop_distance(self, zone_id: str, in_zone: bool) -> float:
         """How far before ``zone_id`` the robot stops if it is not granted: further back the
-        further it is from the front of the line."""
+        further it is from the front of the line, but never in another zone (a robot waiting
+        there would hold one zone while it waits for the next, or stand in a mouth)."""
         lease = self._leases.get(zone_id)
-        place = lease.place if lease is not None and lease.queued else 0
+        place = lease.place if lease is not None and lease.queued and not in_zone else 0
         config = self.config
         return min(config.stop_distance + config.queue_spacing * place, config.lookahead)
 
@@ -221,17 +220,18 @@ class TrafficRule:
         return lease is not None and lease.granted
 
     def _needed(self, runtime: RobotRuntime
-                ) -> tuple[dict[str, str | None], str | None, tuple[str, float] | None]:
+                ) -> tuple[dict[str, str | None], str | None, tuple[str, float] | None, bool]:
         """The zones the robot needs now (with the way it goes through those it has not asked
-        for yet), the zone it stands in, and the zone ahead with its distance."""
+        for yet), the zone it stands in, the zone ahead with its distance, and whether it
+        stands in any zone (even one it is leaving)."""
         stack = runtime.navigation_stack
         name = runtime.map_name
         zmap = self._zones.get(name) if name is not None else None
         if stack is None or zmap is None:
-            return {}, None, None
+            return {}, None, None, False
         navigator = stack.navigator
         if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
-            return {}, None, None
+            return {}, None, None, False
         pose = runtime.status().pose
         path: Path | None = navigator.path
         numbers: dict[str, int] = {}
@@ -254,7 +254,7 @@ class TrafficRule:
             else zmap.flow(path, pose.x, pose.y, number)
             for zone_id, number in numbers.items()
         }
-        return needed, inside, ahead
+        return needed, inside, ahead, current != 0
 
     def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

@@ -10,6 +10,7 @@ from polynav.fleet import messages as m
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import find_zones
 from polynav.geometry import Pose2D
+from polynav.maps.map import Map
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
 from tests.unit.fleet.test_zones import _two_rooms
@@ -124,7 +125,7 @@ def _told_place(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]
                                     queue_position=place))
 
 
-def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
+def test_a_robot_further_back_in_line_waits_further_back_and_stays_there() -> None:
     # Five robots once stood at a door's mouth waiting for it, walling in the holder that had
     # to come out: each robot not next in line keeps queue_spacing more room per robot ahead.
     sent: list[tuple[str, str, m.ZoneRequestType]] = []
@@ -138,18 +139,32 @@ def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
     robot.pose = Pose2D(7.0, 2.0, np.pi)  # 2.2 m ahead
     rule.tick(2.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
+    # The robot ahead went in: this one is next, and waits where it stands (moving up, it
+    # would weave through whoever stands between it and the door).
+    _told_place(rule, sent, 0)
     rule.tick(3.0, robot)  # type: ignore[arg-type]
-    assert navigator.state is NavigationState.PAUSED  # no one ahead went in yet
-    _told_place(rule, sent, 0)  # the robot ahead went in: it moves up
+    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
+    rid, zone, _ = sent[0]
+    rule.on_response(m.ZoneResponse(header_id=2, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.GRANTED,
+                                    lease_expiry=40.0))
     rule.tick(4.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for is None and navigator.state is NavigationState.RUNNING
-    robot.pose = Pose2D(6.0, 2.0, np.pi)  # 1.2 m ahead: not yet at the front stop
-    rule.tick(5.0, robot)  # type: ignore[arg-type]
-    assert navigator.state is NavigationState.RUNNING
-    robot.pose = Pose2D(5.7, 2.0, np.pi)  # 0.9 m ahead: the front stop
-    rule.tick(6.0, robot)  # type: ignore[arg-type]
-    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
     assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]  # one request throughout
+
+
+def test_a_robot_next_in_line_stops_at_the_stop_distance() -> None:
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(7.0, 2.0, np.pi), Path(np.array([[7.0, 2.0], [1.0, 2.0]])))
+    navigator = robot.navigation_stack.navigator
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    _told_place(rule, sent, 0)
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING  # 2.2 m ahead, its stop is at 1 m
+    robot.pose = Pose2D(5.7, 2.0, np.pi)  # 0.9 m ahead
+    rule.tick(2.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
 
 
 def test_a_robot_far_back_in_line_stops_where_it_asked() -> None:
@@ -160,3 +175,44 @@ def test_a_robot_far_back_in_line_stops_where_it_asked() -> None:
     _told_place(rule, sent, 5)  # 1 + 5 x 1.5 m is past the lookahead: it stops at once
     rule.tick(1.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1"
+
+
+def _three_rooms() -> Map:
+    """Three rooms in a row (x 0..4, 4.1..7, 7.1..10.1), 1 m doors at y 1.5..2.5."""
+    res = 0.05
+    occ = np.zeros((int(4.2 / res), int(10.2 / res)), dtype=bool)
+    occ[:2, :] = occ[-2:, :] = True
+    occ[:, :2] = occ[:, -2:] = True
+    for x in (4.05, 7.05):
+        col = int(x / res)
+        occ[:, col:col + 2] = True
+        occ[int(1.5 / res):int(2.5 / res), col:col + 2] = False
+    return Map.from_occupied(occ, resolution=res)
+
+
+def test_a_robot_back_in_line_never_waits_inside_the_zone_it_comes_out_of() -> None:
+    # Waiting there it would hold one door while it waits for the next (hold-and-wait).
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+
+    def send(rid: str, zone: str, kind: m.ZoneRequestType, _duration: float,
+             _flow: str | None = None) -> None:
+        sent.append((rid, zone, kind))
+
+    rule = TrafficRule("r1", {"m": find_zones("m", _three_rooms())}, TrafficConfig(), send)
+    robot = _Robot(Pose2D(3.6, 2.0, 0.0), Path(np.array([[2.0, 2.0], [9.5, 2.0]])))
+    navigator = robot.navigation_stack.navigator
+    rule.tick(0.0, robot)  # type: ignore[arg-type]  # in door 1's zone, door 2 2.7 m ahead
+    ids = {zone: rid for rid, zone, _ in sent}
+    assert set(ids) == {"zone:m/1", "zone:m/2"}
+    rule.on_response(m.ZoneResponse(1, "r1", ids["zone:m/1"], "zone:m/1",
+                                    m.GrantType.GRANTED, 30.0))
+    rule.on_response(m.ZoneResponse(2, "r1", ids["zone:m/2"], "zone:m/2",
+                                    m.GrantType.QUEUED, queue_position=1))
+    robot.pose = Pose2D(4.5, 2.0, 0.0)  # through door 1, 1.9 m from door 2
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING  # in a zone: its stop stays at 1 m
+    assert rule.held == ("zone:m/1",)
+    robot.pose = Pose2D(5.0, 2.0, 0.0)  # out of door 1, 1.4 m from door 2
+    rule.tick(2.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/2" and navigator.state is NavigationState.PAUSED
+    assert rule.held == ()  # door 1 given back
