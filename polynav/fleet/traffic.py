@@ -71,6 +71,10 @@ class TrafficConfig:
             distance [m], is leaving it: it needs no lease and does not wait.
         queue_spacing: a waiter stops this much further back per robot ahead of it in line [m]
             (never further than ``lookahead``, where it asked).
+        keep_margin: a zone asked for stays asked for until it is this much beyond
+            ``lookahead`` [m]: a robot waiting near the lookahead whose resumed path came out a
+            few centimetres longer gave the zone back on being granted it, and queued again at
+            the back.
     """
 
     lookahead: float = 4.0
@@ -80,10 +84,11 @@ class TrafficConfig:
     check_period: float = 0.2
     leave_within: float = 1.5
     queue_spacing: float = 1.5
+    keep_margin: float = 1.0
 
     def __post_init__(self) -> None:
         for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
-                     "check_period", "leave_within", "queue_spacing"):
+                     "check_period", "leave_within", "queue_spacing", "keep_margin"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
@@ -244,11 +249,14 @@ class TrafficRule:
             numbers[inside] = current
         ahead = None
         if path is not None:
-            found = zmap.zone_ahead(path, pose.x, pose.y, lookahead=self.config.lookahead,
-                                    skip=current)
+            config = self.config
+            found = zmap.zone_ahead(path, pose.x, pose.y,
+                                    lookahead=config.lookahead + config.keep_margin, skip=current)
             if found is not None:
-                ahead = (zmap.zone_id(found[0]), found[1])
-                numbers[ahead[0]] = found[0]
+                zone_id = zmap.zone_id(found[0])
+                if found[1] <= config.lookahead or zone_id in self._leases:
+                    ahead = (zone_id, found[1])
+                    numbers[zone_id] = found[0]
         needed = {
             zone_id: None if zone_id in self._leases or path is None
             else zmap.flow(path, pose.x, pose.y, number)

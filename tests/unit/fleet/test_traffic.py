@@ -216,3 +216,22 @@ def test_a_robot_back_in_line_never_waits_inside_the_zone_it_comes_out_of() -> N
     rule.tick(2.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/2" and navigator.state is NavigationState.PAUSED
     assert rule.held == ()  # door 1 given back
+
+
+def test_a_zone_asked_for_is_kept_while_the_path_to_it_grows_a_little() -> None:
+    # Waiting near the lookahead, a robot whose resumed path came out a few centimetres longer
+    # gave the zone back on being granted it, and queued again at the back of the line.
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(7.9, 2.0, np.pi), Path(np.array([[7.9, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]  # 3.1 m ahead: asked for
+    _queued(rule, sent)
+    navigator = robot.navigation_stack.navigator
+    navigator.path = Path(np.array([[7.9, 2.0], [7.9, 2.6], [6.0, 2.6], [6.0, 2.0],
+                                    [1.0, 2.0]]))  # a detour: 4.3 m to the door
+    rule.tick(1.0, robot)  # type: ignore[arg-type]
+    assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]
+    navigator.path = Path(np.array([[7.9, 2.0], [7.9, 3.2], [6.0, 3.2], [6.0, 2.0],
+                                    [1.0, 2.0]]))  # 5.5 m: well past the lookahead
+    rule.tick(2.0, robot)  # type: ignore[arg-type]
+    assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS, m.ZoneRequestType.RELEASE]
