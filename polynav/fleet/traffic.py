@@ -8,14 +8,12 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    :mod:`polynav.fleet.zones`); so is the zone it stands in.
 2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot told it is not next in line stops
-   ``queue_spacing`` further back for each robot ahead of it, so the waiters do not crowd the
-   mouth of the zone the holder must come out of. A waiter stays where it stopped until granted:
-   moving up as those ahead went in, a robot first in line wove into the robots standing
-   between it and the mouth and failed stuck (10 robots, seed 2). A robot whose goal
-   starts inside a zone it does not hold waits where it stands, unless its path leaves that
-   zone within ``leave_within`` metres: a robot at a zone's edge on its way out frees the mouth the
-   holder must come out of (waiting there, five robots once walled the holder in). Granted,
-   it goes on.
+   ``queue_spacing`` further back for each robot ahead of it (unless it stands in a zone
+   there), and moves up as those ahead go in, so the waiters do not crowd the mouth of the zone
+   the holder must come out of. A robot whose goal starts inside a zone it does not hold waits
+   where it stands, unless its path leaves that zone within ``leave_within`` metres: a robot at
+   a zone's edge on its way out frees the mouth the holder must come out of (waiting there,
+   five robots once walled the holder in). Granted, it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
    even where it stands: a parked robot is an obstacle to plan round, not a lock.
@@ -193,6 +191,10 @@ class TrafficRule:
             waited = self._leases.get(self._paused_for)
             if self._paused_for not in needed or (waited is not None and waited.granted):
                 log.info("%s: %s granted, going on", self.holder, self._paused_for)
+                self.resume_goal(runtime)
+            elif (ahead is not None and ahead[0] == self._paused_for and ahead[1] > (
+                    self._stop_distance(ahead[0], in_zone) + self.config.queue_spacing / 2)):
+                log.info("%s: moving up in line for %s", self.holder, ahead[0])
                 self.resume_goal(runtime)
             return
         blocking = None

@@ -125,7 +125,7 @@ def _told_place(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]
                                     queue_position=place))
 
 
-def test_a_robot_further_back_in_line_waits_further_back_and_stays_there() -> None:
+def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
     # Five robots once stood at a door's mouth waiting for it, walling in the holder that had
     # to come out: each robot not next in line keeps queue_spacing more room per robot ahead.
     sent: list[tuple[str, str, m.ZoneRequestType]] = []
@@ -139,17 +139,14 @@ def test_a_robot_further_back_in_line_waits_further_back_and_stays_there() -> No
     robot.pose = Pose2D(7.0, 2.0, np.pi)  # 2.2 m ahead
     rule.tick(2.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
-    # The robot ahead went in: this one is next, and waits where it stands (moving up, it
-    # would weave through whoever stands between it and the door).
-    _told_place(rule, sent, 0)
     rule.tick(3.0, robot)  # type: ignore[arg-type]
-    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
-    rid, zone, _ = sent[0]
-    rule.on_response(m.ZoneResponse(header_id=2, serial_number="r1", request_id=rid,
-                                    zone_id=zone, grant_type=m.GrantType.GRANTED,
-                                    lease_expiry=40.0))
+    assert navigator.state is NavigationState.PAUSED  # no one ahead went in yet
+    _told_place(rule, sent, 0)  # the robot ahead went in: it moves up
     rule.tick(4.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for is None and navigator.state is NavigationState.RUNNING
+    robot.pose = Pose2D(5.7, 2.0, np.pi)  # 0.9 m ahead: the front stop
+    rule.tick(5.0, robot)  # type: ignore[arg-type]
+    assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
     assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]  # one request throughout
 
 
