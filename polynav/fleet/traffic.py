@@ -123,6 +123,8 @@ class TrafficRule:
         self.rejections = 0
         self.wait_time = 0.0
         self._wait_started = 0.0
+        # The zone it was resumed to move up in line for: its next stop for it is the same wait.
+        self._moving_up_for: str | None = None
 
     @property
     def waiting_for(self) -> str | None:
@@ -163,6 +165,7 @@ class TrafficRule:
         if self._paused_for is None:
             return
         self._paused_for = None
+        self._moving_up_for = None
         self.wait_time += runtime.now() - self._wait_started
         try:
             runtime.resume()
@@ -196,7 +199,11 @@ class TrafficRule:
                     self._stop_distance(ahead[0], in_zone) + self.config.queue_spacing / 2)):
                 log.info("%s: moving up in line for %s", self.holder, ahead[0])
                 self.resume_goal(runtime)
+                self._moving_up_for = ahead[0]
             return
+        if self._moving_up_for is not None and (self._moving_up_for not in needed
+                                                or self._granted(self._moving_up_for)):
+            self._moving_up_for = None
         blocking = None
         inside = self._leases.get(current) if current is not None else None
         if current is not None and inside is not None and inside.queued:
@@ -210,7 +217,9 @@ class TrafficRule:
             runtime.pause()
             self._paused_for = blocking[0]
             self._wait_started = now
-            self.waits += 1
+            if blocking[0] != self._moving_up_for:
+                self.waits += 1
+            self._moving_up_for = None
             log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
 
     def _stop_distance(self, zone_id: str, in_zone: bool) -> float:

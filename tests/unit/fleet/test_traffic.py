@@ -232,3 +232,18 @@ def test_a_zone_asked_for_is_kept_while_the_path_to_it_grows_a_little() -> None:
                                     [1.0, 2.0]]))  # 5.5 m: well past the lookahead
     rule.tick(2.0, robot)  # type: ignore[arg-type]
     assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS, m.ZoneRequestType.RELEASE]
+
+
+def test_moving_up_in_line_is_one_wait() -> None:
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(7.0, 2.0, np.pi), Path(np.array([[7.0, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    _told_place(rule, sent, 1)
+    rule.tick(1.0, robot)  # type: ignore[arg-type]  # 2.2 m ahead: stops
+    _told_place(rule, sent, 0)
+    rule.tick(2.0, robot)  # type: ignore[arg-type]  # moves up
+    robot.pose = Pose2D(5.7, 2.0, np.pi)
+    rule.tick(3.0, robot)  # type: ignore[arg-type]  # stops again, at the front
+    assert rule.waiting_for == "zone:m/1"
+    assert rule.waits == 1
