@@ -140,7 +140,9 @@ class MasterControl:
             if self.leases.lease(zone, serial) is None:
                 # A grant, now or when the robot's turn comes, is answered from the book's
                 # GRANTED event (see _forward_events), so it is answered once.
-                # A waiter is answered QUEUED, with its place, by _tell_places.
+                # A waiter is answered QUEUED, with its place, by _tell_places; forgetting what
+                # it was told makes that answer come for every request, a repeated one too.
+                self._told_places.pop(key, None)
                 self.leases.request(zone, serial, now=now, duration=request.duration,
                                     flow=request.flow)
                 return

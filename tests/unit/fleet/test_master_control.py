@@ -94,6 +94,9 @@ def test_each_waiter_is_told_its_place_in_line_again_when_it_changes(
     assert _places(r3) == [("c", m.GrantType.QUEUED, 1)]
     master.tick(2.0)
     assert _places(r2) == [] and _places(r3) == []  # told once, not at every tick
+    r3.ask("c", "zone:floor1/1")  # a request repeated is answered again
+    master.tick(2.5)
+    assert _places(r3) == [("c", m.GrantType.QUEUED, 1)]
     r1.ask("a", "zone:floor1/1", m.ZoneRequestType.RELEASE)
     master.tick(3.0)
     assert _places(r2) == [("b", m.GrantType.GRANTED, None)]
