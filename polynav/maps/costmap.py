@@ -226,6 +226,25 @@ class Costmap:
         """Cost of the cell holding world point (x, y) [m]; LETHAL outside the map (see module)."""
         return _cost_at(self._info, self._master, x, y)
 
+    def map_cost_at(self, x: float, y: float) -> int:
+        """The cost of (x, y) from the map and keepouts alone, inflated, without what the lidar
+        marked: whether a cell the planner finds occupied is held by the building (for good) or
+        by something standing there now, which may leave. Composes a small window on demand,
+        so it is for the odd question, not for every cell of a search."""
+        ix, iy = self._info.world_to_cell(x, y)
+        if not self._info.contains(ix, iy):
+            return costs.LETHAL
+        width, height = self._info.width, self._info.height
+        reach = self._inflation.cell_radius
+        cell = (ix, iy, ix + 1, iy + 1)
+        read = win.grow(cell, reach, width, height)
+        # Full size: the layers index by window; only ``read`` is filled.
+        scratch = np.full((height, width), self._default, dtype=np.uint8)
+        self._static.update_costs(scratch, read)
+        self._keepout.update_costs(scratch, read)
+        self._inflation.update_costs(scratch, cell)
+        return int(scratch[iy, ix])
+
     def update_scan(self, pose: Pose2D, scan: LaserScan) -> None:
         """Mark and clear ``scan`` taken at robot ``pose``, then recompose the changed window.
 

@@ -46,8 +46,10 @@ class NavigationBlocked(NavigationEvent):
 
 @dataclass(frozen=True, slots=True)
 class NavigationWaiting(NavigationEvent):
-    """Only people block the way: the robot waits for them to make way ("please make way"),
-    looking for another way meanwhile, until its patience runs out."""
+    """The robot waits until its patience runs out: ``cause`` ``"person"``, only people block
+    the way and it waits for them to make way ("please make way"), looking for another way
+    meanwhile; ``"goal occupied"``, something not on the map stands on the goal
+    (:mod:`~polynav.nav.goal_wait`)."""
 
     cause: str = "person"
 

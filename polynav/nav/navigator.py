@@ -16,6 +16,9 @@ Inside a running attempt the navigator moves between phases:
 - *recover*: a rung of the recovery ladder runs before the next plan
   (:mod:`~polynav.nav.recoveries`): clear the marks around the robot, back up, rotate, wait,
   one more step for each failure at the same place;
+- *goal wait*: the goal is occupied by something not on the map (another robot, a trolley):
+  the robot stands, says so once, and goes on when it clears, failing after ``goal_wait``
+  (:mod:`~polynav.nav.goal_wait`);
 - *wait*: only people block the way (a person in a door, a group in a corridor): the robot
   stands, says so once (:class:`~polynav.nav.events.NavigationWaiting`), goes on as soon as the
   way opens or another way exists, and fails with ``blocked by person`` after the patience.
@@ -57,6 +60,8 @@ from polynav.nav.attempt import (
     Phase,
 )
 from polynav.nav.charger_phases import ChargerPhases
+from polynav.nav.goal_wait import GoalWait
+from polynav.nav.holds import Hold
 from polynav.nav.navigator_config import NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.nav.people_wait import PeopleWait
@@ -89,6 +94,7 @@ class _Phase(enum.Enum):
     BLOCKED = "blocked"
     RECOVER = "recover"
     WAIT = "wait"
+    GOAL_WAIT = "goal wait"
 
 
 class Navigator(ChargerPhases):
@@ -143,8 +149,7 @@ class Navigator(ChargerPhases):
         self._last_plan = 0.0
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
-        self._hold: str | None = None
-        self._hold_since = 0.0
+        self._hold = Hold(self.config)
         self._last_pose: Pose2D | None = None
         self._last_tick: float | None = None
         # Per attempt: where the robot navigates to (a charger's approach, else the goal), the
@@ -160,6 +165,7 @@ class Navigator(ChargerPhases):
         self._wait = PeopleWait(
             people or PeopleConfig(), costmap, planner, controller, robot_radius=robot_radius
         )
+        self._goal_wait = GoalWait(costmap, patience=cfg.goal_wait, period=cfg.goal_wait_period)
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -217,9 +223,10 @@ class Navigator(ChargerPhases):
         self._path = None
         self._tracked = None
         self._cleared_for_plan = False
-        self._hold = None
+        self._hold.reset()
         self._last_pose = None
         self._wait.reset()
+        self._goal_wait.reset()
         self._controller.reset()
         self._controller.set_goal_options(
             yaw_tolerance=options.yaw_tolerance,
@@ -293,6 +300,16 @@ class Navigator(ChargerPhases):
             twist = self._tick_recovery(pose, now)
             if twist is not None:
                 return self._wait.slow(pose, twist)  # backing up into someone is no recovery
+        if self._phase is _Phase.GOAL_WAIT:
+            step = self._goal_wait.tick(pose, now, self._plan_path)
+            if step.expired:
+                self._fail(FailureReason.GOAL_OCCUPIED,
+                           f"the goal stayed occupied for {self._goal_wait.patience:g} s", now)
+            elif step.path is not None:
+                self._set_path(step.path, now)
+                self._progress.reset(pose, now)
+                self._enter(_Phase.FOLLOW, now)
+            return Twist()
         if self._phase is _Phase.WAIT:
             step = self._wait.tick(pose, velocity, now, dt, self._path, self._plan_path)
             if step.expired:
@@ -330,35 +347,17 @@ class Navigator(ChargerPhases):
     # -- phases ------------------------------------------------------------------------------
 
     def _held(self, now: float, estimate: LocalizationEstimate, estop: bool) -> bool:
-        cause = None
-        if estop:
-            cause = "e-stop"
-        elif estimate.state is LocalizationState.LOST:
-            cause = "localization lost"
-        if cause is None:
-            if self._hold is not None:
-                log.info("navigation hold released (%s)", self._hold)
-                self._emit(events.NavigationReleased(now, self._require(), cause=self._hold))
-                self._hold = None
-                self._controller.reset()
-                self._enter(_Phase.PLAN, now)
-            return False
-        if self._hold != cause:
-            log.warning("navigation held: %s", cause)
-            self._hold = cause
-            self._hold_since = now
+        step = self._hold.tick(now, estop=estop, lost=estimate.state is LocalizationState.LOST)
+        if step.released is not None:
+            self._emit(events.NavigationReleased(now, self._require(), cause=step.released))
             self._controller.reset()
-            self._emit(events.NavigationHeld(now, self._require(), cause=cause))
-        held_for = now - self._hold_since
-        if cause == "localization lost" and held_for >= self.config.localization_grace:
-            self._fail(FailureReason.LOCALIZATION_LOST, "localization lost for too long", now)
-        elif (
-            cause == "e-stop"
-            and self.config.estop_fail_after is not None
-            and held_for >= self.config.estop_fail_after
-        ):
-            self._fail(FailureReason.ESTOP, "e-stop held for too long", now)
-        return True
+            self._enter(_Phase.PLAN, now)
+        if step.began is not None:
+            self._controller.reset()
+            self._emit(events.NavigationHeld(now, self._require(), cause=step.began))
+        if step.expired is not None:
+            self._fail(step.expired, step.message, now)
+        return step.held
 
     def _plan(self, pose: Pose2D, now: float) -> bool:
         try:
@@ -409,6 +408,15 @@ class Navigator(ChargerPhases):
                 # Cleared, and still no way, with people in view: in a narrow passage they
                 # may be what closes it. Wait for them, looking for a way meanwhile.
                 self._wait_for_people(pose, now)
+            elif (
+                self._cleared_for_plan
+                and isinstance(exc, GoalOccupied)
+                and self._goal_wait.may_clear(self._target)
+            ):
+                if self._goal_wait.begin(now):
+                    waiting = events.NavigationWaiting(now, self._require(), cause="goal occupied")
+                    self._emit(waiting)
+                self._enter(_Phase.GOAL_WAIT, now)
             elif self._cleared_for_plan:
                 self._fail(reason, str(exc) or reason.value, now)
             else:

@@ -21,7 +21,9 @@ class NavigatorConfig:
     ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
     route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
     at every re-plan for ``people_detour_watch`` after people closed the route
-    (:mod:`~polynav.nav.replanning`).
+    (:mod:`~polynav.nav.replanning`). A goal occupied by something not on the map (a robot
+    standing there, a trolley) is waited for ``goal_wait`` [s], planning again every
+    ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once.
     """
 
     replan_period: float = 3.0
@@ -49,13 +51,15 @@ class NavigatorConfig:
     replan_reach: float = 10.0
     full_replan_period: float = 30.0
     people_detour_watch: float = 15.0
+    goal_wait: float = 120.0
+    goal_wait_period: float = 1.0
 
     def __post_init__(self) -> None:
         for key in (
             "replan_period", "blocked_wait", "localization_grace", "undock_speed",
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
-            "recovery_backup_speed", "recovery_rotate_angle",
+            "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
         ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
@@ -64,7 +68,7 @@ class NavigatorConfig:
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
-                    "full_replan_period", "people_detour_watch"):
+                    "full_replan_period", "people_detour_watch", "goal_wait"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

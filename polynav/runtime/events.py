@@ -164,8 +164,10 @@ class NavigationBlocked(RuntimeEvent):
 
 @dataclass(frozen=True, slots=True)
 class NavigationWaiting(RuntimeEvent):
-    """People block the way: the robot waits for them to make way (each dialect's "please make
-    way"), and re-plans as soon as the way opens or another way exists."""
+    """The robot stands and waits: ``cause`` ``"person"``, people block the way and it waits
+    for them to make way (each dialect's "please make way"), re-planning as soon as the way
+    opens or another way exists; ``"goal occupied"``, something not on the map (another robot)
+    stands on the goal, and it goes on once the goal is free."""
 
     kind: ClassVar[str] = "navigation_waiting"
 

@@ -17,6 +17,7 @@ from polynav.fleet.building import Building
 from polynav.fleet.master_control import Stop
 from polynav.geometry import Pose2D
 from polynav.runtime.config import RuntimeConfig
+from polynav.runtime.events import NavigationWaiting
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
@@ -133,3 +134,35 @@ def test_an_order_to_a_point_the_site_lacks_fails_with_the_reason(
     outcome = building.outcome("robot1", order_id)
     assert outcome is not None and outcome.startswith("failed: node nowhere")
     assert building.runtimes[0].status().navigation_state == "idle"
+
+
+def test_a_robot_sent_where_another_stands_waits_for_it_to_leave_then_arrives(
+        world: World, store: SiteStore) -> None:
+    # Robot 1 stands on office 3's point; robot 2 is sent there. Cleared and re-planned, the
+    # goal is still occupied, but not by the map: robot 2 waits near it (told once, "goal
+    # occupied") instead of failing, and arrives once robot 1 has been sent away.
+    building = Building(store, world, robots=2, config=RuntimeConfig(people=False),
+                        starts=[store.point("floor1", "office_3"),
+                                store.point("floor1", "corridor_west")])
+    waits = building.agent("robot2").runtime.bus.subscribe()
+    second = building.send("robot2", "office_3", "floor1")
+    told: list[str] = []
+
+    def waiting() -> bool:
+        told.extend(e.cause for e in waits.get_nowait() if isinstance(e, NavigationWaiting))
+        return bool(told) or building.outcome("robot2", second) is not None
+
+    assert building.advance_until(waiting, timeout=120.0)
+    assert told == ["goal occupied"], building.outcome("robot2", second)
+    building.advance(20.0)  # it stands, short of robot 1, and the goal does not fail
+    assert building.outcome("robot2", second) is None
+    assert building.agent("robot2").runtime.status().navigation_state == "running"
+    first = building.send("robot1", "office_4", "floor1")
+    assert building.advance_until(
+        lambda: building.outcome("robot1", first) is not None
+        and building.outcome("robot2", second) is not None, timeout=240.0)
+    assert (building.outcome("robot1", first), building.outcome("robot2", second)) == (
+        "succeeded", "succeeded")
+    goal = store.point("floor1", "office_3").pose
+    assert building.agent("robot2").runtime.simulation.true_pose.distance_to(goal) < 0.1
+    assert _collisions(building) == []

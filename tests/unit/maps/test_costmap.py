@@ -195,6 +195,35 @@ def test_obstacles_are_inflated_like_map_walls() -> None:
     assert costmap.costs[20, 20 - 5] == INSCRIBED and costmap.costs[20, 20 + 6] == 216
 
 
+def test_map_cost_leaves_out_the_lidar_marks_but_keeps_walls_keepouts_and_inflation() -> None:
+    # The navigator's question before waiting for a goal to clear: is it held by the building?
+    occupied = np.zeros((41, 41), dtype=bool)
+    occupied[:, 0] = True  # a wall along x = 0
+    costmap = Costmap.from_map(Map.from_occupied(occupied, resolution=0.05), CostmapConfig())
+    costmap.set_keepouts([CircleZone(x=1.525, y=1.525, radius=0.1)])
+    costmap.update_scan(Pose2D(0.525, 1.025, 0.0), scan({0.0: 0.5}))  # something at (1.025, 1.025)
+    assert costmap.cost_at(1.025, 1.025) == LETHAL
+    assert costmap.map_cost_at(1.025, 1.025) == FREE
+    assert costmap.map_cost_at(0.025, 1.025) == LETHAL  # the wall
+    assert costmap.map_cost_at(0.225, 1.025) == INSCRIBED  # within a robot radius of it
+    assert costmap.map_cost_at(0.225, 1.025) == full_recomposition_without_lidar(costmap)[20, 4]
+    assert costmap.map_cost_at(1.525, 1.525) == LETHAL  # the keepout
+    assert costmap.map_cost_at(-1.0, 1.0) == LETHAL  # off the map
+    wide = full_recomposition_without_lidar(costmap)
+    for x, y in [(0.4, 0.4), (0.3, 1.9), (1.3, 1.4), (1.9, 0.1)]:
+        ix, iy = costmap.info.world_to_cell(x, y)
+        assert costmap.map_cost_at(x, y) == wide[iy, ix]
+
+
+def full_recomposition_without_lidar(costmap: Costmap) -> npt.NDArray[np.uint8]:
+    info = costmap.info
+    master = np.full((info.height, info.width), FREE, dtype=np.uint8)
+    for layer in costmap.layers:
+        if type(layer).__name__ != "ObstacleLayer":
+            layer.update_costs(master, win.full(info.width, info.height))
+    return master
+
+
 def test_an_obstacle_that_moved_is_cleared_by_the_next_scan_through_it() -> None:
     costmap = Costmap.from_map(free_map(), BARE)
     costmap.update_scan(ROBOT, scan({0.0: 1.0}))

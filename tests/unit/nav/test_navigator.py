@@ -36,6 +36,7 @@ class FakeCostmap:
     cleared: int = 0
     cleared_around: int = 0
     lethal_behind: bool = False
+    goal_in_wall: bool = False
     info: MapInfo = MapInfo(0.05, 800, 800, Pose2D(-20.0, -20.0, 0.0))
     costs: np.ndarray = field(default_factory=lambda: np.zeros((800, 800), dtype=np.uint8))
 
@@ -47,6 +48,9 @@ class FakeCostmap:
 
     def cost_at(self, x: float, y: float) -> int:
         return costs.LETHAL if self.lethal_behind else costs.FREE
+
+    def map_cost_at(self, x: float, y: float) -> int:
+        return costs.LETHAL if self.goal_in_wall else costs.FREE
 
 
 @dataclass
@@ -167,6 +171,7 @@ def test_no_path_that_clearing_resolves_goes_on() -> None:
 def test_goal_occupied_and_outside_map_reasons() -> None:
     h = Harness(ScriptedPlanner([GoalOccupied("wall"), GoalOccupied("wall")]),
                 ScriptedController())
+    h.costmap.goal_in_wall = True
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.run(0.5)
     assert h.nav.attempt is not None and h.nav.attempt.reason is FailureReason.GOAL_OCCUPIED
@@ -174,6 +179,44 @@ def test_goal_occupied_and_outside_map_reasons() -> None:
     h2.nav.start(Pose2D(500.0, 0.0, 0.0), h2.now)
     h2.run(0.2)
     assert h2.nav.attempt is not None and h2.nav.attempt.reason is FailureReason.NO_PATH
+
+
+def test_goal_held_by_something_off_the_map_is_waited_for_then_reached() -> None:
+    # Cleared and still occupied, but free on the map: a robot standing there, which leaves.
+    h = Harness(ScriptedPlanner([GoalOccupied("robot")] * 6), ScriptedController(),
+                NavigatorConfig(goal_wait=60.0, goal_wait_period=1.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(3.0)
+    assert h.nav.state is NavigationState.RUNNING
+    waits = [e for e in h.log if isinstance(e, events.NavigationWaiting)]
+    assert [w.cause for w in waits] == ["goal occupied"]
+    assert all(t == Twist() for t in h.twists[-20:])  # it stands while it waits
+    h.run(5.0, move=True)
+    assert "PathPlanned" in h.kinds()
+    assert h.kinds().count("NavigationWaiting") == 1  # told once, not at every try
+    assert h.nav.state in (NavigationState.RUNNING, NavigationState.SUCCEEDED)
+
+
+def test_goal_that_stays_occupied_fails_goal_occupied_after_the_patience() -> None:
+    planner = ScriptedPlanner([GoalOccupied("robot")] * 1000)
+    h = Harness(planner, ScriptedController(), NavigatorConfig(goal_wait=30.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(29.0)
+    assert h.nav.state is NavigationState.RUNNING
+    h.run(2.0)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.reason is FailureReason.GOAL_OCCUPIED
+    assert "30 s" in attempt.message
+    assert 28 <= planner.calls <= 34  # one try a second, not one a control period
+
+
+def test_goal_wait_off_fails_a_held_goal_at_once() -> None:
+    h = Harness(ScriptedPlanner([GoalOccupied("robot")] * 2), ScriptedController(),
+                NavigatorConfig(goal_wait=0.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.5)
+    assert h.nav.state is NavigationState.FAILED
+    assert "NavigationWaiting" not in h.kinds()
 
 
 def test_stuck_robot_climbs_the_recovery_ladder_then_fails_stuck_after_the_min_time() -> None:
