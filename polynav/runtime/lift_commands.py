@@ -495,8 +495,8 @@ class LiftCommands(LiftAccess):
                                            lift.from_floor, lift.to_floor, why))
         log.warning("%s route %d: %s; re-routing", self.robot_id, run.attempt_id, why)
         if run.nav_id is not None and self._stack is not None:
+            self._drop_leg_goal(run)  # the way driven so far counts
             self._stack.navigator.cancel(now)
-            run.nav_id = None
         self._give_up_car(run, now)
         route: Route | None
         try:

@@ -107,11 +107,26 @@ def test_car_out_of_service_on_the_way_the_robot_takes_the_other_car(
     assert route is not None
     first = route["legs"][1]["car"]  # type: ignore[index]
     other = {"lift_1": "lift_2", "lift_2": "lift_1"}[str(first)]
-    runtime.advance(10.0)
+    sub = runtime.bus.subscribe(10_000)
+    driven = [0.0]
+    last = [runtime.simulation.true_pose, runtime.simulation.floor]
+
+    def drive() -> bool:  # the ground truth's odometer, floor by floor (a ride moves no wheel)
+        pose, floor = runtime.simulation.true_pose, runtime.simulation.floor
+        if floor == last[1]:
+            driven[0] += pose.distance_to(last[0])
+        last[:] = [pose, floor]
+        return _ended(runtime)
+
+    runtime.advance_until(drive, 10.0)
     runtime.set_lift_mode(str(first), LiftMode.OUT_OF_SERVICE)
-    assert runtime.advance_until(lambda: _ended(runtime), 400.0)
+    assert runtime.advance_until(drive, 400.0)
     status = runtime.status()
     assert status.navigation_state == "succeeded", status.reason
+    # The distance counts the way driven towards the first car before it went out of service.
+    ended = [e for e in sub.get_nowait() if isinstance(e, events.NavigationSucceeded)]
+    assert ended and abs(ended[0].distance - driven[0]) < 0.03 * driven[0], (
+        ended[0].distance, driven[0])
     assert status.route is not None and status.route["excluded_cars"] == [first]
     assert [leg.get("car") for leg in status.route["legs"]][1] == other  # type: ignore
     assert runtime.simulation.floor == "floor2"
