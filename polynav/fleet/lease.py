@@ -196,6 +196,11 @@ class LeaseBook:
         res = self._resources.get(resource)
         return () if res is None else tuple(res.queue)
 
+    def queues(self) -> dict[str, tuple[Waiter, ...]]:
+        """The queue of every resource someone waits for, first in line first (the master tells
+        each waiter its place every tick: most resources have no queue, and are skipped)."""
+        return {name: tuple(res.queue) for name, res in self._resources.items() if res.queue}
+
     def position(self, resource: str, holder: str) -> int | None:
         """``holder``'s place in the queue of ``resource`` (0 is next), or None if not waiting."""
         for i, w in enumerate(self.waiters(resource)):

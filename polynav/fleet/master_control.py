@@ -177,8 +177,8 @@ class MasterControl:
         further back waits further from the zone, leaving its mouth clear for whoever comes out
         (:mod:`polynav.fleet.traffic`)."""
         waiting: set[tuple[str, str]] = set()
-        for zone in self.leases.resources():
-            for place, waiter in enumerate(self.leases.waiters(zone)):
+        for zone, queue in self.leases.queues().items():
+            for place, waiter in enumerate(queue):
                 key = (zone, waiter.holder)
                 request_id = self._request_ids.get(key)
                 if request_id is None or waiter.holder not in self._robots:

@@ -62,6 +62,20 @@ def test_waiters_are_served_in_the_order_they_came(book: LeaseBook) -> None:
     assert served == ["r3", "r2", "r4"]
 
 
+def test_queues_list_only_the_resources_someone_waits_for_in_line_order(
+        book: LeaseBook) -> None:
+    book.request("door:1", "r1", now=0.0)
+    book.request("door:2", "r1", now=0.0)
+    book.request("door:1", "r3", now=1.0)
+    book.request("door:1", "r2", now=2.0)
+    assert {name: [w.holder for w in q] for name, q in book.queues().items()} == {
+        "door:1": ["r3", "r2"]}
+    book.release("door:1", "r1", now=3.0)
+    assert [w.holder for w in book.queues()["door:1"]] == ["r2"]
+    book.release("door:1", "r3", now=4.0)
+    assert book.queues() == {}
+
+
 def test_newcomer_never_overtakes_a_waiter_even_when_capacity_frees_between_calls(
         book: LeaseBook) -> None:
     book.request("charger:1", "r1", now=0.0)
