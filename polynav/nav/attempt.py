@@ -64,6 +64,8 @@ class GoalOptions:
             before planning.
         dock: the goal is a charger's docking pose: drive to its approach, then dock onto it
             and wait for charging contact.
+        goal_wait: how long [s] to wait for a goal held by something not on the map (else the
+            navigator's ``goal_wait``); 0 fails it at once, for a caller with its own retries.
     """
 
     yaw_tolerance: float | None = None
@@ -73,12 +75,15 @@ class GoalOptions:
     max_retries: int | None = None
     undock_distance: float | None = None
     dock: bool = False
+    goal_wait: float | None = None
 
     def __post_init__(self) -> None:
         for key in ("yaw_tolerance", "pass_tolerance", "near_tolerance", "undock_distance"):
             value = getattr(self, key)
             if value is not None and not value > 0.0:
                 raise ValueError(f"{key} must be > 0, got {value}")
+        if self.goal_wait is not None and not self.goal_wait >= 0.0:
+            raise ValueError(f"goal_wait must be >= 0, got {self.goal_wait}")
         if self.max_retries is not None and self.max_retries < 0:
             raise ValueError(f"max_retries must be >= 0, got {self.max_retries}")
 

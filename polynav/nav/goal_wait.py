@@ -52,9 +52,11 @@ class GoalWait:
     def waiting(self) -> bool:
         return self._since is not None
 
-    def reset(self) -> None:
-        """Forget the wait: a new goal, or the goal reached a plan."""
+    def reset(self, patience: float | None = None) -> None:
+        """Forget the wait (a new goal, with its own ``patience`` if given)."""
         self._since = None
+        if patience is not None:
+            self.patience = patience
 
     def may_clear(self, goal: Pose2D) -> bool:
         """Whether the goal is worth waiting for: free on the map and the keepouts, so only

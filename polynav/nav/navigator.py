@@ -226,7 +226,9 @@ class Navigator(ChargerPhases):
         self._hold.reset()
         self._last_pose = None
         self._wait.reset()
-        self._goal_wait.reset()
+        self._goal_wait.reset(
+            self.config.goal_wait if options.goal_wait is None else options.goal_wait
+        )
         self._controller.reset()
         self._controller.set_goal_options(
             yaw_tolerance=options.yaw_tolerance,

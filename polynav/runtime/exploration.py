@@ -171,9 +171,11 @@ class Exploration:
             log.info("the way back failed; trying again (%d of %d)", self._homeward,
                      _HOMEWARD_TRIES)
         self._costmap = costmap
+        # A frontier that turns out occupied is given up for the next one, not waited for.
         self._navigator = Navigator(
             costmap, self._planner, RegulatedPurePursuit(cfg.controller),
-            ProgressChecker(ProgressCheckerConfig()), config=NavigatorConfig(max_retries=2),
+            ProgressChecker(ProgressCheckerConfig()),
+            config=NavigatorConfig(max_retries=2, goal_wait=0.0),
             robot_radius=cfg.costmap.robot_radius,
         )
         tolerance = cfg.goal_tolerance if self.stage is Stage.EXPLORING else None

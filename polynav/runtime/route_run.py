@@ -116,11 +116,12 @@ it will do."""
 AT_DOOR = GoalOptions(near_tolerance=0.3)
 """To the door once the car is this robot's: on the spot, or next to it."""
 
-IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1)
-"""Goals into and out of a car: a loose heading (the car is small) and one retry, so that a
-blocked door is reported to the sequence (which retries after a pause) rather than fought."""
+IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1, goal_wait=0.0)
+"""Goals into and out of a car: a loose heading (the car is small), one retry and no wait for
+an occupied spot, so that a blocked door or a full car is reported to the sequence (which
+retries after a pause, or takes the next car) rather than fought or waited out."""
 
-OUT_OF_CAR = GoalOptions(pass_tolerance=0.5, max_retries=1)
+OUT_OF_CAR = GoalOptions(pass_tolerance=0.5, max_retries=1, goal_wait=0.0)
 """Out of a car to its outside point: out once past it, with no stop or turn there (the next
 leg drives on; a stop and a half turn on the spot kept the car from its next user 4 s longer)."""
 

@@ -19,7 +19,7 @@ from polynav.localization.interface import LocalizationEstimate, LocalizationSta
 from polynav.maps import costs
 from polynav.maps.map import MapInfo
 from polynav.nav import events
-from polynav.nav.attempt import FailureReason, NavigationState
+from polynav.nav.attempt import FailureReason, GoalOptions, NavigationState
 from polynav.nav.navigator import Navigator
 from polynav.nav.navigator_config import NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView, Person
@@ -217,6 +217,24 @@ def test_goal_wait_off_fails_a_held_goal_at_once() -> None:
     h.run(0.5)
     assert h.nav.state is NavigationState.FAILED
     assert "NavigationWaiting" not in h.kinds()
+
+
+def test_a_goal_s_own_goal_wait_overrides_the_navigator_s() -> None:
+    # A lift's entry leg: the sequence has its own retries, so an occupied spot fails at once.
+    h = Harness(ScriptedPlanner([GoalOccupied("robot")] * 2), ScriptedController(),
+                NavigatorConfig(goal_wait=120.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now, GoalOptions(goal_wait=0.0))
+    h.run(0.5)
+    assert h.nav.state is NavigationState.FAILED
+    h2 = Harness(ScriptedPlanner([GoalOccupied("robot")] * 1000), ScriptedController(),
+                 NavigatorConfig(goal_wait=0.0))
+    h2.nav.start(Pose2D(5.0, 0.0, 0.0), h2.now, GoalOptions(goal_wait=10.0))
+    h2.run(9.0)
+    assert h2.nav.state is NavigationState.RUNNING
+    h2.run(2.0)
+    assert h2.nav.state is NavigationState.FAILED
+    with pytest.raises(ValueError, match="goal_wait"):
+        GoalOptions(goal_wait=-1.0)
 
 
 def test_stuck_robot_climbs_the_recovery_ladder_then_fails_stuck_after_the_min_time() -> None:
