@@ -308,6 +308,7 @@ class Navigator(ChargerPhases):
                 self._fail(FailureReason.GOAL_OCCUPIED,
                            f"the goal stayed occupied for {self._goal_wait.patience:g} s", now)
             elif step.path is not None:
+                self._replan.whole_way_planned(now)
                 self._set_path(step.path, now)
                 self._progress.reset(pose, now)
                 self._enter(_Phase.FOLLOW, now)
