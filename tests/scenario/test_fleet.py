@@ -8,6 +8,7 @@ one waits for ever.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,7 +21,9 @@ from polynav.runtime.config import RuntimeConfig
 from polynav.runtime.events import NavigationWaiting
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
+from polynav.worlds.from_map import FromMapOptions, load_plan, plan_world, to_world
 from polynav.worlds.world import World
+from tests.conftest import DATA
 
 
 def _all_done(building: Building) -> bool:
@@ -166,3 +169,56 @@ def test_a_robot_sent_where_another_stands_waits_for_it_to_leave_then_arrives(
     goal = store.point("floor1", "office_3").pose
     assert building.agent("robot2").runtime.simulation.true_pose.distance_to(goal) < 0.1
     assert _collisions(building) == []
+
+
+def _dispatch(building: Building, points: list[Point], missions: int,
+              rng: np.random.Generator) -> list[str]:
+    """Send idle robots to random points, as a dispatcher would: never to a point another
+    robot is bound for or stands within 1 m of (its own included); each order's outcome."""
+    bound: dict[str, str] = {}
+    pending: dict[str, str] = {}
+    results: list[str] = []
+    sent = 0
+    while len(results) < missions:
+        for serial in building.serials:
+            if serial in pending or sent == missions:
+                continue
+            stood = {p.name for runtime in building.runtimes for p in points
+                     if p.pose.distance_to(runtime.status().pose) <= 1.0}
+            goal = str(rng.choice([p.name for p in points
+                                   if p.name not in stood | set(bound.values())]))
+            bound[serial] = goal
+            pending[serial] = building.send(serial, goal, points[0].map_name)
+            sent += 1
+        assert building.advance_until(
+            lambda: any(building.outcome(s, o) is not None for s, o in pending.items()),
+            timeout=600.0,
+        ), "deadlock: no order ended in 10 simulated minutes"
+        for serial, order_id in list(pending.items()):
+            result = building.outcome(serial, order_id)
+            if result is not None:
+                results.append(f"{serial} {bound[serial]}: {result}")
+                del pending[serial]
+    return results
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("plan", "cell"), [
+    ("room-32-32-4", 1.0),  # 3 m rooms, 1 m doors: each door a zone, robots wait in the rooms
+    ("maze-32-32-4", 0.5),  # 2 m corridors, every one narrow: the whole maze is one zone
+])
+def test_three_robots_on_floor_plans_never_tuned_on_all_arrive(plan: str, cell: float,
+                                                               tmp_path: Path) -> None:
+    # The traffic rule finds its zones in any map: the same fleet on MovingAI plans it was
+    # never tuned on, with points placed at random where a robot fits.
+    options = FromMapOptions(cell=cell, points=12, walkers=0, seed=1)
+    grid = load_plan(DATA / "movingai" / f"{plan}.map", options)
+    world = to_world(plan_world(plan, grid, options), options)
+    with SiteStore.open(tmp_path / "data", seed_world=world) as store:
+        points = [p for p in store.points(map_name="floor1") if p.kind is PointKind.GENERAL]
+        building = Building(store, world, robots=3, starts=points[:3],
+                            config=RuntimeConfig(people=False, seed=1))
+        assert building.zones["floor1"].count >= 1
+        results = _dispatch(building, points, 12, np.random.default_rng(5))
+        assert all(r.endswith(": succeeded") for r in results), results
+        assert _collisions(building) == []
