@@ -4,13 +4,13 @@ Each robot runs the full stack (ray-cast lidar that sees the other robots, local
 costmap, planner, controller) in one simulated world on one clock, under the fleet's traffic
 rule (narrow passages leased one robot at a time, docs/fleet.md). Whenever a robot is idle it is
 sent a fleet order (VDA 5050-shaped) to a random point of its floor other than the one it stands
-at, that no other robot stands at or is bound for (any floor with ``--cross-floor``: through the
-lifts). (Drawn from every point, a robot was sent to where it stood 5-9 times an hour at 10
-robots: missions that counted as done at once; and drawn from the points no robot was bound for,
-one was sent to where another, bound elsewhere, still stood waiting for a corridor.) Figures:
-missions
-completed per simulated hour, success rate, mean traffic and lift wait, collisions, deadlocks (a
-mission that does not end within ``--mission-timeout``), real-time factor, CPU per robot.
+at, that no other robot stands within 1 m of or is bound for (any floor with ``--cross-floor``:
+through the lifts). (Drawn from every point, a robot was sent to where it stood 5-9 times an hour
+at 10 robots: missions that counted as done at once; drawn from the points no robot was bound
+for, one was sent to where another, bound elsewhere, still stood waiting for a corridor.)
+Figures: missions completed per simulated hour, success rate, mean traffic and lift wait,
+collisions, deadlocks (a mission that does not end within ``--mission-timeout``), real-time
+factor, CPU per robot.
 
 Targets (issue 11): success 100 %, collisions 0, no deadlock; 10 robots at least 3x real time
 on one core. Run with ``polynav bench fleet --robots N [--hours H] [--seed S] [--json]``.
@@ -67,7 +67,7 @@ def _stood_on(building: Building, where: dict[tuple[str, str], tuple[float, floa
               reach: float = 1.0) -> set[tuple[str, str]]:
     """The points some robot stands within ``reach`` [m] of: one bound elsewhere has often not
     left yet (waiting for a corridor, say), and a dispatcher does not send a robot there."""
-    stood = set()
+    stood: set[tuple[str, str]] = set()
     for serial in building.serials:
         runtime = building.agent(serial).runtime
         pose = runtime.status().pose
