@@ -49,7 +49,6 @@ from polynav.control.tracked_path import TrackedPath
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
-from polynav.maps import costs as cost_values
 from polynav.maps.costmap import Costmap
 from polynav.nav import events, route_choice
 from polynav.nav.attempt import (
@@ -76,7 +75,14 @@ from polynav.nav.recoveries import (
 )
 from polynav.nav.replanning import PeriodicReplan
 from polynav.nav.retry_budget import RetryBudget
-from polynav.planning.errors import GoalOccupied, NoPath, OutsideMap, PlanningError, StartOccupied
+from polynav.planning.errors import (
+    GoalOccupied,
+    NoPath,
+    OutsideMap,
+    PlanningError,
+    StartOccupied,
+    failure_cause,
+)
 from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
 
@@ -380,21 +386,9 @@ class Navigator(ChargerPhases):
             goal_tolerance=self._require().options.near_tolerance,
         )
 
-    def _plan_failure_cause(self, exc: PlanningError, pose: Pose2D) -> str:
-        cost = self._costmap.cost_at(pose.x, pose.y)
-        if isinstance(exc, OutsideMap):
-            return "outside_map"
-        if cost == cost_values.UNKNOWN:
-            return "start_unknown"
-        if isinstance(exc, StartOccupied) or cost == cost_values.LETHAL:
-            return "start_occupied"
-        if isinstance(exc, GoalOccupied):
-            return "goal_occupied"
-        return "no_path"
-
     def _on_plan_error(self, exc: PlanningError, pose: Pose2D, now: float) -> None:
         log.warning("planning failed: %s", exc)
-        cause = self._plan_failure_cause(exc, pose)
+        cause = failure_cause(exc, self._costmap.cost_at(pose.x, pose.y))
         self._emit(events.PlanFailed(now, self._require(), cause=cause))
         if isinstance(exc, (NoPath, GoalOccupied)) and self._wait.blocks(pose, self._path):
             self._wait_for_people(pose, now)

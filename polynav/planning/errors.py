@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from polynav.errors import PolynavError
+from polynav.maps import costs
 
 
 class PlanningError(PolynavError):
@@ -27,3 +28,18 @@ class NoPath(PlanningError):
 
 class PlanningCancelled(PlanningError):
     """The caller gave up on the search."""
+
+
+def failure_cause(exc: PlanningError, start_cost: int) -> str:
+    """The cause a failed plan is reported with (``PlanFailed.cause``), given the cost under the
+    robot: a start in unknown space or on an obstacle explains any failure, whatever the
+    planner raised."""
+    if isinstance(exc, OutsideMap):
+        return "outside_map"
+    if start_cost == costs.UNKNOWN:
+        return "start_unknown"
+    if isinstance(exc, StartOccupied) or start_cost == costs.LETHAL:
+        return "start_occupied"
+    if isinstance(exc, GoalOccupied):
+        return "goal_occupied"
+    return "no_path"
