@@ -314,10 +314,7 @@ class Navigator(ChargerPhases):
                 self._fail(FailureReason.GOAL_OCCUPIED,
                            f"the goal stayed occupied for {self._goal_wait.patience:g} s", now)
             elif step.path is not None:
-                self._replan.whole_way_planned(now)
-                self._set_path(step.path, now)
-                self._progress.reset(pose, now)
-                self._enter(_Phase.FOLLOW, now)
+                self._follow_plan(step.path, pose, now)
             return Twist()
         if self._phase is _Phase.WAIT:
             step = self._wait.tick(pose, velocity, now, dt, self._path, self._plan_path)
@@ -374,11 +371,15 @@ class Navigator(ChargerPhases):
         except PlanningError as exc:
             self._on_plan_error(exc, pose, now)
             return False
+        self._follow_plan(path, pose, now)
+        return True
+
+    def _follow_plan(self, path: Path, pose: Pose2D, now: float) -> None:
+        """Follow a whole-way plan from here (the plan phase's, or one found in the goal wait)."""
         self._replan.whole_way_planned(now)
         self._set_path(path, now)
         self._progress.reset(pose, now)
         self._enter(_Phase.FOLLOW, now)
-        return True
 
     def _plan_path(self, pose: Pose2D) -> Path:
         return self._planner.plan(
