@@ -8,6 +8,7 @@ one waits for ever.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -75,27 +76,25 @@ def test_two_robots_meeting_at_one_door_both_arrive_one_waits_no_collision(
     assert all(building.master.leases.leases(z) == () for z in building.master.leases.resources())
 
 
-@pytest.mark.slow
-def test_twenty_random_missions_for_three_robots_all_succeed(
-        world: World, store: SiteStore) -> None:
-    starts = ("initial", "lobby", "office_3")
-    building = Building(store, world, robots=3, config=RuntimeConfig(people=False, seed=3),
-                        starts=[store.point("floor1", name) for name in starts])
-    goals = [p.name for p in store.points(map_name="floor1") if p.kind is PointKind.GENERAL]
-    rng = np.random.default_rng(11)
-    # Where each robot is bound or stands: no robot is sent where another is or goes.
-    bound = dict(zip(building.serials, starts, strict=True))
+Draw = Callable[[str, dict[str, str]], str]
+"""The next goal for robot ``serial``, given where each robot is bound (or stands, at first)."""
+
+
+def _dispatch(building: Building, map_name: str, missions: int, draw: Draw,
+              bound: dict[str, str] | None = None) -> list[str]:
+    """Send each idle robot to the point ``draw`` picks until ``missions`` orders have ended;
+    each order's outcome, ``"<serial> <point>: <outcome>"``."""
+    bound = dict(bound or {})
     pending: dict[str, str] = {}
     results: list[str] = []
     sent = 0
-    while len(results) < 20:
+    while len(results) < missions:
         for serial in building.serials:
-            if serial not in pending and sent < 20:
-                taken = {goal for other, goal in bound.items() if other != serial}
-                goal = str(rng.choice([g for g in goals if g not in taken]))
-                bound[serial] = goal
-                pending[serial] = building.send(serial, goal, "floor1")
-                sent += 1
+            if serial in pending or sent == missions:
+                continue
+            bound[serial] = draw(serial, bound)
+            pending[serial] = building.send(serial, bound[serial], map_name)
+            sent += 1
         assert building.advance_until(
             lambda: any(building.outcome(s, o) is not None for s, o in pending.items()),
             timeout=600.0,
@@ -105,6 +104,25 @@ def test_twenty_random_missions_for_three_robots_all_succeed(
             if result is not None:
                 results.append(f"{serial} {bound[serial]}: {result}")
                 del pending[serial]
+    return results
+
+
+@pytest.mark.slow
+def test_twenty_random_missions_for_three_robots_all_succeed(
+        world: World, store: SiteStore) -> None:
+    starts = ("initial", "lobby", "office_3")
+    building = Building(store, world, robots=3, config=RuntimeConfig(people=False, seed=3),
+                        starts=[store.point("floor1", name) for name in starts])
+    goals = [p.name for p in store.points(map_name="floor1") if p.kind is PointKind.GENERAL]
+    rng = np.random.default_rng(11)
+
+    def draw(serial: str, bound: dict[str, str]) -> str:
+        # No robot is sent where another is or goes.
+        taken = {goal for other, goal in bound.items() if other != serial}
+        return str(rng.choice([g for g in goals if g not in taken]))
+
+    results = _dispatch(building, "floor1", 20, draw,
+                        bound=dict(zip(building.serials, starts, strict=True)))
     assert all(r.endswith(": succeeded") for r in results), results
     assert _collisions(building) == []
 
@@ -171,37 +189,6 @@ def test_a_robot_sent_where_another_stands_waits_for_it_to_leave_then_arrives(
     assert _collisions(building) == []
 
 
-def _dispatch(building: Building, points: list[Point], missions: int,
-              rng: np.random.Generator) -> list[str]:
-    """Send idle robots to random points, as a dispatcher would: never to a point another
-    robot is bound for or stands within 1 m of (its own included); each order's outcome."""
-    bound: dict[str, str] = {}
-    pending: dict[str, str] = {}
-    results: list[str] = []
-    sent = 0
-    while len(results) < missions:
-        for serial in building.serials:
-            if serial in pending or sent == missions:
-                continue
-            stood = {p.name for runtime in building.runtimes for p in points
-                     if p.pose.distance_to(runtime.status().pose) <= 1.0}
-            goal = str(rng.choice([p.name for p in points
-                                   if p.name not in stood | set(bound.values())]))
-            bound[serial] = goal
-            pending[serial] = building.send(serial, goal, points[0].map_name)
-            sent += 1
-        assert building.advance_until(
-            lambda: any(building.outcome(s, o) is not None for s, o in pending.items()),
-            timeout=600.0,
-        ), "deadlock: no order ended in 10 simulated minutes"
-        for serial, order_id in list(pending.items()):
-            result = building.outcome(serial, order_id)
-            if result is not None:
-                results.append(f"{serial} {bound[serial]}: {result}")
-                del pending[serial]
-    return results
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize(("plan", "cell"), [
     ("room-32-32-4", 1.0),  # 3 m rooms, 1 m doors: each door a zone, robots wait in the rooms
@@ -219,6 +206,16 @@ def test_three_robots_on_floor_plans_never_tuned_on_all_arrive(plan: str, cell: 
         building = Building(store, world, robots=3, starts=points[:3],
                             config=RuntimeConfig(people=False, seed=1))
         assert building.zones["floor1"].count >= 1
-        results = _dispatch(building, points, 12, np.random.default_rng(5))
+        rng = np.random.default_rng(5)
+
+        def draw(serial: str, bound: dict[str, str]) -> str:
+            # As a dispatcher would: never where another robot is bound for or stands within
+            # 1 m of (its own point included).
+            stood = {p.name for runtime in building.runtimes for p in points
+                     if p.pose.distance_to(runtime.status().pose) <= 1.0}
+            return str(rng.choice([p.name for p in points
+                                   if p.name not in stood | set(bound.values())]))
+
+        results = _dispatch(building, "floor1", 12, draw)
         assert all(r.endswith(": succeeded") for r in results), results
         assert _collisions(building) == []
