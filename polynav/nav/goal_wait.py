@@ -48,10 +48,6 @@ class GoalWait:
         self._since: float | None = None
         self._last_try = 0.0
 
-    @property
-    def waiting(self) -> bool:
-        return self._since is not None
-
     def reset(self, patience: float | None = None) -> None:
         """Forget the wait (a new goal, with its own ``patience`` if given)."""
         self._since = None
