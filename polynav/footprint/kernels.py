@@ -320,3 +320,11 @@ def clearance_gaps(
         out[k] = _min_gap(grid, res, verts, radius, poses[k, 0], poses[k, 1], poses[k, 2],
                           reach, horizon, unknown_is_lethal, world)
     return out
+
+
+overlaps_at = _overlaps
+"""Public name of the single-placement overlap test, for searches that place the body cell by
+cell (:mod:`polynav.planning.lattice`)."""
+
+reach_of = _reach
+"""Public name of the body's reach [m] (its circumscribed radius)."""

@@ -35,7 +35,6 @@ robot without ending the attempt; it resumes with a fresh plan when the hold is 
 
 from __future__ import annotations
 
-import enum
 import logging
 import math
 from collections.abc import Callable, Sequence
@@ -58,12 +57,16 @@ from polynav.nav.attempt import (
     NavigationState,
     Phase,
 )
+from polynav.nav.back_out import BackOut, Trail
 from polynav.nav.charger_phases import ChargerPhases
 from polynav.nav.goal_wait import GoalWait
 from polynav.nav.holds import Hold
 from polynav.nav.navigator_config import NavigatorConfig
+from polynav.nav.passages import ClosedPassages
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.nav.people_wait import PeopleWait
+from polynav.nav.phases import NavPhase
+from polynav.nav.plan_failures import PlanFailures
 from polynav.nav.recoveries import (
     BackUp,
     ClearAround,
@@ -75,14 +78,7 @@ from polynav.nav.recoveries import (
 )
 from polynav.nav.replanning import PeriodicReplan
 from polynav.nav.retry_budget import RetryBudget
-from polynav.planning.errors import (
-    GoalOccupied,
-    NoPath,
-    OutsideMap,
-    PlanningError,
-    StartOccupied,
-    failure_cause,
-)
+from polynav.planning.errors import PlanningError
 from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
 
@@ -94,16 +90,10 @@ _REMAINING_SEARCH_WINDOW = 10.0
 EventSink = Callable[[events.NavigationEvent], None]
 
 
-class _Phase(enum.Enum):
-    PLAN = "plan"
-    FOLLOW = "follow"
-    BLOCKED = "blocked"
-    RECOVER = "recover"
-    WAIT = "wait"
-    GOAL_WAIT = "goal wait"
+_Phase = NavPhase
 
 
-class Navigator(ChargerPhases):
+class Navigator(ChargerPhases, PlanFailures):
     """Drives one navigation attempt at a time on a costmap, with a planner and a controller."""
 
     def __init__(
@@ -145,6 +135,11 @@ class Navigator(ChargerPhases):
             cfg.max_retries, radius=cfg.progress_reset_distance, min_time=cfg.retry_min_time
         )
         self._clear = ClearCostmap(costmap)
+        self._passages = ClosedPassages(self._footprint, limit=cfg.passage_limit)
+        self._trail = Trail(cfg.recovery_backout_distance + 1.0)
+        self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
+                                 max_distance=cfg.recovery_backout_distance,
+                                 speed=cfg.recovery_backup_speed)
         self._next_id = 1
         self._attempt: NavigationAttempt | None = None
         self._path: Path | None = None
@@ -229,6 +224,8 @@ class Navigator(ChargerPhases):
         self._path = None
         self._tracked = None
         self._cleared_for_plan = False
+        self._passages.reset()
+        self._back_out.reset()
         self._hold.reset()
         self._last_pose = None
         self._wait.reset()
@@ -337,8 +334,8 @@ class Navigator(ChargerPhases):
             if self._wait.blocks(pose, self._path):
                 self._wait_for_people(pose, now)
                 return Twist()
-            self._retry("blocked", pose, now)
-            # Failed, or recovering: the recovery starts with the next period.
+            self._on_blocked(pose, now)
+            # Failed, recovering or re-planning: that starts with the next period.
             return Twist()
         if self._phase is _Phase.PLAN:
             if not self._plan(pose, now):
@@ -382,49 +379,11 @@ class Navigator(ChargerPhases):
         self._enter(_Phase.FOLLOW, now)
 
     def _plan_path(self, pose: Pose2D) -> Path:
+        self._passages.refresh(self._costmap, self._last_tick or 0.0)
         return self._planner.plan(
-            self._costmap, pose, self._target,
+            self._passages.planning_grid(self._costmap, pose), pose, self._target,
             goal_tolerance=self._require().options.near_tolerance,
         )
-
-    def _on_plan_error(self, exc: PlanningError, pose: Pose2D, now: float) -> None:
-        log.warning("planning failed: %s", exc)
-        cause = failure_cause(exc, self._costmap.cost_at(pose.x, pose.y))
-        self._emit(events.PlanFailed(now, self._require(), cause=cause))
-        if isinstance(exc, (NoPath, GoalOccupied)) and self._wait.blocks(pose, self._path):
-            self._wait_for_people(pose, now)
-            return
-        if isinstance(exc, OutsideMap):
-            self._fail(FailureReason.NO_PATH, f"outside the map: {exc}", now)
-        elif isinstance(exc, (NoPath, GoalOccupied)):
-            # Marks from the lidar may be what closes the way; with them cleared only the map
-            # and the keepouts decide, and a second failure is final.
-            reason = (
-                FailureReason.NO_PATH if isinstance(exc, NoPath) else FailureReason.GOAL_OCCUPIED
-            )
-            if self._cleared_for_plan and self._wait.people:
-                # Cleared, and still no way, with people in view: in a narrow passage they
-                # may be what closes it. Wait for them, looking for a way meanwhile.
-                self._wait_for_people(pose, now)
-            elif (
-                self._cleared_for_plan
-                and isinstance(exc, GoalOccupied)
-                and self._goal_wait.may_clear(self._target)
-            ):
-                if self._goal_wait.begin(now):
-                    waiting = events.NavigationWaiting(now, self._require(), cause="goal occupied")
-                    self._emit(waiting)
-                self._enter(_Phase.GOAL_WAIT, now)
-            elif self._cleared_for_plan:
-                self._fail(reason, str(exc) or reason.value, now)
-            else:
-                self._cleared_for_plan = True
-                self._clear.start(pose, now)
-                self._emit_retry(reason.value, self._clear.name, now)
-        elif isinstance(exc, StartOccupied):
-            self._retry("start occupied", pose, now)
-        else:
-            self._fail(FailureReason.NO_PATH, str(exc), now)
 
     def _replan_quietly(self, pose: Pose2D, now: float) -> None:
         """A periodic re-plan, with hysteresis: the current route stays unless it is blocked or
@@ -433,8 +392,10 @@ class Navigator(ChargerPhases):
         self._last_plan = now
         remaining = self._remaining(pose)
         try:
+            self._passages.refresh(self._costmap, now)
             path = self._replan.plan(
-                self._costmap, pose, self._target, self._tracked, self._along, now,
+                self._passages.planning_grid(self._costmap, pose), pose, self._target,
+                self._tracked, self._along, now,
                 goal_tolerance=self._require().options.near_tolerance,
             )
         except PlanningError as exc:
@@ -476,6 +437,7 @@ class Navigator(ChargerPhases):
             self._finish(NavigationState.SUCCEEDED, now)
             return Twist()
         if command.status is ControlStatus.BLOCKED:
+            self._passages.note_block(self._costmap, self._tracked, self._along, pose)
             self._enter(_Phase.BLOCKED, now)
             self._emit(events.NavigationBlocked(now, self._require()))
             return Twist()
@@ -483,6 +445,8 @@ class Navigator(ChargerPhases):
             self._retry("stuck", pose, now)
             return Twist()
         reset = self.config.progress_reset_distance
+        if command.twist.linear > 0.0:
+            self._trail.record(pose)
         self._budget.moved(pose, self._to_goal(pose))
         self._wait.moved(pose, reset)
         twist = self._wait.slow(pose, command.twist, now)
@@ -498,7 +462,9 @@ class Navigator(ChargerPhases):
         self._update(retries=self._require().retries + 1)
         if self._budget.exhausted(now):
             reason = FailureReason.STUCK
-            self._fail(reason, f"{cause} after {self._budget.max_retries} retries", now)
+            tried = self._passages.tried
+            named = f"; passages tried at {', '.join(tried)}" if tried else ""
+            self._fail(reason, f"{cause} after {self._budget.max_retries} retries{named}", now)
             return
         self._controller.reset()
         self._rotate.toward = (self._target.x, self._target.y)

@@ -23,7 +23,10 @@ class NavigatorConfig:
     at every re-plan for ``people_detour_watch`` after people closed the route
     (:mod:`~polynav.nav.replanning`). A goal occupied by something not on the map (a robot
     standing there, a trolley) is waited for ``goal_wait`` [s], planning again every
-    ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once.
+    ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
+    ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), and a robot
+    that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
+    (:mod:`~polynav.nav.back_out`).
     """
 
     replan_period: float = 3.0
@@ -53,6 +56,8 @@ class NavigatorConfig:
     people_detour_watch: float = 15.0
     goal_wait: float = 120.0
     goal_wait_period: float = 1.0
+    passage_limit: int = 12
+    recovery_backout_distance: float = 3.0
 
     def __post_init__(self) -> None:
         for key in (
@@ -60,6 +65,7 @@ class NavigatorConfig:
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
+            "recovery_backout_distance",
         ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
@@ -75,6 +81,8 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.replan_hysteresis", "must be within [0, 1)")
         if self.max_retries < 0:
             raise ConfigError("nav.navigator.max_retries", "must be >= 0")
+        if self.passage_limit < 0:
+            raise ConfigError("nav.navigator.passage_limit", "must be >= 0")
         if self.undock_max_retries < 0:
             raise ConfigError("nav.navigator.undock_max_retries", "must be >= 0")
         if self.estop_fail_after is not None and self.estop_fail_after <= 0.0:

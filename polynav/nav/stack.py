@@ -26,7 +26,8 @@ from polynav.nav.attempt import GoalOptions
 from polynav.nav.navigator import EventSink, Navigator
 from polynav.nav.navigator_config import NavigatorConfig
 from polynav.nav.people import PeopleConfig, PeopleView
-from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
+from polynav.planning import registry
+from polynav.planning.grid_planner import GridPlannerConfig
 from polynav.robot.interface import Robot
 from polynav.robot.profile import RobotProfile
 
@@ -144,7 +145,7 @@ class NavigationStack:
         self.people = PeopleView()
         self.navigator = Navigator(
             self.costmap,
-            GridPlanner(self.config.planner),
+            registry.for_footprint(self.config.body, self.config.planner),
             RegulatedPurePursuit(self.config.controller, footprint=self.config.body),
             ProgressChecker(self.config.progress),
             config=self.config.navigator,

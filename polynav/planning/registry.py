@@ -14,7 +14,9 @@ import logging
 from collections.abc import Callable
 
 from polynav.errors import ConfigError
-from polynav.planning import astar, heap, line_of_sight, smoothing, theta_star
+from polynav.footprint import Footprint
+from polynav.planning import astar, heap, lattice, line_of_sight, smoothing, theta_star
+from polynav.planning.footprint_planner import FootprintPlanner
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.planning.interface import GlobalPlanner
 
@@ -49,6 +51,16 @@ def create(name: str, config: GridPlannerConfig | None = None) -> GlobalPlanner:
     return factory(config or GridPlannerConfig())
 
 
+def for_footprint(footprint: Footprint, config: GridPlannerConfig | None = None) -> GlobalPlanner:
+    """The planner for a body: the grid planner for a disk (inflation by its radius is exact
+    for every heading), the footprint-checking planner for a polygon
+    (:mod:`~polynav.planning.footprint_planner`), whose width and diagonal differ."""
+    config = config or GridPlannerConfig()
+    if footprint.vertices.shape[0] == 0:
+        return GridPlanner(config)
+    return FootprintPlanner(footprint, config)
+
+
 def warm_up() -> None:
     """Compile every planning kernel on tiny inputs (seconds the first time, then cached)."""
     heap.warm_up()
@@ -56,4 +68,5 @@ def warm_up() -> None:
     astar.warm_up()
     theta_star.warm_up()
     smoothing.warm_up()
+    lattice.warm_up()
     log.debug("planning kernels compiled")

@@ -1,0 +1,209 @@
+"""Passages found closed during one goal: remembered, so the next plan goes round them.
+
+The controller checks the real body against what the lidar marked; the planner plans on costs.
+When the two disagree (a post the map does not have in a gap, a gap the planner's model of the
+body thought wide enough, the lidar's marks cleared by a recovery a moment before the re-plan),
+the robot stops before the passage, recovers, and the re-plan sends it into the same passage
+again: four times, and the goal fails ``stuck`` while a way round was free all along.
+
+So when the controller reports a block by the static or marked world (not by a person: people
+walk on, :mod:`~polynav.nav.people_wait`), the passage is *closed for this goal*: the place where
+the body first touched something along the route ahead (:meth:`ClosedPassages.close`). Every
+plan then runs on a copy of the costmap where a disc of the body's inscribed radius there is
+LETHAL (:meth:`ClosedPassages.planning_grid`): the body may not overlap it, so the route goes
+round. A closure is forgotten when the goal ends, or when the cells that closed it have been
+seen free for ``reopen_after`` seconds (the lidar sees the passage wider than thought: a trolley
+moved away); marks a recovery cleared come back with the next scan, well within that time.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav import footprint as body
+from polynav.control.tracked_path import TrackedPath
+from polynav.footprint import Footprint
+from polynav.footprint.kernels import overlapped_cells
+from polynav.geometry import Pose2D
+from polynav.maps import costs
+from polynav.maps.costmap import CostSnapshot
+from polynav.maps.interface import CostGrid
+
+log = logging.getLogger(__name__)
+
+_LOOK_AHEAD = 2.5
+"""How far along the route [m] the place that blocked the robot is looked for."""
+
+
+@dataclass(slots=True)
+class ClosedPassage:
+    """One closed passage: where the body would have touched, and the cells it touched."""
+
+    x: float
+    y: float
+    radius: float
+    cells: npt.NDArray[np.int64]
+    free_since: float | None = None
+
+    @property
+    def name(self) -> str:
+        return f"({self.x:.2f}, {self.y:.2f})"
+
+
+@dataclass
+class ClosedPassages:
+    """The passages closed in one navigation attempt (module docstring).
+
+    Args:
+        footprint: the body.
+        limit: at most this many closures per goal; blocks beyond it count as plain failures.
+        reopen_after: a closure whose cells stay free this long [s] is forgotten.
+    """
+
+    footprint: Footprint
+    limit: int = 12
+    reopen_after: float = 2.0
+    passages: list[ClosedPassage] = field(default_factory=list)
+    tried: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._noted: ClosedPassage | None = None
+
+    def reset(self) -> None:
+        """A new goal: nothing is closed."""
+        self.passages.clear()
+        self.tried.clear()
+        self._noted = None
+
+    @property
+    def full(self) -> bool:
+        return len(self.passages) >= self.limit
+
+    def note_block(
+        self, costmap: CostGrid, route: TrackedPath | None, along: float, pose: Pose2D
+    ) -> None:
+        """The controller has just stopped: note where the body touches something along the
+        route ahead of ``along`` [m], as the costmap is now (a thin post's mark may flicker
+        out before the navigator decides what to do about the block)."""
+        self._noted = None
+        if route is None:
+            return
+        res = costmap.info.resolution
+        s = np.arange(along, min(route.length, along + _LOOK_AHEAD) + 0.5 * res, 0.5 * res)
+        poses = route.poses_at(np.minimum(s, route.length))
+        # The robot's own place first, so that what it touches already does not count.
+        poses = np.vstack([[pose.x, pose.y, pose.theta], poses])
+        hit = body.first_collision(self.footprint, costmap, poses, ignore_start=True)
+        if hit is not None:
+            x, y, theta = (float(v) for v in poses[hit])
+            cells = _touched_cells(self.footprint, costmap, x, y, theta)
+            self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells)
+
+    def close(self) -> ClosedPassage | None:
+        """Close the passage noted at the last block; ``None`` when the body touched nothing
+        along the route then (the block was the arc or a turn), the place is closed already,
+        or the limit is reached."""
+        passage, self._noted = self._noted, None
+        if passage is None or self.full:
+            return None
+        for known in self.passages:
+            if math.hypot(known.x - passage.x, known.y - passage.y) < passage.radius:
+                return None
+        self.passages.append(passage)
+        self.tried.append(passage.name)
+        log.info("passage at %s closed for this goal (%d cells)", passage.name,
+                 passage.cells.shape[0])
+        return passage
+
+    def refresh(self, costmap: CostGrid, now: float) -> None:
+        """Forget closures whose cells the lidar has seen free for ``reopen_after``."""
+        kept = []
+        grid = costmap.costs
+        for passage in self.passages:
+            cells = passage.cells
+            marked = cells.shape[0] == 0 or bool(
+                np.any(grid[cells[:, 1], cells[:, 0]] == costs.LETHAL)
+            )
+            if marked:
+                passage.free_since = None
+            elif passage.free_since is None:
+                passage.free_since = now
+            elif now - passage.free_since >= self.reopen_after:
+                log.info("passage at %s seen open again", passage.name)
+                continue
+            kept.append(passage)
+        self.passages = kept
+
+    def planning_grid(self, costmap: CostGrid, pose: Pose2D) -> CostGrid:
+        """``costmap``, or a copy with every closure painted LETHAL (except the cells the body
+        overlaps where it stands, so that the robot may leave)."""
+        if not self.passages:
+            return costmap
+        info = costmap.info
+        grid = np.array(costmap.costs, dtype=np.uint8, copy=True)
+        cells = np.zeros((0, 2), dtype=np.int64)
+        for passage in self.passages:
+            cells = np.vstack([cells, _disc_cells(costmap, passage.x, passage.y, passage.radius)])
+        if cells.shape[0]:
+            mask = np.zeros(grid.shape, dtype=bool)
+            mask[cells[:, 1], cells[:, 0]] = True
+            here = _body_cells(self.footprint, costmap, pose)
+            mask[here[:, 1], here[:, 0]] = False
+            grid[mask] = costs.LETHAL
+        return CostSnapshot(info, grid)
+
+
+def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:
+    info = costmap.info
+    cx, cy = info.world_to_cell(x, y)
+    reach = int(math.ceil(radius / info.resolution))
+    span = np.arange(-reach, reach + 1)
+    ix, iy = np.meshgrid(cx + span, cy + span)
+    cells = np.column_stack((ix.ravel(), iy.ravel())).astype(np.int64)
+    inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < info.width) & (
+        cells[:, 1] < info.height)
+    cells = cells[inside]
+    centres = info.cells_to_world(cells)
+    near = np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius
+    return np.asarray(cells[near])
+
+
+def _body_cells(footprint: Footprint, costmap: CostGrid, pose: Pose2D) -> npt.NDArray[np.int64]:
+    """Every cell (K, 2) the body overlaps at ``pose``, whatever its cost (found on a small
+    all-LETHAL window around it, then shifted back)."""
+    info = costmap.info
+    cx, cy = info.world_to_cell(pose.x, pose.y)
+    reach = int(math.ceil(footprint.circumscribed_radius / info.resolution)) + 1
+    x0, y0 = cx - reach, cy - reach
+    full = np.full((2 * reach + 1, 2 * reach + 1), costs.LETHAL, dtype=np.uint8)
+    local = _grid_pose(costmap, pose.x, pose.y, pose.theta)
+    local[0] -= x0 * info.resolution
+    local[1] -= y0 * info.resolution
+    cells = np.asarray(overlapped_cells(full, info.resolution, footprint.vertices,
+                                        footprint.radius, local, False)) + (x0, y0)
+    inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < info.width) & (
+        cells[:, 1] < info.height)
+    return np.asarray(cells[inside], dtype=np.int64)
+
+
+def _grid_pose(costmap: CostGrid, x: float, y: float, theta: float) -> npt.NDArray[np.float64]:
+    """A world pose in the grid's own frame (origin at the corner of cell (0, 0))."""
+    o = costmap.info.origin
+    c, s = math.cos(o.theta), math.sin(o.theta)
+    return np.array([c * (x - o.x) + s * (y - o.y), -s * (x - o.x) + c * (y - o.y),
+                     theta - o.theta])
+
+
+def _touched_cells(
+    footprint: Footprint, costmap: CostGrid, x: float, y: float, theta: float
+) -> npt.NDArray[np.int64]:
+    """The LETHAL cells (K, 2) the body overlaps at (x, y, theta)."""
+    local = _grid_pose(costmap, x, y, theta)
+    return np.asarray(overlapped_cells(np.ascontiguousarray(costmap.costs),
+                                       costmap.info.resolution, footprint.vertices,
+                                       footprint.radius, local, False))

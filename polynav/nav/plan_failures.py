@@ -1,0 +1,150 @@
+"""What the navigator does when a plan fails or the controller stops before a passage.
+
+A mixin over :class:`~polynav.nav.navigator.Navigator` (the navigator stays one class to its
+users). Two moments are decided here:
+
+- **The controller stops before a passage** (``BLOCKED``, and no person in the way): if the body
+  touches the static or marked world along the route ahead, that passage is closed for this goal
+  (:mod:`~polynav.nav.passages`) and the robot plans again at once, round it; where it cannot
+  turn (a pocket narrower than its diagonal) it first backs out along the way in
+  (:mod:`~polynav.nav.back_out`). A block that closes a new passage is progress, not a failure:
+  it does not count against the place's retries. Anything else is a failure, counted by place
+  and time (:mod:`~polynav.nav.retry_budget`), with the recovery ladder.
+- **A plan fails**: the lidar's marks are cleared once and the plan tried again; a goal held by
+  something not on the map is waited for (:mod:`~polynav.nav.goal_wait`); people in a narrow way
+  are waited for. When passages have been closed and no way is left, a robot that cannot turn
+  backs out first; then the goal fails ``stuck``, naming the passages tried, since every way the
+  closures leave has been tried. Without closures it fails ``no path`` / ``goal occupied``.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import TYPE_CHECKING
+
+from polynav.control.interface import Controller
+from polynav.control.tracked_path import TrackedPath
+from polynav.geometry import Pose2D
+from polynav.maps.costmap import Costmap
+from polynav.nav import events
+from polynav.nav.attempt import FailureReason, NavigationAttempt
+from polynav.nav.back_out import BackOut
+from polynav.nav.goal_wait import GoalWait
+from polynav.nav.passages import ClosedPassages
+from polynav.nav.people_wait import PeopleWait
+from polynav.nav.phases import NavPhase
+from polynav.nav.recoveries import ClearCostmap, Recovery
+from polynav.planning.errors import (
+    GoalOccupied,
+    NoPath,
+    OutsideMap,
+    PlanningError,
+    StartOccupied,
+    failure_cause,
+)
+from polynav.planning.path import Path
+
+if TYPE_CHECKING:
+    from polynav.nav.navigator_config import NavigatorConfig
+
+log = logging.getLogger(__name__)
+
+
+class PlanFailures:
+    """Blocks and failed plans; mixed into the navigator, whose state it shares."""
+
+    config: NavigatorConfig
+    _costmap: Costmap
+    _controller: Controller
+    _wait: PeopleWait
+    _goal_wait: GoalWait
+    _clear: ClearCostmap
+    _cleared_for_plan: bool
+    _passages: ClosedPassages
+    _back_out: BackOut
+    _recovery: Recovery | None
+    _target: Pose2D
+    _path: Path | None
+    _tracked: TrackedPath | None
+    _along: float
+
+    if TYPE_CHECKING:
+
+        def _require(self) -> NavigationAttempt: ...
+
+        def _emit(self, event: events.NavigationEvent) -> None: ...
+
+        def _emit_retry(self, cause: str, recovery: str, now: float) -> None: ...
+
+        def _fail(self, reason: FailureReason, message: str, now: float) -> None: ...
+
+        def _retry(self, cause: str, pose: Pose2D, now: float) -> None: ...
+
+        def _enter(self, phase: NavPhase, now: float) -> None: ...
+
+        def _wait_for_people(self, pose: Pose2D, now: float) -> None: ...
+
+    def _on_blocked(self, pose: Pose2D, now: float) -> None:
+        """The controller stopped and nobody is in the way: close the passage or retry."""
+        passage = self._passages.close()
+        if passage is None:
+            if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):
+                self._controller.reset()
+                self._start_back_out("blocked where it cannot turn", pose, now)
+            else:
+                self._retry("blocked", pose, now)
+            return
+        self._controller.reset()
+        if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):
+            self._start_back_out(f"blocked at {passage.name}", pose, now)
+            return
+        self._emit_retry(f"blocked at {passage.name}", "re-plan round it", now)
+        self._enter(NavPhase.PLAN, now)
+
+    def _start_back_out(self, cause: str, pose: Pose2D, now: float) -> None:
+        self._emit_retry(cause, self._back_out.name, now)
+        self._recovery = self._back_out
+        self._back_out.start(pose, now)
+        self._enter(NavPhase.RECOVER, now)
+
+    def _on_plan_error(self, exc: PlanningError, pose: Pose2D, now: float) -> None:
+        log.warning("planning failed: %s", exc)
+        cause = failure_cause(exc, self._costmap.cost_at(pose.x, pose.y))
+        self._emit(events.PlanFailed(now, self._require(), cause=cause))
+        if isinstance(exc, (NoPath, GoalOccupied)) and self._wait.blocks(pose, self._path):
+            self._wait_for_people(pose, now)
+            return
+        if isinstance(exc, OutsideMap):
+            self._fail(FailureReason.NO_PATH, f"outside the map: {exc}", now)
+        elif isinstance(exc, (NoPath, GoalOccupied)):
+            self._no_way(exc, pose, now)
+        elif isinstance(exc, StartOccupied):
+            self._retry("start occupied", pose, now)
+        else:
+            self._fail(FailureReason.NO_PATH, str(exc), now)
+
+    def _no_way(self, exc: NoPath | GoalOccupied, pose: Pose2D, now: float) -> None:
+        # Marks from the lidar may be what closes the way; with them cleared only the map,
+        # the keepouts and the closed passages decide, and a second failure is final.
+        reason = FailureReason.NO_PATH if isinstance(exc, NoPath) else FailureReason.GOAL_OCCUPIED
+        if not self._cleared_for_plan:
+            self._cleared_for_plan = True
+            self._clear.start(pose, now)
+            self._emit_retry(reason.value, self._clear.name, now)
+        elif self._wait.people:
+            # Cleared, and still no way, with people in view: in a narrow passage they may be
+            # what closes it. Wait for them, looking for a way meanwhile.
+            self._wait_for_people(pose, now)
+        elif isinstance(exc, GoalOccupied) and self._goal_wait.may_clear(self._target):
+            if self._goal_wait.begin(now):
+                self._emit(events.NavigationWaiting(now, self._require(), cause="goal occupied"))
+            self._enter(NavPhase.GOAL_WAIT, now)
+        elif (isinstance(exc, NoPath) and not self._back_out.can_turn(pose)
+              and self._back_out.may_start(pose)):
+            # A pocket narrower than the body's diagonal: no way on forward from here.
+            self._start_back_out("no way on from here", pose, now)
+        elif self._passages.tried and isinstance(exc, NoPath):
+            tried = ", ".join(self._passages.tried)
+            self._fail(FailureReason.STUCK, f"no way left: passages tried at {tried}", now)
+        else:
+            self._fail(reason, str(exc) or reason.value, now)

@@ -1,0 +1,278 @@
+"""The planner for a body that is not a disk: the grid route when the body can drive it, else a
+lattice route over position and heading (:mod:`polynav.planning.lattice`).
+
+A grid planner inflating by the inscribed radius plans for a disk the size of the body's
+narrowest width. A rectangle following such a route stops before any gap between its width and
+its diagonal that the route enters turning, and every re-plan sends it into the same gap. So
+this planner first plans on the grid (fast, and the route a disk would take), then *checks* that
+route with the footprint at the headings the robot will have along it, turns in place at its
+corners included (:func:`route_poses`). A route the body can drive is returned as it is; only
+when the check fails does the lattice search run, in a window around the route (then over the
+whole map if the window holds no way), and its shortened route is returned. When no heading
+lets the body through anywhere, the goal fails at once with :class:`NoPath`, never by trial.
+
+The grid planner's rules (typed errors for start, goal and tolerance) apply unchanged: the grid
+plan comes first and decides the end point. A disk needs none of this, and keeps the grid
+planner alone (:func:`~polynav.planning.registry.for_footprint`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+from scipy import ndimage
+
+from polynav import footprint as body
+from polynav.errors import ConfigError
+from polynav.footprint import Footprint
+from polynav.footprint.kernels import overlapped_cells
+from polynav.geometry import Pose2D
+from polynav.maps import costs as cost_values
+from polynav.maps.interface import CostGrid
+from polynav.maps.map import MapInfo
+from polynav.planning import lattice, smoothing
+from polynav.planning.errors import NoPath, PlanningError
+from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
+from polynav.planning.grid_search import step_multipliers
+from polynav.planning.path import Path
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class LatticeConfig:
+    """How the lattice search runs (SI units).
+
+    Attributes:
+        turn_cost: price of turning in place [m per rad]: a quarter turn costs as much as
+            driving ``turn_cost * pi / 2`` metres, so the route does not wriggle.
+        window_margin: the search window reaches this far [m] beyond the grid route's box.
+        max_expansions: the search gives up after this many states (a bound on time).
+        max_leg: the shortening tries straight legs up to this long [m].
+    """
+
+    turn_cost: float = 0.3
+    window_margin: float = 4.0
+    max_expansions: int = 3_000_000
+    max_leg: float = 4.0
+
+    def __post_init__(self) -> None:
+        for key in ("turn_cost", "window_margin", "max_leg"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ConfigError(f"planner.lattice.{key}", f"must be finite and >= 0, got {value}")
+        if self.max_expansions < 1:
+            raise ConfigError("planner.lattice.max_expansions", "must be >= 1")
+
+
+def route_poses(
+    points: npt.NDArray[np.float64],
+    footprint: Footprint,
+    resolution: float,
+    start_theta: float | None = None,
+) -> npt.NDArray[np.float64]:
+    """Poses (N, 3) of a robot driving the polyline facing along it, turning in place at its
+    corners: half-cell steps along each leg, :meth:`Footprint.rotation_step` through each turn,
+    the first one from ``start_theta`` [rad] onto the first leg included when given."""
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    deltas = np.diff(pts, axis=0)
+    lengths = np.hypot(deltas[:, 0], deltas[:, 1])
+    keep = lengths > 1e-9
+    pts = np.vstack([pts[:1], pts[1:][keep]])
+    deltas, lengths = deltas[keep], lengths[keep]
+    if lengths.size == 0:
+        return np.zeros((0, 3))
+    headings = np.arctan2(deltas[:, 1], deltas[:, 0])
+    step = 0.5 * resolution
+    turn_step = footprint.rotation_step(resolution)
+    rows: list[npt.NDArray[np.float64]] = []
+    if start_theta is not None:
+        # The robot's own pose first: what it touches there is what a check may ignore.
+        rows.append(np.array([[pts[0, 0], pts[0, 1], start_theta]]))
+        headings = np.concatenate([[start_theta], headings])
+        pts = np.vstack([pts[:1], pts])
+    first = 0 if start_theta is None else 1
+    for k in range(first, headings.size):
+        if k > 0:
+            turn = math.remainder(float(headings[k] - headings[k - 1]), 2.0 * math.pi)
+            n = int(math.ceil(abs(turn) / turn_step))
+            if n > 1:
+                angles = headings[k - 1] + turn * np.arange(1, n) / n
+                rows.append(np.column_stack(
+                    (np.full(n - 1, pts[k, 0]), np.full(n - 1, pts[k, 1]), angles)))
+        leg = k - first
+        n = max(int(math.ceil(lengths[leg] / step)), 1)
+        t = np.arange(n + 1) / n
+        rows.append(np.column_stack((pts[k, 0] + t * deltas[leg, 0],
+                                     pts[k, 1] + t * deltas[leg, 1],
+                                     np.full(n + 1, headings[k]))))
+    return np.vstack(rows)
+
+
+def drivable(
+    path: Path, footprint: Footprint, costmap: CostGrid, start_theta: float | None = None
+) -> bool:
+    """Can the body drive ``path`` facing along it (:func:`route_poses`), turning onto it from
+    ``start_theta`` first, without touching a LETHAL cell? Cells the body already overlaps
+    where it stands do not count (a robot pressed against a mark may leave it)."""
+    poses = route_poses(path.points, footprint, costmap.info.resolution, start_theta)
+    if poses.shape[0] == 0:
+        return True
+    return body.first_collision(footprint, costmap, poses, ignore_start=True) is None
+
+
+class FootprintPlanner:
+    """Plans routes a polygon body can drive (module docstring); a ``GlobalPlanner``."""
+
+    def __init__(
+        self,
+        footprint: Footprint,
+        config: GridPlannerConfig | None = None,
+        lattice_config: LatticeConfig | None = None,
+    ) -> None:
+        self._footprint = footprint
+        self._grid = GridPlanner(config)
+        self._lattice = lattice_config or LatticeConfig()
+        self.lattice_plans = 0
+        """How many plans needed the lattice (for tests and benchmarks)."""
+
+    @property
+    def config(self) -> GridPlannerConfig:
+        return self._grid.config
+
+    def plan(
+        self,
+        costmap: CostGrid,
+        start: Pose2D,
+        goal: Pose2D,
+        *,
+        goal_tolerance: float | None = None,
+    ) -> Path:
+        """A route from ``start`` to ``goal`` the body can drive (see the module docstring).
+
+        Raises:
+            the grid planner's errors for start, goal and tolerance; :class:`NoPath` when no
+            route lets the body through.
+        """
+        path = self._grid.plan(costmap, start, goal, goal_tolerance=goal_tolerance)
+        if drivable(path, self._footprint, costmap, start.theta):
+            return path
+        end = (float(path.points[-1, 0]), float(path.points[-1, 1]))
+        reached_goal = math.hypot(end[0] - goal.x, end[1] - goal.y) < 1e-9
+        self.lattice_plans += 1
+        return self._lattice_route(costmap, start, end, reached_goal, path)
+
+    def reachable(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> bool:
+        try:
+            self.plan(costmap, start, goal)
+        except PlanningError:
+            return False
+        return True
+
+    def _lattice_route(
+        self,
+        costmap: CostGrid,
+        start: Pose2D,
+        end: tuple[float, float],
+        reached_goal: bool,
+        grid_path: Path,
+    ) -> Path:
+        info = costmap.info
+        grid = np.ascontiguousarray(costmap.costs, dtype=np.uint8)
+        cfg = self._grid.config
+        unknown = cost_values.MAX_NON_OBSTACLE if cfg.allow_unknown else None
+        # Inscribed cells are passable here at their (high) price: the body check is exact.
+        mult = step_multipliers(cost_weight=cfg.cost_weight, lethal_threshold=cost_values.INSCRIBED,
+                                unknown_cost=unknown, escape_below=cost_values.LETHAL)
+        fp = self._footprint
+        reach = fp.circumscribed_radius
+        near = _near_obstacles(grid, info.resolution, reach)
+        sx, sy = info.world_to_cell(start.x, start.y)
+        gx, gy = info.world_to_cell(*end)
+        sk = lattice.nearest_heading(start.theta - info.origin.theta)
+        verts = np.ascontiguousarray(fp.vertices, dtype=np.float64)
+        rot_step = fp.rotation_step(info.resolution)
+        turn_cost = self._lattice.turn_cost / info.resolution
+        start_ignore = _overlapped(fp, grid, info, start)
+        windows = [_window(info, grid_path.points, self._lattice.window_margin),
+                   (0, 0, info.width, info.height)]
+        for x0, y0, x1, y1 in windows:
+            h = lattice.cost_to_go(grid, mult, gx, gy, x0, y0, x1, y1)
+            states, cost, expansions = lattice.search(
+                grid, mult, near, info.resolution, verts, rot_step, turn_cost, h, x0, y0,
+                sx, sy, sk, gx, gy, self._lattice.max_expansions, start_ignore,
+            )
+            log.debug("lattice search in [%d, %d) x [%d, %d): %d states expanded, %s", x0, x1,
+                      y0, y1, expansions, "found" if states.shape[0] else "none")
+            if states.shape[0]:
+                return self._route(info, grid, mult, near, verts, rot_step, states, cost, start,
+                                   end if reached_goal else None)
+            if (x0, y0, x1, y1) == (0, 0, info.width, info.height):
+                break
+        raise NoPath("no route the body fits: every way is narrower than the body at the "
+                     "headings it can have there")
+
+    def _route(
+        self,
+        info: MapInfo,
+        grid: npt.NDArray[np.uint8],
+        mult: npt.NDArray[np.float64],
+        near: npt.NDArray[np.bool_],
+        verts: npt.NDArray[np.float64],
+        rot_step: float,
+        states: npt.NDArray[np.int64],
+        cost: float,
+        start: Pose2D,
+        goal: tuple[float, float] | None,
+    ) -> Path:
+        span = max(int(self._lattice.max_leg / info.resolution), 1)
+        kept = lattice.shorten(grid, mult, near, info.resolution, verts, rot_step, states,
+                               start.theta - info.origin.theta, span)
+        points = info.cells_to_world(states[kept, :2])
+        points[0] = (start.x, start.y)
+        if goal is not None:
+            points = np.vstack([points, [goal]]) if points.shape[0] < 2 else points
+            points[-1] = goal
+        if self._grid.config.point_spacing > 0.0:
+            points = smoothing.densify(points, self._grid.config.point_spacing)
+        return Path(points=points, cost=cost * info.resolution)
+
+
+def _overlapped(
+    footprint: Footprint, grid: npt.NDArray[np.uint8], info: MapInfo, pose: Pose2D
+) -> npt.NDArray[np.int64]:
+    """The LETHAL cells (K, 2) the body overlaps at ``pose``."""
+    o = info.origin
+    c, s = math.cos(o.theta), math.sin(o.theta)
+    local = np.array([c * (pose.x - o.x) + s * (pose.y - o.y),
+                      -s * (pose.x - o.x) + c * (pose.y - o.y), pose.theta - o.theta])
+    return np.asarray(overlapped_cells(grid, info.resolution, footprint.vertices,
+                                       footprint.radius, local, False))
+
+
+def _near_obstacles(
+    grid: npt.NDArray[np.uint8], resolution: float, reach: float
+) -> npt.NDArray[np.bool_]:
+    """Cells whose centre lies within ``reach`` (plus a cell) of a LETHAL cell: only there can
+    some heading of the body touch one."""
+    lethal = grid == cost_values.LETHAL
+    if not lethal.any():
+        return np.zeros(grid.shape, dtype=np.bool_)
+    distance = ndimage.distance_transform_edt(~lethal) * resolution
+    return np.asarray(distance <= reach + resolution)
+
+
+def _window(
+    info: MapInfo, points: npt.NDArray[np.float64], margin: float
+) -> tuple[int, int, int, int]:
+    cells = info.world_to_cells(np.asarray(points, dtype=np.float64).reshape(-1, 2))
+    pad = int(math.ceil(margin / info.resolution))
+    x0 = max(int(cells[:, 0].min()) - pad, 0)
+    y0 = max(int(cells[:, 1].min()) - pad, 0)
+    x1 = min(int(cells[:, 0].max()) + pad + 1, info.width)
+    y1 = min(int(cells[:, 1].max()) + pad + 1, info.height)
+    return (x0, y0, x1, y1)
