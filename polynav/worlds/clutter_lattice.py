@@ -66,11 +66,16 @@ log = logging.getLogger(__name__)
 
 Cell = tuple[int, int]  # (ix, iy)
 
-WAY_OFFSET = 1.3  # [m] least distance of the way's waypoints from the centre line
-TRAP_ROOM = 0.4  # [m] of barrier kept between a gate and the way's opening
+WAY_OFFSET = 1.6  # [m] least distance of the way from the centre line where it passes a barrier
+WAY_BEFORE = 0.7  # [m] the way runs level from this far before a barrier ...
+WAY_AFTER = 1.4  # [m] ... to this far after it (past a chicane's second wall)
+BARRIERS = 3  # at density 1
+CHICANE_ODDS = (0.1, 0.3)  # chance that a barrier is a chicane, at density 0 and 1
 BAND = 0.7  # [m] around a barrier kept free of random structures
 GAP_MARGIN = 0.03  # [m] a tight gap's width stays this far inside (body width, diagonal)
-CHICANE_SHIFT = 0.8  # [m] least sideways distance between a chicane's two gaps
+CHICANE_SHIFT = (0.05, 0.35)  # [m] sideways distance between a chicane's two gaps
+NEAR_LINE = 1.2  # [m] half-width of the band along the straight line half the structures go in
+OPENING_ROOM = 0.3  # [m] around a deliberate opening kept free of later structures
 STRUCTURE_KINDS = ("wall", "hook", "pocket", "box", "slot")
 KIND_WEIGHTS = (0.25, 0.25, 0.2, 0.15, 0.15)
 _AXES: tuple[Cell, ...] = ((1, 0), (0, 1), (-1, 0), (0, -1))
@@ -85,6 +90,7 @@ class _Frame:
     start: Pose2D
     goal: Pose2D
     way: npt.NDArray[np.float64]
+    barriers: tuple[float, ...]  # x [m] of each barrier's first wall
     clearance: float  # [m] the way's guaranteed clearance
     stamp: tuple[Cell, ...]  # cells one post covers, about its own cell
     arm: int  # cells a post reaches from its centre cell along an axis
@@ -180,18 +186,22 @@ def _frame(footprint: Footprint, spec: ClutterSpec, rng: np.random.Generator) ->
     start = Pose2D(WALL + 1.5, WALL + 0.5 * spec.width, 0.0)
     goal = Pose2D(start.x + spec.span, start.y, 0.0)
     clearance = max(spec.way_clearance, footprint.circumscribed_radius + spec.lane_margin)
-    # Waypoints a few metres apart, 1.3 m or more off the centre line, keeping the way's
-    # clearance from the side walls; the side flips now and then, so the way winds.
+    # Barriers spread evenly over the field, more when dense. The way passes each one on its
+    # own side, 1.6 m or more off the centre line, the sides alternating: it winds across the
+    # box, and the barriers' gates on the straight line look much shorter to a planner.
+    count = 1 + int(round((BARRIERS - 1) * spec.density))
+    x0, x1 = start.x + 1.5, goal.x - 1.5
+    pitch = (x1 - x0) / count
+    barriers = tuple(float(x0 + (i + 0.5) * pitch + rng.uniform(-0.15, 0.15) * pitch)
+                     for i in range(count))
     room = 0.5 * spec.width - clearance - 0.25
     lo = min(WAY_OFFSET, room)
-    n_mid = max(int(round(spec.span / 4.0)) + 1, 2)
-    xs = np.linspace(start.x + 1.0, goal.x - 1.0, n_mid)
     side = 1.0 if rng.random() < 0.5 else -1.0
     points = [(start.x, start.y)]
-    for i, x in enumerate(xs):
-        if i > 0 and rng.random() < 0.35:
-            side = -side
-        points.append((float(x), start.y + side * float(rng.uniform(lo, room))))
+    for x in barriers:
+        y = start.y + side * float(rng.uniform(lo, room))
+        points += [(x - WAY_BEFORE, y), (x + WAY_AFTER, y)]
+        side = -side
     points.append((goal.x, goal.y))
     r_cells = spec.post_radius / res
     span = int(math.floor(r_cells))
@@ -202,15 +212,10 @@ def _frame(footprint: Footprint, spec: ClutterSpec, rng: np.random.Generator) ->
     grid = box_cells(length, spec.width, res)
     return _Frame(
         footprint=footprint, spec=spec, start=start, goal=goal,
-        way=np.asarray(points, dtype=np.float64), clearance=clearance, stamp=stamp, arm=arm,
+        way=np.asarray(points, dtype=np.float64), barriers=barriers, clearance=clearance,
+        stamp=stamp, arm=arm,
         reach=reach, step=max(1, round(spec.pitch / res)), nx=grid.shape[1], ny=grid.shape[0],
     )
-
-
-def _way_offset(frame: _Frame, x: float) -> float:
-    """Distance [m] of the way from the centre line at ``x`` (the way runs left to right)."""
-    way = frame.way
-    return abs(float(np.interp(x, way[:, 0], way[:, 1])) - frame.start.y)
 
 
 def _barriers(
@@ -220,26 +225,13 @@ def _barriers(
     structures: list[Structure],
     openings: list[tuple[Cell, Cell]],
 ) -> list[tuple[float, float]]:
-    """Place the barriers (gates and chicanes); their x bands [m], kept from other structures."""
-    spec = frame.spec
-    wanted = 1 + int(round(2.0 * spec.density))
-    chicane_odds = 0.2 + 0.4 * spec.density
-    widest = 2.0 * max(frame.footprint.circumscribed_radius,
-                       frame.footprint.inscribed_radius + 0.05)
-    need = frame.clearance + frame.reach + TRAP_ROOM + widest
-    x0, x1 = frame.start.x + 1.2, frame.goal.x - 1.8
-    candidates = [float(x) for x in np.arange(x0, x1, RESOLUTION)
-                  if min(_way_offset(frame, x), _way_offset(frame, x + 1.0)) >= need]
-    bands: list[tuple[float, float]] = []
-    for _ in range(8 * wanted):
-        if len(bands) == wanted or not candidates:
-            break
-        x = candidates[int(rng.integers(len(candidates)))]
-        if any(a - 1.8 < x < b + 1.2 for a, b in bands):
-            continue
-        chicane = rng.random() < chicane_odds
-        end = _barrier(frame, rng, x, chicane, posts, structures, openings)
-        bands.append((x, end))
+    """Build the barriers (gates and chicanes); their x bands [m], kept from other structures."""
+    lo, hi = CHICANE_ODDS
+    odds = lo + (hi - lo) * frame.spec.density
+    bands = []
+    for x in frame.barriers:
+        chicane = rng.random() < odds
+        bands.append((x, _barrier(frame, rng, x, chicane, posts, structures, openings)))
     return bands
 
 
@@ -264,8 +256,10 @@ def _barrier(
         depth = frame.tight_width(rng)
         ix2 = ix + depth + 2 * frame.arm + 1
         width2 = frame.tight_width(rng)
-        shift = int(math.ceil(CHICANE_SHIFT / RESOLUTION)) + int(rng.integers(0, 10))
-        lo2 = lo + width + shift if rng.random() < 0.5 else lo - shift - width2
+        shift = int(math.ceil(float(rng.uniform(*CHICANE_SHIFT)) / RESOLUTION))
+        # The second gap on the side of the line away from the way, which is near there.
+        way_y = float(np.interp(x, frame.way[:, 0], frame.way[:, 1]))
+        lo2 = lo + width + shift if way_y < frame.start.y else lo - shift - width2
         added += _gated_wall(frame, ix2, [(lo2, width2)], posts)
         openings.append(((ix2, lo2 + width2 // 2), (0, 1)))
         # The corridor between the walls, measured across it where both walls have a post
@@ -326,14 +320,17 @@ def _random_structures(
 ) -> None:
     """Walls, hooks, pockets, boxes and slots thrown between the barriers, clear of the way."""
     spec = frame.spec
-    wanted = int(round((4.0 + 12.0 * spec.density) * spec.span / 10.0))
+    wanted = int(round((6.0 + 18.0 * spec.density) * spec.span / 10.0))
     placed = 0
     w = WALL
     for _ in range(10 * wanted):
         if placed == wanted:
             break
         x = float(rng.uniform(frame.start.x + 0.8, frame.goal.x - 0.8))
-        y = float(rng.uniform(w + 0.1, w + spec.width - 0.1))
+        if rng.random() < 0.5:
+            y = frame.start.y + float(rng.uniform(-NEAR_LINE, NEAR_LINE))
+        else:
+            y = float(rng.uniform(w + 0.1, w + spec.width - 0.1))
         if _in_bands(x, bands, BAND):
             continue
         kind = str(rng.choice(STRUCTURE_KINDS, p=KIND_WEIGHTS))
@@ -355,6 +352,10 @@ def _random_structures(
                      for i in range(k) for j in range(k)]
         else:
             cells, opening, facing = _slot(frame, rng, at)
+        # Openings stay as made: nothing new in an old one, and a new one over nothing old.
+        if _blocks_opening(frame, cells, openings) or (
+                opening is not None and _blocks_opening(frame, sorted(posts), [opening])):
+            continue
         if not _place(frame, cells, posts):
             continue
         structures.append(Structure(kind, *frame.centre(at), facing, len(cells)))
@@ -426,6 +427,17 @@ def _place(frame: _Frame, cells: list[Cell], posts: set[Cell]) -> bool:
         return False
     posts.update(cells)
     return True
+
+
+def _blocks_opening(frame: _Frame, cells: list[Cell], openings: list[tuple[Cell, Cell]]) -> bool:
+    """Would a post stand in or next to an opening already made (so it stays as measured)?"""
+    if not openings or not cells:
+        return False
+    c = np.asarray(cells, dtype=np.float64)
+    o = np.asarray([centre for centre, _ in openings], dtype=np.float64)
+    d = np.hypot(c[:, None, 0] - o[None, :, 0], c[:, None, 1] - o[None, :, 1]) * RESOLUTION
+    widest = 2.0 * frame.footprint.circumscribed_radius + 0.1
+    return bool(np.any(d < 0.5 * widest + frame.reach + OPENING_ROOM))
 
 
 def _in_bands(x: float, bands: list[tuple[float, float]], margin: float) -> bool:
