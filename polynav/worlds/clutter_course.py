@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
+from scipy import ndimage
 
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.footprint import Footprint
@@ -201,7 +202,7 @@ def sample_polyline(line: npt.NDArray[np.float64], step: float) -> npt.NDArray[n
 
 
 def clearance_along(
-    grid: Map, line: npt.NDArray[np.float64], *, step: float = 0.25 * RESOLUTION
+    grid: Map, line: npt.NDArray[np.float64], *, step: float = 0.5 * RESOLUTION
 ) -> float:
     """Least distance [m] from the polyline ``line`` to any occupied cell of ``grid``.
 
@@ -210,7 +211,11 @@ def clearance_along(
     """
     info = grid.info
     res = info.resolution
-    iy, ix = np.nonzero(grid.occupied())
+    occupied = grid.occupied()
+    # Only cells on an obstacle's rim can be nearest to a point in free space.
+    inner = ndimage.binary_erosion(occupied, structure=np.ones((3, 3), dtype=bool),
+                                   border_value=True)
+    iy, ix = np.nonzero(occupied & ~inner)
     # Cell centres in the world frame (the courses' maps are axis-aligned at the origin).
     cx = info.origin.x + (ix + 0.5) * res
     cy = info.origin.y + (iy + 0.5) * res

@@ -7,17 +7,19 @@ short wall) and are grouped into structures, drawn from a seed and a *density* i
 
 1. A walled box, ``span + 3`` x ``width`` inside, start 1.5 m from one end wall, the goal
    ``span`` [m] further along the centre line, as in the ``posts`` kind.
-2. The *way*: a polyline from start to goal through waypoints 1.3 m or more off the centre
-   line, on one side or switching sides, never the straight line. Nothing is placed closer to
-   it than ``max(way_clearance, circumscribed radius + lane_margin)`` (the way's clearance),
-   so the body can drive it at any heading and turn anywhere on it.
-3. *Barriers* across the box (1 at density 0, 3 at density 1), each from wall to wall, left
-   open only where the way crosses and at a *gate*: a gap whose width lies between the body's
-   width (2 x inscribed radius) and its diagonal (2 x circumscribed radius), on the straight
-   line from start to goal. Some barriers are *chicanes*: a second wall behind the first,
-   with a corridor between them and its own gap well to the side, both as narrow. The
-   planner, inflating by the inscribed radius, sees these open and shorter than the way; a
-   rectangular body fits a gate only lined up with it, and cannot turn in a chicane at all.
+2. *Barriers* across the box (1 at density 0, 3 at density 1, spread evenly), each from wall to
+   wall, open only where the way crosses it and at a *gate*: a gap whose width lies between the
+   body's width (2 x inscribed radius) and its diagonal (2 x circumscribed radius), on the
+   straight line from start to goal. Some barriers (10 % at density 0, 30 % at 1) are
+   *chicanes*: a second wall behind the first, a corridor as narrow between them, and the second
+   gap just beside the first, away from the way. The planner, inflating by the inscribed radius,
+   sees these open; a rectangular body fits a gate only lined up with it, and cannot turn in a
+   chicane at all.
+3. The *way*: a polyline from start to goal that passes each barrier level, 1.6 m or more off
+   the centre line, on alternating sides, so it winds across the box and a gate on the straight
+   line looks much shorter. Nothing is placed closer to it than ``max(way_clearance,
+   circumscribed radius + lane_margin)`` (the way's clearance; barrier posts there are left
+   out), so the body can drive it at any heading and turn anywhere on it.
 4. Random structures between the barriers: straight walls, hooks (L and J shapes), pockets
    (U shapes open towards the start, so a robot heading for the goal drives into them), small
    boxes narrower than the body, and slots (two parallel walls as far apart as a gate is
