@@ -69,6 +69,11 @@ class ClutterSpec:
         for name in ("lane_margin", "tight_margin", "way_clearance"):
             if not getattr(self, name) >= 0.0:
                 raise InvalidRequest(name, f"must be >= 0, got {getattr(self, name)}")
+        if self.pitch > 2.0 * self.post_radius:
+            raise InvalidRequest(
+                "pitch", f"must be at most 2 x post_radius ({2.0 * self.post_radius:g}) so that "
+                f"neighbouring posts touch, got {self.pitch}"
+            )
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +85,8 @@ class Structure:
         x: anchor of the structure [m] (a pocket's: the middle of its open side).
         y: [m].
         facing: direction [rad] the structure faces: for a pocket, the way its open side
-            looks (pi: towards the start); for the others, the direction its first run goes.
+            looks (pi: towards the start); for a gate or a chicane, the way through it (0:
+            towards the goal); for the others, the direction their first run of posts goes.
         posts: how many posts it has.
     """
 
@@ -116,9 +122,11 @@ class ClutterCourse:
     """A drawn course: the world, where the robot starts and where it goes, and the checked path.
 
     ``path`` is the planner's path on the static map inflated by the body's inscribed radius;
-    ``optimal_length`` its length [m] (the benchmark's yardstick at top speed). ``way`` is the
-    kind's checked feasible route when it keeps one apart from ``path`` (``lattice``: a polyline
-    whose centre line stays ``way_clearance`` [m] from every obstacle), else ``None``.
+    ``optimal_length`` its length [m] (the benchmark's yardstick at top speed). ``min_gap`` is
+    the narrowest gap [m] the generator meant to leave (``posts``: between any two posts;
+    ``lattice``: the narrowest of ``gaps``). ``way`` is the kind's checked feasible route when
+    it keeps one apart from ``path`` (``lattice``: a polyline whose centre line stays
+    ``way_clearance`` [m] from every obstacle), else ``None``.
     """
 
     world: World
@@ -139,9 +147,11 @@ class ClutterCourse:
 
         Every pose of a body keeps its centre at least the inscribed radius from every
         obstacle, so any feasible route lies in the free space of the map inflated by that
-        radius, where ``path`` is the planner's shortest (up to the grid's few centimetres).
-        For a polygonal body the true shortest route is longer: it cannot turn in every gap
-        the inflated map leaves open.
+        radius. ``lattice`` plans ``path`` there with no cost penalty, so it is the shortest
+        such route up to the grid's few centimetres; ``posts`` keeps issue 18's plan with the
+        planner's default cost weight, a little longer than that. For a polygonal body the
+        true shortest route is longer still: it cannot turn in every gap the inflated map
+        leaves open, so this is a lower bound, not a route it can drive.
         """
         return self.path.length
 

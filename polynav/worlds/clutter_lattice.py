@@ -191,10 +191,13 @@ def _frame(footprint: Footprint, spec: ClutterSpec, rng: np.random.Generator) ->
     # Barriers spread evenly over the field, more when dense. The way passes each one on its
     # own side, 1.6 m or more off the centre line, the sides alternating: it winds across the
     # box, and the barriers' gates on the straight line look much shorter to a planner.
-    count = 1 + int(round((BARRIERS - 1) * spec.density))
     x0, x1 = start.x + 1.5, goal.x - 1.5
+    # No more than leaves the way its level runs past each (a short span takes fewer).
+    fits = max(int((x1 - x0) // (WAY_BEFORE + WAY_AFTER + 0.2)), 1)
+    count = min(1 + int(round((BARRIERS - 1) * spec.density)), fits)
     pitch = (x1 - x0) / count
-    barriers = tuple(float(x0 + (i + 0.5) * pitch + rng.uniform(-0.15, 0.15) * pitch)
+    # A little jitter, never so much that the way's level runs overlap.
+    barriers = tuple(float(x0 + (i + 0.5) * pitch + rng.uniform(-0.04, 0.04) * pitch)
                      for i in range(count))
     room = 0.5 * spec.width - clearance - 0.25
     lo = min(WAY_OFFSET, room)

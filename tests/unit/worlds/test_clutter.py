@@ -59,6 +59,21 @@ def test_posts_kind_draws_the_same_courses_as_before_the_kinds(
     assert _grid_digest(course) == digest
 
 
+def test_pitch_wider_than_two_post_radii_is_refused() -> None:
+    with pytest.raises(InvalidRequest) as err:
+        ClutterSpec(kind="lattice", pitch=0.15, post_radius=0.06)
+    assert err.value.field == "pitch"
+
+
+def test_short_narrow_lattice_course_still_keeps_its_way() -> None:
+    footprint = _footprint("research-base")
+    spec = ClutterSpec(kind="lattice", density=1.0, span=6.0, width=4.0)
+    course = draw(footprint, spec, 1)
+    assert course.way is not None
+    assert check(course, footprint) is None
+    assert bool(np.all(np.diff(course.way[:, 0]) >= 0.0))  # it never runs back
+
+
 def test_same_seed_draws_the_same_lattice_course() -> None:
     a = _lattice("research-base", 0.5, 7)
     b = _lattice("research-base", 0.5, 7)
@@ -81,6 +96,7 @@ def test_lattice_way_clears_the_body_at_any_heading(name: str, density: float) -
     assert course.way_clearance >= max(0.45, footprint.circumscribed_radius)
     assert clearance_along(course.world.floors[0].map, way) >= course.way_clearance
     assert check(course, footprint) is None
+    assert bool(np.all(np.diff(way[:, 0]) >= 0.0))  # it winds across, never back
     # Independently of the clearance figure: the body swept along the way facing along it,
     # and turned a full circle every half metre, touches nothing.
     static = Costmap.from_map(course.world.floors[0].map, static_config(footprint))
