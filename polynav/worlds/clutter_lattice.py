@@ -110,9 +110,15 @@ class _Frame:
     def tight_width(self, rng: np.random.Generator) -> int:
         """A gap width [cells] between the body's width and its diagonal (for a round body,
         whose two are equal, a little over its width)."""
-        lo = 2.0 * self.footprint.inscribed_radius + GAP_MARGIN
-        hi = max(2.0 * self.footprint.circumscribed_radius - GAP_MARGIN, lo + 0.1)
-        return int(math.ceil(float(rng.uniform(lo, hi)) / RESOLUTION))
+        width, diagonal = (2.0 * self.footprint.inscribed_radius,
+                           2.0 * self.footprint.circumscribed_radius)
+        lo = width + GAP_MARGIN
+        hi = max(diagonal - GAP_MARGIN, lo + 0.1)
+        n = int(math.ceil(float(rng.uniform(lo, hi)) / RESOLUTION))
+        # Whole cells round up; never up to the diagonal itself.
+        while diagonal > lo and n * RESOLUTION >= diagonal and (n - 1) * RESOLUTION > width:
+            n -= 1
+        return n
 
     def clear_of_way(self, cells: list[Cell]) -> npt.NDArray[np.bool_]:
         """Per post cell: do its cells stay clear of the way by the way's clearance?"""
@@ -254,7 +260,7 @@ def _barrier(
     width = frame.tight_width(rng)
     # The gate's free cells are [lo, lo + width); the straight line crosses them.
     lo = iy_line - int(rng.integers(1, width))
-    added = _gated_wall(frame, ix, [(lo, width)], posts)
+    added = _gated_wall(frame, ix, lo, width, posts)
     openings.append(((ix, lo + width // 2), (0, 1)))
     kind, end_ix = "gate", ix
     if chicane:
@@ -265,7 +271,7 @@ def _barrier(
         # The second gap on the side of the line away from the way, which is near there.
         way_y = float(np.interp(x, frame.way[:, 0], frame.way[:, 1]))
         lo2 = lo + width + shift if way_y < frame.start.y else lo - shift - width2
-        added += _gated_wall(frame, ix2, [(lo2, width2)], posts)
+        added += _gated_wall(frame, ix2, lo2, width2, posts)
         openings.append(((ix2, lo2 + width2 // 2), (0, 1)))
         # The corridor between the walls, measured across it where both walls have a post
         # (its narrowest), nearest the first gate.
@@ -279,16 +285,14 @@ def _barrier(
     return frame.centre((end_ix, 0))[0]
 
 
-def _gated_wall(frame: _Frame, ix: int, gates: list[tuple[int, int]], posts: set[Cell]) -> int:
-    """A wall of posts along column ``ix`` from side wall to side wall, open at each gate
-    ``(first free row, free rows)`` and wherever the way passes; how many posts it added."""
+def _gated_wall(frame: _Frame, ix: int, lo: int, width: int, posts: set[Cell]) -> int:
+    """A wall of posts along column ``ix`` from side wall to side wall, open at the gate (rows
+    ``lo`` to ``lo + width - 1``) and wherever the way passes; how many posts it added."""
     w = round(WALL / RESOLUTION)
-    rows: list[int] = []
-    for lo, width in gates:
-        # End posts just outside the gate, so that exactly ``width`` rows stay free.
-        rows += list(range(lo - frame.arm - 1, w - 1, -frame.step))
-        rows += list(range(lo + width + frame.arm, frame.ny - w, frame.step))
-    cells = [(ix, iy) for iy in sorted(set(rows))]
+    # End posts just outside the gate, so that exactly ``width`` rows stay free.
+    rows = [*range(lo - frame.arm - 1, w - 1, -frame.step),
+            *range(lo + width + frame.arm, frame.ny - w, frame.step)]
+    cells = [(ix, iy) for iy in sorted(rows)]
     keep = frame.clear_of_way(cells)
     new = [c for c, ok in zip(cells, keep, strict=True) if ok and c not in posts]
     posts.update(new)
