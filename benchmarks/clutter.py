@@ -1,8 +1,12 @@
-"""Clutter at speed: generated fields of thin posts, start and goal 10 m apart across each.
+"""Clutter at speed: generated courses of obstacles, start and goal 10 m apart across each.
 
-Issue 18's benchmark. Each course (:mod:`polynav.worlds.clutter`) is a walled box with posts
-drawn from the seed, densities stepping from sparse to barely passable over the courses, and a
-feasible path for the robot's footprint guaranteed by construction and checked. The full stack
+Issue 18's benchmark, with issue 31's second kind of course. Each course
+(:mod:`polynav.worlds.clutter`) is a walled box with obstacles drawn from the seed, densities
+stepping from sparse to barely passable over the courses, and a feasible way for the robot's
+footprint guaranteed by construction and checked. ``--kind`` picks the kind: ``posts`` (thin
+posts thrown at random, every gap a body width and more), ``lattice`` (posts packed into walls,
+hooks and pockets, with gaps wider than the body but narrower than its diagonal), or ``all``
+(both, ``--courses`` each, figures per kind). The full stack
 drives the simulated robot from start to goal on simulated time; a goal not reached in 100 s of
 simulated time is a timeout. Printed: success, collisions, timeouts, why goals failed, time
 against the optimal path's time at top speed (the checked static path's length over the
@@ -14,7 +18,8 @@ robot), its footprint drawing the courses and its body, speeds and lidar in the 
 stack. With ``--mapless`` the stack is given no map: it builds its rolling costmap from the
 lidar and drives to the goal as a pose in the odometry frame (:mod:`polynav.nav.mapless`).
 
-Run with ``polynav bench clutter [--robot FILE] [--mapless] [--courses N] [--seed S] [--json]``.
+Run with ``polynav bench clutter [--kind {posts,lattice,all}] [--robot FILE] [--mapless]
+[--courses N] [--seed S] [--json]``.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ from polynav.errors import PolynavError
 from polynav.nav.attempt import NavigationState
 from polynav.robot.profile import RobotProfile, load_profile
 from polynav.runtime.sim_driver import simulate, simulate_mapless
-from polynav.worlds.clutter import ClutterSpec, CourseError, draw
+from polynav.worlds.clutter import KINDS, ClutterSpec, CourseError, draw
 
 GOAL_TIME = 100.0  # [s of simulated time] per course
 TARGET_SUCCESS_RATE = 0.97  # issue 18, without a map; 100 % with one
@@ -58,10 +63,16 @@ def density_of(course: int, courses: int) -> float:
 
 
 def run_course(
-    index: int, courses: int, seed: int, profile: RobotProfile, *, mapless: bool
+    index: int, courses: int, seed: int, profile: RobotProfile, *, mapless: bool,
+    kind: str = "posts",
 ) -> dict[str, Any]:
-    """Draw course ``index`` for ``profile``'s body and drive it once; its figures."""
-    spec = ClutterSpec(density=density_of(index, courses))
+    """Draw course ``index`` of ``kind`` for ``profile``'s body and drive it once; its figures.
+
+    Course ``index`` of a kind is drawn from seed ``seed * 1000 + index``, so a failed course
+    can be drawn again on its own (``draw(footprint, ClutterSpec(kind=..., density=...),
+    seed * 1000 + index)``).
+    """
+    spec = ClutterSpec(kind=kind, density=density_of(index, courses))
     course = draw(profile.footprint, spec, seed * 1000 + index)
     top_speed = profile.cruise.linear_velocity
     run = simulate_mapless if mapless else simulate
@@ -86,9 +97,14 @@ def run_course(
         outcome = attempt.reason.value if attempt and attempt.reason else state.value
     optimal_time = course.optimal_length / top_speed
     return {
+        "kind": kind,
         "course": index,
         "density": round(spec.density, 3),
         "posts": int(course.posts.shape[0]),
+        "tight_gaps": sum(
+            2.0 * profile.footprint.inscribed_radius < g.width
+            < 2.0 * profile.footprint.circumscribed_radius for g in course.gaps
+        ),
         "min_gap_m": round(course.min_gap, 3),
         "outcome": outcome,
         "collisions": len(driver.sim.collisions),
@@ -128,6 +144,8 @@ def overall_figures(rows: list[dict[str, Any]]) -> dict[str, Any]:
     overall["targets"] = {"success_rate": TARGET_SUCCESS_RATE, "collisions": 0,
                           "time_ratio_mean": TARGET_TIME_RATIO}
     overall["missed"] = [k for k, ok in checks.items() if not ok]
+    overall["failed_courses"] = [{"course": r["course"], "outcome": r["outcome"]}
+                                 for r in rows if r["outcome"] != "reached"]
     overall["pass"] = all(checks.values())
     return overall
 
@@ -136,11 +154,47 @@ def _fmt(value: float | None, spec: str) -> str:
     return "-" if value is None else format(value, spec)
 
 
+def run_kind(kind: str, args: argparse.Namespace, profile: RobotProfile) -> list[dict[str, Any]]:
+    """Drive ``args.courses`` courses of ``kind``, printing a line each; their rows."""
+    print(f"kind {kind}:")
+    print(f"{'course':>6s}{'density':>9s}{'posts':>7s}{'gap':>7s}  {'outcome':14s}"
+          f"{'coll.':>6s}{'time':>8s}{'optimal':>9s}{'ratio':>7s}{'retries':>8s}{'RTF':>7s}")
+    rows: list[dict[str, Any]] = []
+    for index in range(args.courses):
+        try:
+            row = run_course(index, args.courses, args.seed, profile, mapless=args.mapless,
+                             kind=kind)
+        except CourseError as exc:
+            print(f"{index:>6d} skipped: {exc}", flush=True)
+            continue
+        rows.append(row)
+        print(f"{row['course']:>6d}{row['density']:>9.2f}{row['posts']:>7d}"
+              f"{row['min_gap_m']:>7.2f}  {row['outcome']:14s}{row['collisions']:>6d}"
+              f"{row['seconds']:>8.1f}{row['optimal_seconds']:>9.1f}"
+              f"{_fmt(row['time_ratio'], '.2f'):>7s}{row['retries']:>8d}"
+              f"{_fmt(row['real_time_factor'], '.1f'):>7s}", flush=True)
+    return rows
+
+
+def _print_overall(kind: str, overall: dict[str, Any]) -> None:
+    print(f"overall {kind}: {overall['reached']}/{overall['courses']} reached "
+          f"({100.0 * overall['success_rate']:.1f} %), {overall['collisions']} collisions, "
+          f"{overall['timeouts']} timeouts, time vs optimal mean "
+          f"{_fmt(overall['time_ratio_mean'], '.2f')} (max {_fmt(overall['time_ratio_max'], '.2f')}"
+          f"), real-time factor min {_fmt(overall['real_time_factor_min'], '.1f')}")
+    failed = [f"{r['course']} {r['outcome']}" for r in overall.get("failed_courses", [])]
+    if failed:
+        print(f"  failed courses: {', '.join(failed)}")
+    print(f"  targets {'met' if overall['pass'] else 'missed: ' + ', '.join(overall['missed'])}")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="polynav bench clutter",
                                      description=__doc__.splitlines()[0])
+    parser.add_argument("--kind", choices=[*KINDS, "all"], default="all",
+                        help="course kind, or all of them (default %(default)s)")
     parser.add_argument("--courses", type=int, default=100,
-                        help="courses, sparse to barely passable (default %(default)s)")
+                        help="courses per kind, sparse to barely passable (default %(default)s)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--robot", default=None,
                         help="robot profile: a robot.yaml or a built-in name (default: demo)")
@@ -156,38 +210,25 @@ def main(argv: list[str] | None = None) -> int:
     except PolynavError as exc:
         print(f"polynav bench clutter: {exc}", file=sys.stderr)
         return 2
-    print(f"polynav bench clutter: {args.courses} courses, seed {args.seed}, robot "
-          f"{profile.name} ({profile.footprint!r}), top speed {profile.cruise.linear_velocity:g}"
-          f" m/s, {'no map' if args.mapless else 'with the map'}, "
-          f"Python {platform.python_version()}")
-    print(f"{'course':>6s}{'density':>9s}{'posts':>7s}{'gap':>7s}  {'outcome':14s}"
-          f"{'coll.':>6s}{'time':>8s}{'optimal':>9s}{'ratio':>7s}{'retries':>8s}{'RTF':>7s}")
+    kinds = list(KINDS) if args.kind == "all" else [args.kind]
+    print(f"polynav bench clutter: {', '.join(kinds)}, {args.courses} courses each, seed "
+          f"{args.seed}, robot {profile.name} ({profile.footprint!r}), top speed "
+          f"{profile.cruise.linear_velocity:g} m/s, {'no map' if args.mapless else 'with the map'}"
+          f", Python {platform.python_version()}")
     rows: list[dict[str, Any]] = []
-    for index in range(args.courses):
-        try:
-            row = run_course(index, args.courses, args.seed, profile, mapless=args.mapless)
-        except CourseError as exc:
-            print(f"{index:>6d} skipped: {exc}", flush=True)
-            continue
-        rows.append(row)
-        print(f"{row['course']:>6d}{row['density']:>9.2f}{row['posts']:>7d}"
-              f"{row['min_gap_m']:>7.2f}  {row['outcome']:14s}{row['collisions']:>6d}"
-              f"{row['seconds']:>8.1f}{row['optimal_seconds']:>9.1f}"
-              f"{_fmt(row['time_ratio'], '.2f'):>7s}{row['retries']:>8d}"
-              f"{_fmt(row['real_time_factor'], '.1f'):>7s}", flush=True)
-    overall = overall_figures(rows)
-    print(f"overall: {overall['reached']}/{overall['courses']} reached "
-          f"({100.0 * overall['success_rate']:.1f} %), {overall['collisions']} collisions, "
-          f"{overall['timeouts']} timeouts, time vs optimal mean "
-          f"{_fmt(overall['time_ratio_mean'], '.2f')} (max {_fmt(overall['time_ratio_max'], '.2f')}"
-          f"), real-time factor min {_fmt(overall['real_time_factor_min'], '.1f')}")
-    print(f"targets {'met' if overall['pass'] else 'missed: ' + ', '.join(overall['missed'])}")
+    figures: dict[str, dict[str, Any]] = {}
+    for kind in kinds:
+        kind_rows = run_kind(kind, args, profile)
+        rows += kind_rows
+        figures[kind] = overall_figures(kind_rows)
+    for kind in kinds:
+        _print_overall(kind, figures[kind])
     if args.json:
         print(json.dumps({
-            "seed": args.seed, "courses": args.courses, "robot": profile.name,
+            "seed": args.seed, "courses": args.courses, "kinds": kinds, "robot": profile.name,
             "footprint": repr(profile.footprint), "mapless": args.mapless,
-            "top_speed": profile.cruise.linear_velocity, "rows": rows,
-            "overall": overall, "commit": _commit(), "machine": platform.platform(),
+            "top_speed": profile.cruise.linear_velocity, "overall": figures, "rows": rows,
+            "commit": _commit(), "machine": platform.platform(),
         }))
     return 0
 

@@ -1,244 +1,111 @@
-"""Clutter courses: a walled box with a field of thin posts, start and goal 10 m apart across it.
+"""Clutter courses: a walled box full of obstacles, start and goal 10 m apart across it.
 
-Issue 18's test of navigation at speed among obstacles the planner was never tuned on. A course is
-drawn from a seed and a *density* between 0 (sparse) and 1 (barely passable):
+Issue 18's test of navigation at speed among obstacles the planner was never tuned on, and
+issue 31's courses that look like the world. A course is drawn from a seed, a *kind* and a
+*density* between 0 (sparse) and 1 (barely passable); the kinds, by name in :data:`KINDS`:
 
-1. A walled box, ``length`` x ``width`` inside, start 1.5 m from one end wall and the goal
-   ``span`` [m] further along the box's centre line.
-2. A *lane* from start to goal: a polyline through random waypoints across the field, kept clear
-   of posts by the body's circumscribed radius plus ``lane_margin``. This is the construction's
-   guarantee that the footprint can get through whatever its heading.
-3. Posts (disks of ``post_radius`` [m], a few cells) thrown at random into the field between
-   the start and goal areas; a post is kept only if it leaves the lane clear and every gap to a
-   post or wall already placed is at least ``min_gap`` [m]. ``min_gap`` falls with the density
-   from three body widths to one body width plus ``tight_margin``: at density 1 gaps are barely
-   wider than the robot, so a route may go through them only heading along.
-4. The guarantee is *checked*: the grid planner must find a path on the static costmap inflated
-   by the body's inscribed radius, and the body placed along that path, facing along it, must
-   touch no post. A course that fails the check (it cannot by construction, but the check is what
-   the benchmark trusts) is drawn again from the next sub-seed.
+- ``posts`` (:mod:`polynav.worlds.clutter_posts`): thin posts thrown at random, every gap at
+  least a body width plus a margin;
+- ``lattice`` (:mod:`polynav.worlds.clutter_lattice`): posts on a lattice packed into short
+  walls, hooks, pockets open towards the start and small boxes, with many gaps wider than the
+  body but narrower than its diagonal, some across the straight line from start to goal.
 
-Everything is in metres on a 0.05 m grid; the same seed always draws the same course.
+Each kind has a construction that guarantees a way for the body and a check of it after the
+draw; a course that fails its check is drawn again from the next sub-seed, so what the
+benchmark drives is always feasible. Everything is in metres on a 0.05 m grid; the same kind,
+spec and seed always draw the same course.
 """
 
 from __future__ import annotations
 
 import logging
-import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
-from polynav import footprint as body
-from polynav.errors import InvalidRequest, PolynavError
+from polynav.errors import InvalidRequest
 from polynav.footprint import Footprint
-from polynav.geometry import Pose2D
-from polynav.maps.costmap import Costmap, CostmapConfig
-from polynav.maps.map import Map
-from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
-from polynav.planning.path import Path
-from polynav.worlds.world import World, WorldFloor
+from polynav.worlds import clutter_lattice, clutter_posts
+from polynav.worlds.clutter_course import (
+    RESOLUTION,
+    WALL,
+    ClutterCourse,
+    ClutterSpec,
+    CourseError,
+    Gap,
+    Structure,
+)
+from polynav.worlds.clutter_posts import min_gap_for
 
 log = logging.getLogger(__name__)
 
-RESOLUTION = 0.05  # [m]
-WALL = 0.2  # [m] thickness of the box's walls
+__all__ = [
+    "KINDS",
+    "RESOLUTION",
+    "WALL",
+    "ClutterCourse",
+    "ClutterSpec",
+    "CourseError",
+    "CourseKind",
+    "Gap",
+    "Structure",
+    "check",
+    "draw",
+    "min_gap_for",
+]
 
 
 @dataclass(frozen=True, slots=True)
-class ClutterSpec:
-    """How a course is drawn (SI units; see the module docstring).
+class CourseKind:
+    """How one kind draws a course (unchecked) and checks the guarantee of a drawn one."""
 
-    Attributes:
-        density: 0 (sparse) .. 1 (barely passable).
-        span: straight-line distance from start to goal [m].
-        width: inside width of the box [m].
-        post_radius: radius of every post [m].
-        lane_margin: clearance [m] of the guaranteed lane beyond the body's circumscribed radius.
-        tight_margin: at density 1, gaps are the body's width plus this [m].
-        attempts: posts thrown per square metre of field (most are rejected when dense).
+    draw_once: Callable[[Footprint, ClutterSpec, np.random.Generator, int], ClutterCourse]
+    check: Callable[[ClutterCourse, Footprint], str | None]
+
+
+KINDS: dict[str, CourseKind] = {
+    "posts": CourseKind(clutter_posts.draw_once, clutter_posts.check),
+    "lattice": CourseKind(clutter_lattice.draw_once, clutter_lattice.check),
+}
+"""Course kinds by name (``ClutterSpec.kind``)."""
+
+
+def course_kind(name: str) -> CourseKind:
+    """The kind named ``name``.
+
+    Raises:
+        InvalidRequest: no such kind (``field`` ``kind``).
     """
-
-    density: float = 0.5
-    span: float = 10.0
-    width: float = 6.0
-    post_radius: float = 0.06
-    lane_margin: float = 0.1
-    tight_margin: float = 0.1
-    attempts: float = 40.0
-
-    def __post_init__(self) -> None:
-        if not 0.0 <= self.density <= 1.0:
-            raise InvalidRequest("density", f"must be within 0..1, got {self.density}")
-        for name in ("span", "width", "post_radius", "attempts"):
-            if not getattr(self, name) > 0.0:
-                raise InvalidRequest(name, f"must be > 0, got {getattr(self, name)}")
-        for name in ("lane_margin", "tight_margin"):
-            if not getattr(self, name) >= 0.0:
-                raise InvalidRequest(name, f"must be >= 0, got {getattr(self, name)}")
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class ClutterCourse:
-    """A drawn course: the world, where the robot starts and where it goes, and the checked path.
-
-    ``path`` is the planner's path on the static map for ``footprint``; ``optimal_length`` its
-    length [m] (the benchmark's yardstick at top speed).
-    """
-
-    world: World
-    start: Pose2D
-    goal: Pose2D
-    posts: npt.NDArray[np.float64]
-    min_gap: float
-    path: Path
-
-    @property
-    def optimal_length(self) -> float:
-        return self.path.length
-
-
-class CourseError(PolynavError):
-    """No course with a checked feasible path could be drawn from this seed."""
-
-
-def min_gap_for(footprint: Footprint, spec: ClutterSpec) -> float:
-    """Smallest gap [m] between posts at ``spec.density``: from three body widths down to one
-    body width plus ``tight_margin``."""
-    width = 2.0 * footprint.inscribed_radius
-    tight = width + spec.tight_margin
-    return tight + (1.0 - spec.density) * 2.0 * width
+    try:
+        return KINDS[name]
+    except KeyError:
+        raise InvalidRequest(
+            "kind", f"{name!r} is not one of {', '.join(sorted(KINDS))}"
+        ) from None
 
 
 def draw(footprint: Footprint, spec: ClutterSpec, seed: int, *, tries: int = 20) -> ClutterCourse:
-    """Draw and check a course for ``footprint`` (see the module docstring).
+    """Draw and check a course of ``spec.kind`` for ``footprint`` (see the module docstring).
+
+    Draw ``k`` uses the generator seeded with ``[seed, k]``, so a course is a function of the
+    spec, the seed and the footprint alone.
 
     Raises:
+        InvalidRequest: ``spec.kind`` is not a kind.
         CourseError: ``tries`` draws in a row failed the feasibility check.
     """
+    kind = course_kind(spec.kind)
     for k in range(tries):
         rng = np.random.default_rng([seed, k])
-        course = _draw_once(footprint, spec, rng, seed)
-        problem = check(course, footprint)
+        course = kind.draw_once(footprint, spec, rng, seed)
+        problem = kind.check(course, footprint)
         if problem is None:
             return course
-        log.warning("clutter course %d draw %d rejected: %s", seed, k, problem)
-    raise CourseError(f"no feasible clutter course from seed {seed} in {tries} draws")
+        log.warning("clutter %s course %d draw %d rejected: %s", spec.kind, seed, k, problem)
+    raise CourseError(f"no feasible {spec.kind} clutter course from seed {seed} in {tries} draws")
 
 
 def check(course: ClutterCourse, footprint: Footprint) -> str | None:
-    """``None`` if the body fits along the course's path facing along it, else why not."""
-    floor = course.world.floors[0]
-    static = Costmap.from_map(floor.map, _static_config(footprint))
-    poses = _path_poses(course.path)
-    hit = body.first_collision(footprint, static, poses)
-    if hit is not None:
-        p = poses[hit]
-        return f"the body touches a post at ({p[0]:.2f}, {p[1]:.2f})"
-    if course.path.points.shape[0] == 0:
-        return "empty path"
-    return None
-
-
-def _static_config(footprint: Footprint) -> CostmapConfig:
-    inscribed = footprint.inscribed_radius
-    return CostmapConfig(
-        robot_radius=inscribed,
-        inflation_radius=max(inscribed, footprint.circumscribed_radius) + 0.3,
-        obstacle_layer=False,
-    )
-
-
-def _path_poses(path: Path) -> npt.NDArray[np.float64]:
-    pts = path.points
-    if pts.shape[0] < 2:
-        return np.zeros((0, 3))
-    # Half-cell steps along every segment, facing along it.
-    rows = []
-    for a, b in zip(pts[:-1], pts[1:], strict=True):
-        d = b - a
-        n = max(int(math.ceil(float(np.hypot(*d)) / (0.5 * RESOLUTION))), 1)
-        t = np.linspace(0.0, 1.0, n, endpoint=False)
-        seg = a + t[:, None] * d
-        rows.append(np.column_stack((seg, np.full(n, math.atan2(d[1], d[0])))))
-    last = pts[-1] - pts[-2]
-    rows.append(np.array([[pts[-1, 0], pts[-1, 1], math.atan2(last[1], last[0])]]))
-    return np.vstack(rows)
-
-
-def _draw_once(
-    footprint: Footprint, spec: ClutterSpec, rng: np.random.Generator, seed: int
-) -> ClutterCourse:
-    res = RESOLUTION
-    length = spec.span + 3.0
-    start = Pose2D(WALL + 1.5, WALL + 0.5 * spec.width, 0.0)
-    goal = Pose2D(start.x + spec.span, start.y, 0.0)
-    # The lane: through one random waypoint every ~2 m across the field.
-    field_x0, field_x1 = start.x + 1.0, goal.x - 1.0
-    half = footprint.circumscribed_radius + spec.lane_margin
-    n_mid = max(int(spec.span // 2.0) - 1, 1)
-    xs = np.linspace(field_x0, field_x1, n_mid + 2)[1:-1]
-    y_room = 0.5 * spec.width - half - 0.2
-    ys = start.y + rng.uniform(-y_room, y_room, size=n_mid)
-    lane = np.vstack([[start.x, start.y], [field_x0, start.y], np.column_stack((xs, ys)),
-                      [field_x1, goal.y], [goal.x, goal.y]])
-    min_gap = min_gap_for(footprint, spec)
-    posts: list[tuple[float, float]] = []
-    r = spec.post_radius
-    area = (field_x1 - field_x0) * spec.width
-    for _ in range(int(spec.attempts * area)):
-        px = float(rng.uniform(field_x0, field_x1))
-        py = float(rng.uniform(WALL + r, WALL + spec.width - r))
-        if _distance_to_polyline(px, py, lane) < half + r:
-            continue
-        wall_gap = min(py - WALL, WALL + spec.width - py) - r
-        if wall_gap < min_gap and wall_gap > 0.0:
-            continue
-        if posts:
-            p = np.asarray(posts)
-            if float(np.min(np.hypot(p[:, 0] - px, p[:, 1] - py))) - 2.0 * r < min_gap:
-                continue
-        posts.append((px, py))
-    post_array = np.asarray(posts, dtype=np.float64).reshape(-1, 2)
-    grid = _rasterize(length, spec.width, post_array, r, res)
-    floor = WorldFloor(name="floor1", level=1, map_name=f"clutter-{seed}", map=grid, points=(),
-                       lift=None, people=())
-    world = World(name=f"clutter-{seed}", floors=(floor,), start_floor="floor1",
-                  start_pose=start)
-    static = Costmap.from_map(grid, _static_config(footprint))
-    try:
-        path = GridPlanner(GridPlannerConfig()).plan(static, start, goal)
-    except PolynavError as exc:
-        path = Path(np.zeros((0, 2)))
-        log.warning("clutter course %d: no path on the static map: %s", seed, exc)
-    return ClutterCourse(world, start, goal, post_array, min_gap, path)
-
-
-def _rasterize(
-    length: float, width: float, posts: npt.NDArray[np.float64], radius: float, res: float
-) -> Map:
-    nx = round((length + 2 * WALL) / res)
-    ny = round((width + 2 * WALL) / res)
-    w = round(WALL / res)
-    occupied = np.ones((ny, nx), dtype=bool)
-    occupied[w:ny - w, w:nx - w] = False
-    iy, ix = np.mgrid[0:ny, 0:nx]
-    cx = (ix + 0.5) * res
-    cy = (iy + 0.5) * res
-    # A cell is a post's if the post's disk covers its centre, or if it holds the post's centre
-    # (a post thinner than a cell still exists).
-    for px, py in posts:
-        occupied |= np.hypot(cx - px, cy - py) <= radius
-        occupied[int(py // res), int(px // res)] = True
-    return Map.from_occupied(occupied, resolution=res)
-
-
-def _distance_to_polyline(x: float, y: float, line: npt.NDArray[np.float64]) -> float:
-    a, b = line[:-1], line[1:]
-    d = b - a
-    den = np.maximum(np.sum(d * d, axis=1), 1e-12)
-    t = np.clip(((x - a[:, 0]) * d[:, 0] + (y - a[:, 1]) * d[:, 1]) / den, 0.0, 1.0)
-    px = a[:, 0] + t * d[:, 0] - x
-    py = a[:, 1] + t * d[:, 1] - y
-    return float(np.min(np.hypot(px, py)))
+    """``None`` if ``course`` keeps its kind's guarantee for ``footprint``, else why not."""
+    return course_kind(course.kind).check(course, footprint)
