@@ -140,8 +140,8 @@ class ClosedPassages:
         self.passages = kept
 
     def planning_grid(self, costmap: CostGrid, pose: Pose2D) -> CostGrid:
-        """``costmap``, or a copy with every closure painted LETHAL (except the cells the body
-        overlaps where it stands, so that the robot may leave)."""
+        """``costmap``, or a copy with every closure painted LETHAL (except within the body's
+        reach of where it stands, so that the robot may turn and leave)."""
         if not self.passages:
             return costmap
         info = costmap.info
@@ -152,7 +152,8 @@ class ClosedPassages:
         if cells.shape[0]:
             mask = np.zeros(grid.shape, dtype=bool)
             mask[cells[:, 1], cells[:, 0]] = True
-            here = _body_cells(self.footprint, costmap, pose)
+            reach = self.footprint.circumscribed_radius + info.resolution
+            here = _disc_cells(costmap, pose.x, pose.y, reach)
             mask[here[:, 1], here[:, 0]] = False
             grid[mask] = costs.LETHAL
         return CostSnapshot(info, grid)
@@ -171,24 +172,6 @@ def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDA
     centres = info.cells_to_world(cells)
     near = np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius
     return np.asarray(cells[near])
-
-
-def _body_cells(footprint: Footprint, costmap: CostGrid, pose: Pose2D) -> npt.NDArray[np.int64]:
-    """Every cell (K, 2) the body overlaps at ``pose``, whatever its cost (found on a small
-    all-LETHAL window around it, then shifted back)."""
-    info = costmap.info
-    cx, cy = info.world_to_cell(pose.x, pose.y)
-    reach = int(math.ceil(footprint.circumscribed_radius / info.resolution)) + 1
-    x0, y0 = cx - reach, cy - reach
-    full = np.full((2 * reach + 1, 2 * reach + 1), costs.LETHAL, dtype=np.uint8)
-    local = _grid_pose(costmap, pose.x, pose.y, pose.theta)
-    local[0] -= x0 * info.resolution
-    local[1] -= y0 * info.resolution
-    cells = np.asarray(overlapped_cells(full, info.resolution, footprint.vertices,
-                                        footprint.radius, local, False)) + (x0, y0)
-    inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < info.width) & (
-        cells[:, 1] < info.height)
-    return np.asarray(cells[inside], dtype=np.int64)
 
 
 def _grid_pose(costmap: CostGrid, x: float, y: float, theta: float) -> npt.NDArray[np.float64]:
