@@ -77,6 +77,7 @@ from polynav.localization.interface import LocalizationEstimate, LocalizationSta
 from polynav.localization.likelihood_field import build_likelihood_field
 from polynav.localization.pose_tracker_config import PoseTrackerConfig
 from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
+from polynav.localization.uncertainty import PoseCovariance
 from polynav.maps.map import Map
 from polynav.robot.interface import ImuReading, LaserScan, Odometry
 
@@ -126,6 +127,8 @@ class PoseTracker:
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
         self.last_match: Match | None = None
         self.last_constraint: Constraint | None = None
+        self._covariance = PoseCovariance(min_position=config.min_position_std,
+                                          min_heading=config.min_heading_std)
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -159,6 +162,9 @@ class PoseTracker:
         self._unfixed_travel = 0.0
         self._initialized_at = now
         self._next_wide_search = -math.inf
+        # The given pose is good to about the relocalization window, not better.
+        self._covariance.reset(self.config.relocalize_window_xy,
+                               self.config.relocalize_window_theta)
         self._set_state(LocalizationState.UNINITIALIZED, now)
         log.info("localization initialized near %s", pose)
 
@@ -197,7 +203,8 @@ class PoseTracker:
     def estimate(self) -> LocalizationEstimate:
         """The newest estimate (quality 0 while UNINITIALIZED)."""
         quality = 0.0 if self._state is LocalizationState.UNINITIALIZED else self._quality
-        return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state)
+        return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state,
+                                    self._covariance.uncertainty)
 
     @property
     def _imu_used(self) -> bool:
@@ -232,6 +239,9 @@ class PoseTracker:
         if last is not None:
             self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
             self._unfixed_travel += math.hypot(delta.x, delta.y)
+            self._covariance.predict(math.hypot(delta.x, delta.y), rotation,
+                                     drift=self.config.odometry_drift,
+                                     heading_drift=self.config.heading_drift)
         self._remember(odometry.stamp, odometry.pose)
 
     def _remember(self, stamp: float, odom: Pose2D) -> None:
@@ -350,6 +360,9 @@ class PoseTracker:
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                self._covariance.correct(con, match_sigma=c.match_sigma)
+                self._covariance.add_offset(target.x - corrected.x, target.y - corrected.y,
+                                            angle_diff(target.theta, corrected.theta))
                 settled = (math.hypot(target.x - at_scan.x, target.y - at_scan.y) < c.settled_xy
                            and abs(angle_diff(target.theta, at_scan.theta)) < c.settled_theta)
                 self._settled_at = (self._odometry_at(scan.stamp), now) if settled else None
@@ -370,6 +383,13 @@ class PoseTracker:
                     self._low_since = now
         elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
+            information = self._matcher.information(points, match.pose,
+                                                    max_distance=c.constraint_distance)
+            self._covariance.reset(wide_xy, wide_theta)
+            self._covariance.correct(
+                degeneracy.constraint(information, length_scale=c.heading_length_scale,
+                                      min_information=c.min_information),
+                match_sigma=c.match_sigma)
             self._unfixed_travel = 0.0
             self._quality = quality
             self._low_since = None

@@ -82,6 +82,14 @@ class PoseTrackerConfig:
             settled, match at most this often [s]; 0 matches every scan.
         settled_xy: a tracking correction smaller than this leaves the pose settled [m].
         settled_theta: the same for heading [rad].
+        match_sigma: the error [m] one matched endpoint stands for when the match's information
+            shrinks the reported uncertainty (:mod:`~polynav.localization.uncertainty`); more
+            than the lidar's noise, as endpoints on one wall are not independent.
+        heading_drift: the heading's uncertainty grows by this much per radian turned without
+            a scan fixing it [rad/rad] (the position's by ``odometry_drift`` per metre).
+        min_position_std: floor of the reported position uncertainty [m] (map cells and
+            search steps the match's information does not see).
+        min_heading_std: floor of the reported heading uncertainty [rad].
     """
 
     sigma: float = 0.05
@@ -120,6 +128,10 @@ class PoseTrackerConfig:
     standstill_interval: float = 1.0
     settled_xy: float = 0.01
     settled_theta: float = math.radians(0.3)
+    match_sigma: float = 0.05
+    heading_drift: float = 0.02
+    min_position_std: float = 0.01
+    min_heading_std: float = math.radians(0.25)
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -131,7 +143,8 @@ class PoseTrackerConfig:
             "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
             "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
             "max_correction_xy", "max_correction_theta", "heading_length_scale",
-            "constraint_distance", "settled_xy", "settled_theta",
+            "constraint_distance", "settled_xy", "settled_theta", "match_sigma",
+            "min_position_std", "min_heading_std",
         )
         for name in positive:
             if not getattr(self, name) > 0.0:
@@ -139,7 +152,7 @@ class PoseTrackerConfig:
         for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
                      "odometry_drift",
                      "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points",
-                     "standstill_interval"):
+                     "standstill_interval", "heading_drift"):
             if not getattr(self, name) >= 0.0:
                 _fail(name, f"must be >= 0, got {getattr(self, name)}")
         for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
