@@ -158,6 +158,7 @@ class Navigator(ChargerPhases):
         self._hold = Hold(self.config)
         self._last_pose: Pose2D | None = None
         self._last_tick: float | None = None
+        self._estimate: LocalizationEstimate | None = None  # the newest, judged at arrival
         # Per attempt: where the robot navigates to (a charger's approach, else the goal), the
         # retry limit, and the charger phases' progress.
         self._target = Pose2D()
@@ -295,7 +296,7 @@ class Navigator(ChargerPhases):
         self._wait.people = people if people is not None else PeopleView()
         if self.state is not NavigationState.RUNNING:
             return Twist()
-        pose = estimate.pose
+        pose, self._estimate = estimate.pose, estimate
         self._track_distance(pose)
         phase = self._require().phase
         if phase is Phase.LEAVE_CHARGER:
@@ -473,7 +474,7 @@ class Navigator(ChargerPhases):
         ):
             log.info("blocked %.2f m from the goal, within its tolerance: done",
                      pose.distance_to(self._target))
-            self._finish(NavigationState.SUCCEEDED, now)
+            self._arrived(now)
             return Twist()
         if command.status is ControlStatus.BLOCKED:
             self._enter(_Phase.BLOCKED, now)
