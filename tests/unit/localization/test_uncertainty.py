@@ -69,3 +69,18 @@ def test_a_correction_left_for_later_scans_counts_as_known_error():
     cov = _covariance()
     cov.add_offset(0.0, 0.06, 0.0)
     assert cov.uncertainty.position == pytest.approx(math.hypot(FLOOR, 0.06))
+
+
+def test_dead_reckoning_widens_each_direction_of_a_slanted_corridor_alike():
+    cov = _covariance()
+    cov.reset(0.3, 0.1)
+    c = s = math.sqrt(0.5)
+    across = np.array([-s, c, 0.0])  # a corridor along 45 degrees: only across is pinned
+    corridor = 80.0 * np.outer(across, across) + np.diag([0.0, 0.0, 150.0])
+    cov.correct(degeneracy.constraint(corridor, length_scale=1.0, min_information=4.0),
+                match_sigma=0.05)
+    cov.predict(1.0, 0.0, drift=0.02, heading_drift=0.02)
+    m = cov.matrix[:2, :2]
+    along = np.array([c, s])
+    assert math.sqrt(along @ m @ along) == pytest.approx(0.3 + 0.02)
+    assert math.sqrt(across[:2] @ m @ across[:2]) == pytest.approx(FLOOR + 0.02)
