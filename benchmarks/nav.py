@@ -172,7 +172,7 @@ def run_map(path: Path, goals: int, walkers: int, seed: int,
     efficiencies: list[float] = []
     failures: Counter[str] = Counter()
     closest = approached = math.inf
-    sim_seconds = wall_seconds = cpu_seconds = error_max = 0.0
+    sim_seconds = wall_seconds = cpu_seconds = error_max = worst_final = 0.0
     outcomes: list[dict[str, Any]] = []
     lost = 0
     for point in floor.points[1:]:
@@ -193,8 +193,10 @@ def run_map(path: Path, goals: int, walkers: int, seed: int,
         lost += leg.lost
         state = driver.stack.navigator.state
         outcome = "reached"
+        final = driver.sim.true_pose.distance_to(point.pose)  # true pose against the goal
         if state is NavigationState.SUCCEEDED:
             reached += 1
+            worst_final = max(worst_final, final)
             if optimal > 0.5:  # shorter, turning on the spot is most of the time
                 efficiencies.append((driver.now - began) / (optimal / top_speed))
         else:
@@ -207,6 +209,7 @@ def run_map(path: Path, goals: int, walkers: int, seed: int,
         outcomes.append({
             "goal": point.name, "outcome": outcome, "seconds": round(driver.now - began, 1),
             "optimal_m": None if math.isnan(optimal) else round(optimal, 2),
+            "final_error_m": round(final, 3),
             "closest_person_m": _finite(leg.closest_person),
             "closest_person_approached_m": _finite(leg.closest_approached),
             "lost": leg.lost,
@@ -217,6 +220,7 @@ def run_map(path: Path, goals: int, walkers: int, seed: int,
         "goals": count,
         "reached": reached,
         "success_rate": round(reached / count, 4),
+        "worst_final_error_m": round(worst_final, 3),
         "path_efficiency_median": _rounded(_percentile(efficiencies, 0.5)),
         "path_efficiency_p90": _rounded(_percentile(efficiencies, 0.9)),
         "path_efficiencies": [round(e, 3) for e in efficiencies],
@@ -262,6 +266,7 @@ def overall_figures(rows: list[dict[str, Any]], social_distance: float) -> dict[
         "goals": goals,
         "reached": reached,
         "success_rate": round(reached / goals, 4) if goals else 0.0,
+        "worst_final_error_m": max((r["worst_final_error_m"] for r in rows), default=0.0),
         # Over every goal reached on every map: a map of three goals weighs less than one of 20.
         "path_efficiency_median": _percentile(effs, 0.5),
         "path_efficiency_p90": _percentile(effs, 0.9),
@@ -326,7 +331,7 @@ def main(argv: list[str] | None = None) -> int:
           f"{args.walkers} walkers each, seed {args.seed}, Python {platform.python_version()}")
     for note in left_out:
         print(f"  left out {note}")
-    print(f"{'map':28s}{'reached':>10s}{'eff.med':>9s}{'eff.p90':>9s}{'coll.':>7s}"
+    print(f"{'map':28s}{'reached':>10s}{'worst':>7s}{'eff.med':>9s}{'eff.p90':>9s}{'coll.':>7s}"
           f"{'walkers':>8s}{'closest':>9s}{'appr.':>7s}{'loc.err':>8s}{'lost':>5s}{'RTF':>7s}"
           "  failures")
     rows: list[dict[str, Any]] = []
@@ -341,6 +346,7 @@ def main(argv: list[str] | None = None) -> int:
         rows.append(row)
         failures = ", ".join(f"{k} {v}" for k, v in row["failures"].items())
         print(f"{row['map']:28s}{row['reached']:>5d}/{row['goals']:<4d}"
+              f"{row['worst_final_error_m']:>7.3f}"
               f"{_fmt(row['path_efficiency_median'], '.2f'):>9s}"
               f"{_fmt(row['path_efficiency_p90'], '.2f'):>9s}{row['collisions']:>7d}"
               f"{row['walkers']:>8d}{_fmt(row['closest_person_m'], '.2f'):>9s}"
@@ -350,7 +356,9 @@ def main(argv: list[str] | None = None) -> int:
               f"  {failures}", flush=True)
     overall = overall_figures(rows, StackConfig().people.social_distance)
     print(f"overall: {overall['reached']}/{overall['goals']} goals "
-          f"({100.0 * overall['success_rate']:.1f} %) on {overall['maps']} maps, path efficiency "
+          f"({100.0 * overall['success_rate']:.1f} %, worst final error "
+          f"{100.0 * overall['worst_final_error_m']:.1f} cm) on {overall['maps']} maps, "
+          f"path efficiency "
           f"median {_fmt(overall['path_efficiency_median'], '.2f')} (p90 "
           f"{_fmt(overall['path_efficiency_p90'], '.2f')}), {overall['collisions']} collisions, "
           f"closest approach to a person {_fmt(overall['closest_person_m'], '.2f')} m (by the "

@@ -22,6 +22,7 @@ from pydantic import (
 from typing_extensions import TypedDict
 
 from polynav.geometry import Pose2D
+from polynav.nav.attempt import PRECISE_POSITION_UNCERTAINTY, GoalOptions
 from polynav.runtime.settings import SETTING_RANGES
 from polynav.site import Point, PointKind
 
@@ -153,9 +154,20 @@ class EStopOut(BaseModel):
     software: bool
 
 
+class UncertaintyOut(BaseModel):
+    """One standard deviation of the pose's error: ``position`` [m] along its worst-known
+    direction, ``heading`` [rad]."""
+
+    position: float
+    heading: float
+
+
 class LocalizationOut(BaseModel):
     state: str
     quality: float | None
+    uncertainty: UncertaintyOut | None = Field(
+        default=None, description="how well the pose is known; null when the localizer "
+                                  "does not say")
 
 
 class GoalOut(BaseModel):
@@ -208,6 +220,8 @@ class NavigationOut(BaseModel):
     distance_remaining: float | None
     phase: Literal["leave_charger", "navigate", "dock"] | None
     retries: int
+    arrival_uncertainty: UncertaintyOut | None = Field(
+        default=None, description="the localization's uncertainty when the robot arrived")
     route: RouteOut | None = Field(default=None,
                                    description="present while (or after) a goal on another map")
 
@@ -435,6 +449,13 @@ class GoalIn(_Body):
     y: Coordinate | None = None
     theta: Heading | None = None
     map: Name | None = None
+    precise: bool = Field(
+        default=False,
+        description="arrive only where localization knows the pose to "
+                    f"{PRECISE_POSITION_UNCERTAINTY} m; else fail 'not localized'")
+    max_position_uncertainty: float | None = Field(
+        default=None, gt=0.0, le=10.0, allow_inf_nan=False,
+        description="the same with its own limit [m] (one standard deviation)")
 
     @model_validator(mode="after")
     def _point_or_pose(self) -> GoalIn:
@@ -445,6 +466,13 @@ class GoalIn(_Body):
 
     def pose(self) -> Pose2D | None:
         return _pose_or_none(self.x, self.y, self.theta)
+
+    def options(self) -> GoalOptions | None:
+        """The goal's options, or ``None`` for the defaults (a precise arrival, if asked)."""
+        limit = self.max_position_uncertainty
+        if limit is None and self.precise:
+            limit = PRECISE_POSITION_UNCERTAINTY
+        return None if limit is None else GoalOptions(max_position_uncertainty=limit)
 
 
 class GoalAccepted(BaseModel):

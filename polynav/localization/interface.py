@@ -18,13 +18,35 @@ class LocalizationState(enum.Enum):
 
 
 @dataclass(frozen=True, slots=True)
+class PoseUncertainty:
+    """How well a localizer knows its pose: one standard deviation of its error.
+
+    Quality says whether the scan fits the map; this says where the pose may still be wrong.
+    They differ where it matters for arriving: in an open hall beyond the lidar's range the
+    scan fits (nothing contradicts it) while the position is dead reckoning, metres from the
+    last wall that fixed it.
+
+    Attributes:
+        position: standard deviation of the position along its worst-known direction [m] (a
+            corridor's length, say), not an average over directions.
+        heading: standard deviation of the heading [rad].
+    """
+
+    position: float
+    heading: float
+
+
+@dataclass(frozen=True, slots=True)
 class LocalizationEstimate:
-    """Pose on the map, a quality figure in [0, 1] (1 = scan fits the map perfectly), state."""
+    """Pose on the map, a quality figure in [0, 1] (1 = scan fits the map perfectly), state,
+    and the pose's uncertainty (``None``: the localizer does not say, so nobody may rely on a
+    precise pose)."""
 
     stamp: float
     pose: Pose2D
     quality: float
     state: LocalizationState
+    uncertainty: PoseUncertainty | None = None
 
 
 class Localizer(Protocol):

@@ -7,6 +7,11 @@ it (:class:`~polynav.mapping.slam.Slam`, a correlative search and a Gauss-Newton
 the pose stays where the walls and posts say it is, and only the slow drift of chained matches
 is left. Between scans the pose is carried by odometry.
 
+Its uncertainty (:class:`~polynav.localization.interface.PoseUncertainty`) is that slow drift
+against the frame, which no map ever resets: it starts at the floor when anchored and grows with
+the distance and turn driven since (``drift``, ``heading_drift``). A goal in the odometry frame far
+from the anchor is honestly less certain than one near it.
+
 The prediction fuses the IMU as :class:`~polynav.localization.pose_tracker.PoseTracker` does:
 the wheels give the translation, the gyro the rotation (minus a bias learnt while the wheels
 stand still), since wheel slip corrupts heading first. That fused odometry is what the SLAM
@@ -28,6 +33,7 @@ from dataclasses import dataclass, field
 
 from polynav.geometry import Pose2D, angle_diff
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
+from polynav.localization.uncertainty import PoseCovariance
 from polynav.mapping.config import SlamConfig
 from polynav.mapping.slam import Slam
 from polynav.maps.map import Map
@@ -48,6 +54,11 @@ class OdometryFrameConfig:
         use_imu: take the rotation from the gyro rather than the wheels.
         gyro_bias_time_constant: the gyro bias estimate forgets evidence over this time [s].
         max_gyro_bias: the bias estimate is clamped to this [rad/s].
+        drift: the position's uncertainty grows by this much per metre driven [m/m]: the
+            chained scan matches' drift, well under the wheels' alone.
+        heading_drift: the heading's grows by this much per radian turned [rad/rad].
+        min_position_std: the reported position uncertainty at the anchor [m].
+        min_heading_std: the same for heading [rad].
     """
 
     slam: SlamConfig = field(default_factory=lambda: SlamConfig(range_max=12.0,
@@ -55,6 +66,10 @@ class OdometryFrameConfig:
     use_imu: bool = True
     gyro_bias_time_constant: float = 60.0
     max_gyro_bias: float = 0.02
+    drift: float = 0.01
+    heading_drift: float = 0.01
+    min_position_std: float = 0.01
+    min_heading_std: float = math.radians(0.25)
 
 
 class OdometryFrameLocalizer:
@@ -86,6 +101,8 @@ class OdometryFrameLocalizer:
         self._stamps: deque[float] = deque()
         self._history: deque[Pose2D] = deque()
         self.scans = 0
+        self._covariance = PoseCovariance(min_position=self.config.min_position_std,
+                                          min_heading=self.config.min_heading_std)
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -95,6 +112,7 @@ class OdometryFrameLocalizer:
     def initialize(self, pose: Pose2D, now: float) -> None:
         """Make ``pose`` the current pose and restart the local map around it."""
         self._slam = Slam(self.config.slam)
+        self._covariance.reset(0.0, 0.0)  # the floor: the frame is defined by this pose
         self._scan_fused = self._scan_pose = None
         if self._fused is None:
             self._pending = pose  # anchored on the first odometry reading
@@ -126,7 +144,8 @@ class OdometryFrameLocalizer:
 
     @property
     def estimate(self) -> LocalizationEstimate:
-        return LocalizationEstimate(self._stamp, self._pose, float(self._quality), self._state)
+        return LocalizationEstimate(self._stamp, self._pose, float(self._quality), self._state,
+                                    self._covariance.uncertainty)
 
     # -- internals -----------------------------------------------------------------------------
 
@@ -157,6 +176,8 @@ class OdometryFrameLocalizer:
             self._last_imu_stamp = imu.stamp
         assert self._fused is not None
         self._fused = self._fused.compose(Pose2D(delta.x, delta.y, rotation))
+        self._covariance.predict(math.hypot(delta.x, delta.y), rotation,
+                                 drift=self.config.drift, heading_drift=self.config.heading_drift)
         self._remember(odometry.stamp)
 
     def _gyro_bias(self) -> float:

@@ -65,18 +65,19 @@ import bisect
 import logging
 import math
 from collections import deque
-from dataclasses import dataclass, fields
 
 import numpy as np
 import numpy.typing as npt
 
-from polynav.errors import ConfigError, InvalidRequest
+from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, angle_diff, wrap_angle
 from polynav.localization import degeneracy, scan_matcher
 from polynav.localization.degeneracy import Constraint
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.localization.likelihood_field import build_likelihood_field
+from polynav.localization.pose_tracker_config import PoseTrackerConfig
 from polynav.localization.scan_matcher import Match, ScanMatcher, SearchWindow
+from polynav.localization.uncertainty import PoseCovariance
 from polynav.maps.map import Map
 from polynav.robot.interface import ImuReading, LaserScan, Odometry
 
@@ -85,154 +86,7 @@ log = logging.getLogger(__name__)
 _HISTORY_SECONDS = 1.0
 _BIAS_PRIOR_SECONDS = 2.0
 
-
-@dataclass(frozen=True, slots=True)
-class PoseTrackerConfig:
-    """How the tracker predicts, matches and judges its pose.
-
-    Attributes:
-        sigma: standard deviation of the likelihood-field endpoint model [m].
-        max_distance: cap of the distance field [m].
-        beam_step: use every ``beam_step``-th beam while tracking.
-        relocalize_beam_step: use every ``relocalize_beam_step``-th beam when relocalizing or
-            lost (more beams make a wide search harder to fool).
-        track_window_xy: half-width of the tracking search window in x and y [m].
-        track_window_theta: half-width of the tracking heading window [rad].
-        theta_step: fine heading step of every search [rad].
-        coarse_cells: translation step of the coarse level of wide searches [cells].
-        coarse_theta_step: heading step of the coarse level [rad].
-        candidates: coarse poses refined by the fine level.
-        prior_xy: standard deviation of the tracking prior around the prediction [m]; it only
-            breaks ties along directions the scan does not constrain.
-        prior_theta: the same for heading [rad].
-        relocalize_window_xy: half-width of the relocalization window [m] after initialize.
-        relocalize_window_theta: half-width of the relocalization heading window [rad].
-        lost_window_xy: half-width of the search window while lost [m].
-        lost_window_theta: half-width of the heading window while lost [rad].
-        relocalize_quality: inlier fraction a wide search must reach to be believed.
-        accept_quality: inlier fraction below which a tracking match is not applied (the
-            prediction is kept).
-        inlier_distance: an endpoint this close to a map surface is an inlier [m].
-        quality_smoothing: weight of each new scan in the smoothed quality, in (0, 1].
-        lost_quality: smoothed quality below which the tracker starts counting towards LOST.
-        lost_after: how long [s] the quality must stay low before the state becomes LOST.
-        wide_search_interval: while relocalizing or lost, run the wide search at most this
-            often [s] (it costs a few milliseconds; scans in between are skipped).
-        max_correction_xy: largest translation applied by one correction while tracking [m].
-        max_correction_theta: largest rotation applied by one correction while tracking [rad].
-        use_imu: take rotation from the IMU's integrated yaw when a reading is given.
-        min_information: endpoints' worth of map surface a direction of the pose needs in the
-            match's normal matrix before the scan corrects it (see
-            :mod:`~polynav.localization.degeneracy`). Along a corridor, across an open hall,
-            or along the one wall in sight the match has less, and the correction is projected
-            onto the directions that have it: odometry and IMU carry the rest, instead of the
-            near-random pick of the search sliding the pose along the corridor. A few endpoints
-            are plenty when they are real (a lidar return is good to a centimetre or two), but
-            one or two could be a person's legs.
-        heading_length_scale: metres one radian of heading counts as when comparing heading
-            with translation in the normal matrix [m]; about the distance to the walls that fix
-            heading.
-        constraint_distance: endpoints within this distance of a map surface at the matched
-            pose enter the normal matrix [m]; farther ones (people, clutter) say nothing.
-        min_evidence_points: a scan with fewer usable endpoints than this (an open hall with
-            the walls out of range) neither moves the quality nor counts towards LOST: it
-            cannot contradict the pose, so it cannot be evidence that the robot is lost. Nor
-            does it correct the pose: two returns twelve metres away pin a rotation about
-            them on paper, and a person's legs would pin it just as well.
-        odometry_drift: how fast the pose may drift [m per m travelled] while some direction
-            of it goes unconstrained (odometry scale error and heading drift). The tracking
-            window widens by this much per metre travelled since the scan last fixed position
-            in every direction, up to ``lost_window_xy``, so that after a long aisle or an open
-            hall the match can still reach the walls that come into view; a widened window is
-            searched coarse-to-fine.
-        gyro_bias_time_constant: time constant [s] of the running estimate of the gyro's bias,
-            learnt from the heading corrections the scan makes while it constrains heading and
-            subtracted from the IMU's rotation, so that a stretch where the scan fixes no
-            heading (an open hall) drifts as little as the gyro's noise, not its bias; 0 turns
-            the estimate off.
-        max_gyro_bias: the bias estimate is clamped to this [rad/s], so a run of wrong matches
-            cannot teach the tracker a spin.
-        standstill_interval: while the odometry has not moved since a match found the pose
-            settled, match at most this often [s]; 0 matches every scan.
-        settled_xy: a tracking correction smaller than this leaves the pose settled [m].
-        settled_theta: the same for heading [rad].
-    """
-
-    sigma: float = 0.05
-    max_distance: float = 0.5
-    beam_step: int = 4
-    relocalize_beam_step: int = 2
-    track_window_xy: float = 0.15
-    track_window_theta: float = math.radians(6.0)
-    theta_step: float = math.radians(0.5)
-    coarse_cells: int = 2
-    coarse_theta_step: float = math.radians(2.0)
-    candidates: int = 8
-    prior_xy: float = 0.5
-    prior_theta: float = 0.5
-    relocalize_window_xy: float = 1.0
-    relocalize_window_theta: float = math.radians(30.0)
-    lost_window_xy: float = 1.0
-    lost_window_theta: float = math.radians(30.0)
-    relocalize_quality: float = 0.6
-    accept_quality: float = 0.3
-    inlier_distance: float = 0.1
-    quality_smoothing: float = 0.3
-    lost_quality: float = 0.35
-    lost_after: float = 3.0
-    wide_search_interval: float = 0.5
-    max_correction_xy: float = 0.04
-    max_correction_theta: float = math.radians(2.0)
-    use_imu: bool = True
-    min_information: float = 4.0
-    heading_length_scale: float = 1.0
-    constraint_distance: float = 0.15
-    min_evidence_points: int = 10
-    odometry_drift: float = 0.02
-    gyro_bias_time_constant: float = 120.0
-    max_gyro_bias: float = 0.02
-    standstill_interval: float = 1.0
-    settled_xy: float = 0.01
-    settled_theta: float = math.radians(0.3)
-
-    def __post_init__(self) -> None:
-        for f in fields(self):
-            value = getattr(self, f.name)
-            if isinstance(value, float) and not math.isfinite(value):
-                _fail(f.name, f"must be finite, got {value}")
-        positive = (
-            "sigma", "max_distance", "track_window_theta", "theta_step", "coarse_theta_step",
-            "prior_xy", "prior_theta", "relocalize_window_xy", "relocalize_window_theta",
-            "lost_window_xy", "lost_window_theta", "inlier_distance", "quality_smoothing",
-            "max_correction_xy", "max_correction_theta", "heading_length_scale",
-            "constraint_distance", "settled_xy", "settled_theta",
-        )
-        for name in positive:
-            if not getattr(self, name) > 0.0:
-                _fail(name, f"must be > 0, got {getattr(self, name)}")
-        for name in ("track_window_xy", "lost_after", "wide_search_interval", "min_information",
-                     "odometry_drift",
-                     "gyro_bias_time_constant", "max_gyro_bias", "min_evidence_points",
-                     "standstill_interval"):
-            if not getattr(self, name) >= 0.0:
-                _fail(name, f"must be >= 0, got {getattr(self, name)}")
-        for name in ("beam_step", "relocalize_beam_step", "coarse_cells", "candidates"):
-            if not getattr(self, name) >= 1:
-                _fail(name, f"must be >= 1, got {getattr(self, name)}")
-        for name in ("relocalize_quality", "accept_quality", "lost_quality"):
-            if not 0.0 <= getattr(self, name) <= 1.0:
-                _fail(name, f"must be in [0, 1], got {getattr(self, name)}")
-        if self.quality_smoothing > 1.0:
-            _fail("quality_smoothing", f"must be <= 1, got {self.quality_smoothing}")
-        for name in ("track_window_theta", "relocalize_window_theta", "lost_window_theta"):
-            if getattr(self, name) >= math.pi:
-                _fail(name, f"must be < pi, got {getattr(self, name)}")
-        if self.coarse_theta_step < self.theta_step:
-            _fail("coarse_theta_step", "must be >= theta_step")
-
-
-def _fail(name: str, reason: str) -> None:
-    raise ConfigError(f"localization.{name}", reason)
+__all__ = ["PoseTracker", "PoseTrackerConfig", "warm_up"]
 
 
 class PoseTracker:
@@ -273,6 +127,8 @@ class PoseTracker:
         self._beam_cache: tuple[tuple[float, float, int], npt.NDArray[np.float64]] | None = None
         self.last_match: Match | None = None
         self.last_constraint: Constraint | None = None
+        self._covariance = PoseCovariance(min_position=config.min_position_std,
+                                          min_heading=config.min_heading_std)
 
     # -- Localizer -----------------------------------------------------------------------------
 
@@ -306,6 +162,9 @@ class PoseTracker:
         self._unfixed_travel = 0.0
         self._initialized_at = now
         self._next_wide_search = -math.inf
+        # The given pose is good to about the relocalization window, not better.
+        self._covariance.reset(self.config.relocalize_window_xy,
+                               self.config.relocalize_window_theta)
         self._set_state(LocalizationState.UNINITIALIZED, now)
         log.info("localization initialized near %s", pose)
 
@@ -344,7 +203,8 @@ class PoseTracker:
     def estimate(self) -> LocalizationEstimate:
         """The newest estimate (quality 0 while UNINITIALIZED)."""
         quality = 0.0 if self._state is LocalizationState.UNINITIALIZED else self._quality
-        return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state)
+        return LocalizationEstimate(self._stamp, self._pose, float(quality), self._state,
+                                    self._covariance.uncertainty)
 
     @property
     def _imu_used(self) -> bool:
@@ -379,6 +239,9 @@ class PoseTracker:
         if last is not None:
             self._pose = self._pose.compose(Pose2D(delta.x, delta.y, rotation))
             self._unfixed_travel += math.hypot(delta.x, delta.y)
+            self._covariance.predict(math.hypot(delta.x, delta.y), rotation,
+                                     drift=self.config.odometry_drift,
+                                     heading_drift=self.config.heading_drift)
         self._remember(odometry.stamp, odometry.pose)
 
     def _remember(self, stamp: float, odom: Pose2D) -> None:
@@ -497,6 +360,9 @@ class PoseTracker:
                 target = con.project(at_scan, match.pose)
                 corrected = _clamp_step(at_scan, target, c.max_correction_xy,
                                         c.max_correction_theta)
+                self._covariance.correct(con, match_sigma=c.match_sigma)
+                self._covariance.add_offset(target.x - corrected.x, target.y - corrected.y,
+                                            angle_diff(target.theta, corrected.theta))
                 settled = (math.hypot(target.x - at_scan.x, target.y - at_scan.y) < c.settled_xy
                            and abs(angle_diff(target.theta, at_scan.theta)) < c.settled_theta)
                 self._settled_at = (self._odometry_at(scan.stamp), now) if settled else None
@@ -517,6 +383,13 @@ class PoseTracker:
                     self._low_since = now
         elif quality >= c.relocalize_quality:
             self._pose = match.pose.compose(since_scan)
+            information = self._matcher.information(points, match.pose,
+                                                    max_distance=c.constraint_distance)
+            self._covariance.reset(wide_xy, wide_theta)
+            self._covariance.correct(
+                degeneracy.constraint(information, length_scale=c.heading_length_scale,
+                                      min_information=c.min_information),
+                match_sigma=c.match_sigma)
             self._unfixed_travel = 0.0
             self._quality = quality
             self._low_since = None

@@ -10,6 +10,7 @@ import enum
 from dataclasses import dataclass
 
 from polynav.geometry import Pose2D
+from polynav.localization.interface import PoseUncertainty
 
 
 class NavigationState(enum.Enum):
@@ -36,6 +37,7 @@ class FailureReason(enum.Enum):
     UNDOCK_FAILED = "undock failed"
     DOCK_FAILED = "dock failed"
     BLOCKED_BY_PERSON = "blocked by person"
+    NOT_LOCALIZED = "not localized"
 
 
 class Phase(enum.Enum):
@@ -44,6 +46,15 @@ class Phase(enum.Enum):
     LEAVE_CHARGER = "leave_charger"
     NAVIGATE = "navigate"
     DOCK = "dock"
+
+
+#: Position uncertainty [m] a docking goal demands at its approach by default: the contacts
+#: forgive a few centimetres across, and the straight drive onto them no more.
+DOCK_POSITION_UNCERTAINTY = 0.05
+
+#: What ``precise`` means where a dialect or the API has only a flag: within the goal checker's
+#: usual 5 cm.
+PRECISE_POSITION_UNCERTAINTY = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -66,6 +77,10 @@ class GoalOptions:
             and wait for charging contact.
         goal_wait: how long [s] to wait for a goal held by something not on the map (else the
             navigator's ``goal_wait``); 0 fails it at once, for a caller with its own retries.
+        max_position_uncertainty: a precise arrival: the localization's position uncertainty
+            [m] (one standard deviation) must be within this at arrival, else the attempt fails
+            ``not localized`` rather than claim a pose the scan cannot see. A docking goal
+            demands :data:`DOCK_POSITION_UNCERTAINTY` when this is not given.
     """
 
     yaw_tolerance: float | None = None
@@ -76,9 +91,11 @@ class GoalOptions:
     undock_distance: float | None = None
     dock: bool = False
     goal_wait: float | None = None
+    max_position_uncertainty: float | None = None
 
     def __post_init__(self) -> None:
-        for key in ("yaw_tolerance", "pass_tolerance", "near_tolerance", "undock_distance"):
+        for key in ("yaw_tolerance", "pass_tolerance", "near_tolerance", "undock_distance",
+                    "max_position_uncertainty"):
             value = getattr(self, key)
             if value is not None and not value > 0.0:
                 raise ValueError(f"{key} must be > 0, got {value}")
@@ -87,10 +104,19 @@ class GoalOptions:
         if self.max_retries is not None and self.max_retries < 0:
             raise ValueError(f"max_retries must be >= 0, got {self.max_retries}")
 
+    @property
+    def required_position_uncertainty(self) -> float | None:
+        """The position uncertainty [m] an arrival must be within, or ``None`` (any)."""
+        if self.max_position_uncertainty is not None:
+            return self.max_position_uncertainty
+        return DOCK_POSITION_UNCERTAINTY if self.dock else None
+
 
 @dataclass(frozen=True, slots=True)
 class NavigationAttempt:
-    """A snapshot of one attempt. ``distance_travelled`` [m] counts the robot's own motion."""
+    """A snapshot of one attempt. ``distance_travelled`` [m] counts the robot's own motion;
+    ``arrival_uncertainty`` is the localization's uncertainty when the robot arrived (``None``
+    before, or when the localizer gives none)."""
 
     attempt_id: int
     goal: Pose2D
@@ -105,3 +131,4 @@ class NavigationAttempt:
     phase: Phase = Phase.NAVIGATE
     plans: int = 0
     options: GoalOptions = GoalOptions()
+    arrival_uncertainty: PoseUncertainty | None = None

@@ -16,9 +16,10 @@ from typing import TYPE_CHECKING
 
 from polynav.control.interface import Controller
 from polynav.geometry import Pose2D, Twist, angle_diff
+from polynav.localization.interface import LocalizationEstimate
 from polynav.maps import costs as cost_values
 from polynav.maps.costmap import Costmap
-from polynav.nav import events
+from polynav.nav import arrival, events
 from polynav.nav.attempt import FailureReason, NavigationAttempt, NavigationState, Phase
 
 if TYPE_CHECKING:
@@ -40,6 +41,7 @@ class ChargerPhases:
     _undock_retries: int
     _dock_since: float
     _contact_since: float | None
+    _estimate: LocalizationEstimate | None
 
     if TYPE_CHECKING:
 
@@ -57,8 +59,17 @@ class ChargerPhases:
 
 
     def _arrived(self, now: float) -> None:
-        """At the navigation target: done, or at a charger's approach: dock."""
-        if not self._require().options.dock:
+        """At the navigation target: done, or at a charger's approach: dock; either only when
+        the pose is known as precisely as the goal demands (:mod:`~polynav.nav.arrival`)."""
+        options = self._require().options
+        self._record_uncertainty()
+        verdict = arrival.judge(options, self._estimate)
+        if not verdict.ok:
+            log.warning("navigation %d: arrived, but %s", self._require().attempt_id,
+                        verdict.message)
+            self._fail(FailureReason.NOT_LOCALIZED, verdict.message, now)
+            return
+        if not options.dock:
             self._finish(NavigationState.SUCCEEDED, now)
             return
         self._controller.reset()
@@ -67,6 +78,10 @@ class ChargerPhases:
         self._contact_since = None
         log.info("navigation %d: at the charger's approach, docking", self._require().attempt_id)
         self._emit(events.DockingStarted(now, self._require()))
+
+    def _record_uncertainty(self) -> None:
+        estimate = self._estimate
+        self._update(arrival_uncertainty=None if estimate is None else estimate.uncertainty)
 
     def _tick_undock(self, pose: Pose2D, now: float, estop: bool) -> Twist:
         """Back straight off the charger; no headway for a while is a retry, too many fail."""
@@ -109,7 +124,8 @@ class ChargerPhases:
         cfg = self.config
         attempt = self._require()
         if charging:
-            self._emit(events.DockingSucceeded(now, attempt))
+            self._record_uncertainty()
+            self._emit(events.DockingSucceeded(now, self._require()))
             self._update(distance_remaining=0.0)
             self._finish(NavigationState.SUCCEEDED, now)
             return Twist()

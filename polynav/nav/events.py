@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from polynav.localization.interface import PoseUncertainty
 from polynav.nav.attempt import NavigationAttempt
 
 
@@ -78,7 +79,12 @@ class NavigationReleased(NavigationEvent):
 
 @dataclass(frozen=True, slots=True)
 class NavigationSucceeded(NavigationEvent):
-    pass
+    """The goal is reached; ``uncertainty`` says how well the robot knows it is there."""
+
+    @property
+    def uncertainty(self) -> PoseUncertainty | None:
+        """The localization's uncertainty at arrival (``None``: the localizer gives none)."""
+        return self.attempt.arrival_uncertainty
 
 
 @dataclass(frozen=True, slots=True)

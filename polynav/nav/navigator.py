@@ -153,6 +153,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._hold = Hold(self.config)
         self._last_pose: Pose2D | None = None
         self._last_tick: float | None = None
+        self._estimate: LocalizationEstimate | None = None  # the newest, judged at arrival
         # Per attempt: where the robot navigates to (a charger's approach, else the goal), the
         # retry limit, and the charger phases' progress.
         self._target = Pose2D()
@@ -292,7 +293,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._wait.people = people if people is not None else PeopleView()
         if self.state is not NavigationState.RUNNING:
             return Twist()
-        pose = estimate.pose
+        pose, self._estimate = estimate.pose, estimate
         self._track_distance(pose)
         phase = self._require().phase
         if phase is Phase.LEAVE_CHARGER:
@@ -434,7 +435,7 @@ class Navigator(ChargerPhases, PlanFailures):
         ):
             log.info("blocked %.2f m from the goal, within its tolerance: done",
                      pose.distance_to(self._target))
-            self._finish(NavigationState.SUCCEEDED, now)
+            self._arrived(now)
             return Twist()
         if command.status is ControlStatus.BLOCKED:
             self._passages.note_block(self._costmap, self._tracked, self._along, pose)

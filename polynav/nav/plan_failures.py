@@ -139,10 +139,13 @@ class PlanFailures:
             if self._goal_wait.begin(now):
                 self._emit(events.NavigationWaiting(now, self._require(), cause="goal occupied"))
             self._enter(NavPhase.GOAL_WAIT, now)
-        elif (isinstance(exc, NoPath) and not self._back_out.can_turn(pose)
-              and self._back_out.may_start(pose)):
-            # A pocket narrower than the body's diagonal: no way on forward from here.
-            self._start_back_out("no way on from here", pose, now)
+        elif isinstance(exc, NoPath) and not self._back_out.can_turn(pose):
+            # A pocket narrower than the body's diagonal: no way on forward from here. Back out
+            # the way it came; with no way in known (it started here), the ladder backs up.
+            if self._back_out.may_start(pose):
+                self._start_back_out("no way on from here", pose, now)
+            else:
+                self._retry("no way on from here", pose, now)
         elif self._passages.tried and isinstance(exc, NoPath):
             tried = ", ".join(self._passages.tried)
             self._fail(FailureReason.STUCK, f"no way left: passages tried at {tried}", now)

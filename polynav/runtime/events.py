@@ -78,12 +78,16 @@ class NavigationStarted(RuntimeEvent):
 
 @dataclass(frozen=True, slots=True)
 class NavigationSucceeded(RuntimeEvent):
-    """The robot reached the goal; ``distance`` [m] is how far it travelled for it."""
+    """The robot reached the goal; ``distance`` [m] is how far it travelled for it;
+    ``position_uncertainty`` [m] and ``heading_uncertainty`` [rad] how well localization knew
+    the pose there (one standard deviation; ``None``: the localizer does not say)."""
 
     kind: ClassVar[str] = "navigation_succeeded"
 
     attempt_id: int
     distance: float
+    position_uncertainty: float | None = None
+    heading_uncertainty: float | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -44,7 +44,11 @@ def translate(
     if isinstance(event, nav_events.NavigationStarted):
         out.append(events.NavigationStarted(stamp, attempt_id, attempt.goal, point))
     elif isinstance(event, nav_events.NavigationSucceeded):
-        out.append(events.NavigationSucceeded(stamp, attempt_id, distance))
+        known = attempt.arrival_uncertainty
+        out.append(events.NavigationSucceeded(
+            stamp, attempt_id, distance,
+            position_uncertainty=None if known is None else float(known.position),
+            heading_uncertainty=None if known is None else float(known.heading)))
     elif isinstance(event, nav_events.NavigationFailed):
         reason = attempt.reason.value if attempt.reason else (attempt.message or "unknown")
         out.append(

@@ -12,6 +12,7 @@ import logging
 from dataclasses import dataclass
 
 from polynav.geometry import Pose2D
+from polynav.localization.interface import PoseUncertainty
 from polynav.runtime.events import pose_dict
 
 log = logging.getLogger(__name__)
@@ -34,6 +35,9 @@ class StatusSnapshot:
         estop_hardware, estop_software: the button and the software e-stop.
         localization_state: ``"uninitialized"``, ``"tracking"`` or ``"lost"``.
         localization_quality: scan-to-map fit in [0, 1].
+        localization_uncertainty: the estimate's uncertainty (position [m] along its worst
+            direction, heading [rad], one standard deviation), ``None`` when not known.
+        arrival_uncertainty: the same at the current or last attempt's arrival, if it arrived.
         navigation_state: ``idle``, ``running``, ``paused``, ``succeeded``, ``failed``,
             ``canceled`` (of the current or last attempt).
         attempt_id: the current or last attempt's id, if any.
@@ -69,6 +73,8 @@ class StatusSnapshot:
     phase: str | None = None
     patrol_state: str | None = None
     floor_level: int | None = None
+    localization_uncertainty: PoseUncertainty | None = None
+    arrival_uncertainty: PoseUncertainty | None = None
     route: dict[str, object] | None = None
     """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
 
@@ -89,6 +95,7 @@ class StatusSnapshot:
             "localization": {
                 "state": self.localization_state,
                 "quality": float(self.localization_quality),
+                "uncertainty": uncertainty_dict(self.localization_uncertainty),
             },
             "navigation": {
                 "state": self.navigation_state,
@@ -99,6 +106,7 @@ class StatusSnapshot:
                 ),
                 "phase": self.phase,
                 "retries": int(self.retries),
+                "arrival_uncertainty": uncertainty_dict(self.arrival_uncertainty),
             },
             "stamp": float(self.stamp),
         }
@@ -107,3 +115,10 @@ class StatusSnapshot:
             assert isinstance(navigation, dict)
             navigation["route"] = self.route
         return out
+
+
+def uncertainty_dict(uncertainty: PoseUncertainty | None) -> dict[str, float] | None:
+    """``{"position": m, "heading": rad}`` (standard deviations), or ``None``: not known."""
+    if uncertainty is None:
+        return None
+    return {"position": float(uncertainty.position), "heading": float(uncertainty.heading)}

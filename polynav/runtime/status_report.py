@@ -27,8 +27,10 @@ class StatusReport(RuntimeParts):
         if stack is not None:
             estimate = stack.estimate
             pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
+            uncertainty = estimate.uncertainty
         else:
             pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+            uncertainty = None
         if self._mapping is not None:
             pose = self._mapping.pose
         attempts = self._attempts
@@ -47,6 +49,8 @@ class StatusReport(RuntimeParts):
             estop_software=self._software_estop,
             localization_state=loc_state,
             localization_quality=float(quality),
+            localization_uncertainty=uncertainty,
+            arrival_uncertainty=attempt.arrival_uncertainty if attempt is not None else None,
             navigation_state=nav_state,
             stamp=now,
             attempt_id=attempts.attempt_id,

@@ -16,6 +16,7 @@ from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized
 from polynav.geometry import Pose2D
 from polynav.mapping.relocalization import Relocalization
 from polynav.maps.map import Map, MapInfo
+from polynav.nav.attempt import GoalOptions
 from polynav.robot.lift import Lift, LiftMode, LiftRequest
 from polynav.robot.profile import load_profile
 from polynav.robot.sim.lift_car import SimLiftCar
@@ -191,8 +192,9 @@ class FakeRuntime:
 
     def go_to(
         self, *, point: str | None = None, pose: Pose2D | None = None,
-        map_name: str | None = None,
+        map_name: str | None = None, options: GoalOptions | None = None,
     ) -> int:
+        self.goal_options = options
         if self.mode != "navigating" or self.map is None:
             raise Conflict("not navigating: start navigation on a map first")
         if map_name is not None:

@@ -8,6 +8,7 @@ import httpx
 import pytest
 
 from polynav.geometry import Pose2D
+from polynav.nav.attempt import GoalOptions
 from tests.api.fakes import FakeRuntime
 
 
@@ -26,7 +27,9 @@ def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
                          "estop", "localization", "navigation", "stamp"}
     assert set(body["pose"]) == {"x", "y", "theta"}
     assert set(body["navigation"]) == {
-        "state", "goal", "reason", "distance_remaining", "phase", "retries"}
+        "state", "goal", "reason", "distance_remaining", "phase", "retries",
+        "arrival_uncertainty"}
+    assert set(body["localization"]) == {"state", "quality", "uncertainty"}
     assert body["mode"] == "free"
     assert body["navigation"]["state"] == "idle"
 
@@ -142,6 +145,24 @@ def test_navigation_start_at_a_point(client: httpx.Client, fake_runtime: FakeRun
 def test_goal_of_the_wrong_shape_is_422(client: httpx.Client, body: object) -> None:
     client.post("/api/navigation/start", json={"map": "floor1"})
     _error(client.post("/api/navigation/goal", json=body), 422, "validation_error")
+
+
+def test_a_precise_goal_demands_a_position_uncertainty(
+    client: httpx.Client, fake_runtime: FakeRuntime
+) -> None:
+    client.post("/api/navigation/start", json={"map": "floor1"})
+    assert client.post("/api/navigation/goal", json={"x": 2.0, "y": 1.0}).status_code == 202
+    assert fake_runtime.goal_options is None
+    assert client.post("/api/navigation/goal",
+                       json={"x": 2.0, "y": 1.0, "precise": True}).status_code == 202
+    assert fake_runtime.goal_options == GoalOptions(max_position_uncertainty=0.05)
+    assert client.post("/api/navigation/goal",
+                       json={"point": "initial", "max_position_uncertainty": 0.02}
+                       ).status_code == 202
+    assert fake_runtime.goal_options == GoalOptions(max_position_uncertainty=0.02)
+    _error(client.post("/api/navigation/goal",
+                       json={"x": 2.0, "y": 1.0, "max_position_uncertainty": -1.0}),
+           422, "validation_error")
 
 
 def test_goal_to_unknown_point_is_404_and_other_map_is_409(client: httpx.Client) -> None:

@@ -45,6 +45,22 @@ def test_bench_sim_runs_seeds_with_walkers_on_any_world(
     assert figures["goals"] == 6  # the initial point and two goals, twice
     assert 0.0 <= figures["success_rate"] <= 1.0  # type: ignore[operator]
     assert figures["real_time_factor"] > 0.0  # type: ignore[operator]
+    assert 0.0 <= figures["worst_final_error_m"] < 0.5  # type: ignore[operator]
+
+
+def test_bench_sim_prints_the_worst_final_error_beside_the_success_count(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    write_world_from_map(SMALL, tmp_path / "w", FromMapOptions(points=2, walkers=0, seed=1))
+    assert main(["bench", "sim", "--world", str(tmp_path / "w"), "--no-people", "--json"]) == 0
+    out = capsys.readouterr().out
+    figures = _last_json(out)
+    worst = figures["worst_final_error_m"]
+    goal_errors = [float(line.split("err=")[1].split("m")[0]) for line in out.splitlines()
+                   if " ok " in line and "err=" in line]
+    assert len(goal_errors) == figures["succeeded"]
+    assert worst == pytest.approx(max(goal_errors), abs=6e-4)
+    assert f"succeeded {figures['succeeded']} (worst final error {worst * 100:.1f} cm)" in out
 
 
 def test_bench_nav_prints_per_map_and_overall(
@@ -65,11 +81,15 @@ def test_bench_nav_prints_per_map_and_overall(
     assert [o["goal"] for o in outcomes] == ["p01", "p02"]
     assert sum(o["outcome"] == "reached" for o in outcomes) == row["reached"]
     assert {"closest_person_m", "closest_person_approached_m", "seconds"} <= set(outcomes[0])
+    reached = [o["final_error_m"] for o in outcomes if o["outcome"] == "reached"]
+    assert row["worst_final_error_m"] == max(reached, default=0.0)
     assert row["real_time_factor"] > 0.0 and row["real_time_factor_wall"] > 0.0
     overall = figures["overall"]
     assert set(overall) >= {"success_rate", "path_efficiency_median", "collisions",  # type: ignore[arg-type]
                             "closest_person_m", "real_time_factor_min", "targets", "pass"}
     assert "overall:" in out
+    assert overall["worst_final_error_m"] == row["worst_final_error_m"]  # type: ignore[index]
+    assert "worst final error" in out
 
 
 def _row(reached: int, efficiencies: list[float], closest: float | None, rtf: float,
@@ -79,7 +99,7 @@ def _row(reached: int, efficiencies: list[float], closest: float | None, rtf: fl
             "failures": failures or {}, "collisions": 0, "closest_person_m": closest,
             "closest_person_approached_m": closest if approached is None else approached,
             "real_time_factor": rtf, "sim_seconds": 10.0,
-            "goals_with_localization_lost": 0}
+            "goals_with_localization_lost": 0, "worst_final_error_m": 0.01 * reached}
 
 
 def test_overall_figures_pool_every_goal_and_name_the_missed_targets() -> None:

@@ -199,6 +199,9 @@ _STATUS: dict[type[events.RuntimeEvent], str] = {
 # not a move retry: the move then either goes or fails with 01007 (no retries, L634).
 _SILENT_RETRY_CAUSES = {"no path", "goal occupied"}
 _UNREACHABLE_REASONS = {"no path", "goal occupied"}
+# A precise goal reached where the scan could not confirm the pose: "maybe lost" (02010), then
+# the move failure; Yunji has no code of its own for an arrival it cannot vouch for.
+_NOT_LOCALIZED_REASONS = {"not localized"}
 _TRAPPED = {"start_occupied": "01202"}
 
 
@@ -326,6 +329,8 @@ class NotificationMapper:
         if isinstance(event, events.NavigationFailed):
             if "did not arrive within" in event.reason:
                 out.append(notification("04023"))
+            if event.reason in _NOT_LOCALIZED_REASONS:
+                out.append(notification("02010"))
             if event.reason == "stuck":
                 out.append(notification("01006", {"target": target}))
             elif event.reason in _UNREACHABLE_REASONS and not event.planned:

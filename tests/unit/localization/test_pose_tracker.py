@@ -126,7 +126,9 @@ def test_pose_tracker_has_every_localizer_member():
     tracker: Localizer = PoseTracker()
     for name in ("set_map", "initialize", "update"):
         assert callable(getattr(tracker, name))
-    assert tracker.estimate == LocalizationEstimate(0.0, Pose2D(), 0.0, UNINITIALIZED)
+    estimate = tracker.estimate
+    assert (estimate.stamp, estimate.pose, estimate.quality, estimate.state) == (
+        0.0, Pose2D(), 0.0, UNINITIALIZED)
 
 
 def test_state_is_uninitialized_before_initialize(world):

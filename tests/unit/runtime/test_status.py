@@ -1,8 +1,10 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 from polynav.geometry import Pose2D
+from polynav.localization.interface import PoseUncertainty
 from polynav.runtime.status import StatusSnapshot
 
 
@@ -25,9 +27,20 @@ def test_to_dict_has_exactly_the_contract_keys() -> None:
     assert set(body["velocity"]) == {"linear", "angular"}  # type: ignore[arg-type]
     assert set(body["battery"]) == {"percent", "charging"}  # type: ignore[arg-type]
     assert set(body["estop"]) == {"hardware", "software"}  # type: ignore[arg-type]
-    assert set(body["localization"]) == {"state", "quality"}  # type: ignore[arg-type]
+    assert set(body["localization"]) == {  # type: ignore[arg-type]
+        "state", "quality", "uncertainty"}
     assert set(body["navigation"]) == {  # type: ignore[arg-type]
-        "state", "goal", "reason", "distance_remaining", "phase", "retries"}
+        "state", "goal", "reason", "distance_remaining", "phase", "retries",
+        "arrival_uncertainty"}
+
+
+def test_to_dict_shows_the_localization_and_arrival_uncertainty() -> None:
+    body = replace(_snapshot(), localization_uncertainty=PoseUncertainty(0.02, 0.01),
+                   arrival_uncertainty=PoseUncertainty(0.25, 0.005)).to_dict()
+    assert body["localization"]["uncertainty"] == {  # type: ignore[index]
+        "position": 0.02, "heading": 0.01}
+    assert body["navigation"]["arrival_uncertainty"] == {  # type: ignore[index]
+        "position": 0.25, "heading": 0.005}
 
 
 def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
@@ -39,11 +52,11 @@ def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
         "velocity": {"linear": 0.25, "angular": -0.5},
         "battery": {"percent": 80.0, "charging": False},
         "estop": {"hardware": False, "software": True},
-        "localization": {"state": "tracking", "quality": 0.75},
+        "localization": {"state": "tracking", "quality": 0.75, "uncertainty": None},
         "navigation": {"state": "running",
                        "goal": {"x": 5.5, "y": 12.5, "theta": 0.0, "point": "lobby"},
                        "reason": None, "distance_remaining": 4.5, "phase": None,
-                       "retries": 0},
+                       "retries": 0, "arrival_uncertainty": None},
         "stamp": 12.5,
     }
 
@@ -51,4 +64,4 @@ def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
 def test_goal_is_null_without_an_attempt() -> None:
     nav = _snapshot(navigation_state="idle").to_dict()["navigation"]
     assert nav == {"state": "idle", "goal": None, "reason": None, "distance_remaining": None,
-                   "phase": None, "retries": 0}
+                   "phase": None, "retries": 0, "arrival_uncertainty": None}
