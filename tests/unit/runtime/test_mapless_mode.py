@@ -34,7 +34,7 @@ def test_mapless_goal_through_the_runtime_is_reached_with_the_usual_events(
     assert runtime.map_name == MAPLESS_FRAME
     start = runtime.simulation.true_pose
     goal = start.compose(Pose2D(10.0, 0.0, 0.0))
-    attempt = runtime.go_to(pose=goal)
+    attempt = runtime.go_to(pose=Pose2D(10.0, 0.0, 0.0))  # odometry frame: 10 m ahead
     assert runtime.advance_until(lambda: runtime.status().navigation_state == "succeeded",
                                  timeout=90.0)
     assert runtime.simulation.true_pose.distance_to(goal) <= 0.25
