@@ -14,8 +14,8 @@ fixed physics steps (``SimConfig.physics_rate``). Each step, in order:
    dead where it stands and, unless it was already in contact, a :class:`Collision` is
    recorded (one per contact: the next counts once the robot has got clear again);
 3. odometry and the IMU take in the step's true motion (odometry in its own frame, which starts
-   at (0, 0, 0) where the body is created, as a real base's does where it is switched on), the battery drains (or charges while
-   the robot stands docked on a charger point);
+   at (0, 0, 0) where the body is created, as a real base's does where it is switched on), the
+   battery drains (or charges while the robot stands docked on a charger point);
 4. the clock advances, and the IMU and the lidar sample when they are due, stamped with the new
    time, so a scan describes the world as it is at its stamp.
 
