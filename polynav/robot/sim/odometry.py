@@ -5,11 +5,11 @@ a real base's encoders count from zero where it is switched on; it knows nothing
 the simulator's ground truth stays in the world frame (``Simulation.odometry_origin`` is where the
 frame started, for tests that give goals in world coordinates). Each physics step the base's
 true travel ``d`` and turn ``a`` become ``d (1 + σ_t n₁) + ε_t n₂`` and ``a (1 + σ_r n₃) + ε_r n₄``
-(``n`` standard normal): wheel slip and
-encoder error scale with the motion, plus a small floor of quantisation noise. A base at rest
-reads no motion at all, as encoders that do not tick, so a parked robot's odometry does not
-wander. The noisy increments are integrated as arcs, so the drift grows with distance like real
-odometry. A teleport (a lift ride) is not motion: odometry does not see it.
+(``n`` standard normal): wheel slip and encoder error scale with the motion, plus a small floor of
+quantisation noise. A base at rest reads no motion at all, as encoders that do not tick, so a
+parked robot's odometry does not wander. The noisy increments are integrated as arcs, so the drift
+grows with distance like real odometry. A teleport (a lift ride) is not motion: odometry does not
+see it.
 """
 
 from __future__ import annotations
