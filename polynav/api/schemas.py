@@ -22,6 +22,7 @@ from pydantic import (
 from typing_extensions import TypedDict
 
 from polynav.geometry import Pose2D
+from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.settings import SETTING_RANGES
 from polynav.site import Point, PointKind
 
@@ -220,6 +221,12 @@ class StatusOut(BaseModel):
     floor: str | None
     floor_level: int | None = Field(description="the floor's level in the site, if it has one")
     pose: PoseOut
+    frame: Literal["map", "odom"] = Field(
+        description="the frame of `pose` and of the navigation goal: `map` (on a map: `map` "
+        "while navigating, the map being built while mapping, the floor's map otherwise) or "
+        "`odom` (navigating without a map: the odometry frame, (0, 0, 0) where the robot was "
+        "switched on)"
+    )
     velocity: VelocityOut
     battery: BatteryOut
     estop: EStopOut
@@ -421,12 +428,13 @@ class NavigationStartIn(_Body):
 
 
 class GoalIn(_Body):
-    """A navigation goal: a named point, or a pose (on the current map unless ``map`` is set)."""
+    """A navigation goal: a named point, or a pose (on the current map unless ``map`` is set),
+    in the current frame unless ``frame`` says otherwise."""
 
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra=_alternatives(
-            (("point",), ("x", "y", "theta")), (("x", "y"), ("point",))
+            (("point",), ("x", "y", "theta", "frame")), (("x", "y"), ("point",))
         ),
     )
 
@@ -435,16 +443,28 @@ class GoalIn(_Body):
     y: Coordinate | None = None
     theta: Heading | None = None
     map: Name | None = None
+    frame: Literal["map", "odom", "robot"] | None = Field(
+        default=None,
+        description="the frame of the pose: the current one (the status's `frame`: `map`, or "
+        "`odom` without a map; the default; 409 if another is named), or `robot`: relative to "
+        "where the robot stands now, x ahead, y to the left, theta from its heading "
+        '(`{"x": 10, "y": 0, "theta": 0, "frame": "robot"}` is 10 m ahead)',
+    )
 
     @model_validator(mode="after")
     def _point_or_pose(self) -> GoalIn:
         pose = _pose_or_none(self.x, self.y, self.theta)
         if (pose is None) == (self.point is None):
             raise ValueError("give either a point or x and y")
+        if self.frame is not None and self.point is not None:
+            raise ValueError("a point is named on its map: give a frame with a pose only")
         return self
 
     def pose(self) -> Pose2D | None:
         return _pose_or_none(self.x, self.y, self.theta)
+
+    def goal_frame(self) -> GoalFrame | None:
+        return None if self.frame is None else GoalFrame(self.frame)
 
 
 class GoalAccepted(BaseModel):

@@ -53,8 +53,11 @@ def set_initial_pose(body: PoseIn, runtime: RuntimeDep) -> Ok:
 )
 def send_goal(body: GoalIn, runtime: RuntimeDep) -> GoalAccepted:
     """Go to a named point or a pose; answers at once with the attempt id, progress comes in
-    the status and the events (404 unknown point, 409 unless navigating)."""
-    attempt = runtime.go_to(point=body.point, pose=body.pose(), map_name=body.map)
+    the status and the events (404 unknown point, 409 unless navigating or for a frame that is
+    not the current one). A pose with ``"frame": "robot"`` is relative to where the robot
+    stands now."""
+    attempt = runtime.go_to(point=body.point, pose=body.pose(), map_name=body.map,
+                            frame=body.goal_frame())
     return GoalAccepted(id=int(attempt))
 
 
