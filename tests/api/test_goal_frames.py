@@ -21,7 +21,9 @@ from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 from tests.api.server import native_client
 
-README_GOAL = {"x": 10, "y": 0, "theta": 0}  # README.md, "Your own robot, and no map at all"
+# README.md, "Your own robot, and no map at all": 10 m ahead of the start, then back 10 m.
+README_GOAL = {"x": 10, "y": 0, "theta": 0}
+README_RELATIVE_GOAL = {"x": -10, "y": 0, "theta": 0, "frame": "robot"}
 
 
 @pytest.fixture
@@ -54,7 +56,7 @@ def _near(true: Pose2D, expected: Pose2D, *, xy: float = 0.2, heading: float = 0
             and abs(angle_diff(true.theta, expected.theta)) <= heading)
 
 
-def test_readme_mapless_goal_drives_10m_ahead_of_where_the_robot_was_switched_on(
+def test_readme_mapless_goals_drive_10m_ahead_of_the_start_then_10m_back_from_there(
     runtime: RobotRuntime, http: httpx.Client
 ) -> None:
     start = runtime.simulation.true_pose
@@ -70,6 +72,12 @@ def test_readme_mapless_goal_drives_10m_ahead_of_where_the_robot_was_switched_on
     expected = start.compose(Pose2D(10.0, 0.0, 0.0))
     assert _near(true, expected), (true, expected)
     assert status["frame"] == "odom" and status["navigation"]["goal"]["x"] == 10.0
+    # The README's relative form: 10 m behind where it now stands, the start again.
+    here = true
+    _arrive(runtime, http, README_RELATIVE_GOAL, timeout=120.0)
+    true = runtime.simulation.true_pose
+    assert _near(true, here.compose(Pose2D(-10.0, 0.0, 0.0))), (true, here)
+    assert _near(true, start, xy=0.3)
     assert runtime.simulation.collisions == []
 
 
