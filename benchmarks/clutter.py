@@ -80,7 +80,7 @@ def run_course(
     driver.run(0.5)  # the tracker settles on the first scans
     began = driver.now
     wall = time.perf_counter()
-    driver.stack.go_to(course.goal, driver.now)
+    driver.stack.go_to(driver.to_stack_frame(course.goal), driver.now)
     navigator = driver.stack.navigator
     while not navigator.state.finished and driver.now - began < GOAL_TIME:
         driver.step()

@@ -23,6 +23,7 @@ from typing_extensions import TypedDict
 
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import PRECISE_POSITION_UNCERTAINTY, GoalOptions
+from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.settings import SETTING_RANGES
 from polynav.site import Point, PointKind
 
@@ -234,6 +235,12 @@ class StatusOut(BaseModel):
     floor: str | None
     floor_level: int | None = Field(description="the floor's level in the site, if it has one")
     pose: PoseOut
+    frame: Literal["map", "odom"] = Field(
+        description="the frame of `pose` and of the navigation goal: `map` (on a map: `map` "
+        "while navigating, the map being built while mapping, the floor's map otherwise) or "
+        "`odom` (navigating without a map: the odometry frame, (0, 0, 0) where the robot was "
+        "switched on)"
+    )
     velocity: VelocityOut
     battery: BatteryOut
     estop: EStopOut
@@ -435,12 +442,13 @@ class NavigationStartIn(_Body):
 
 
 class GoalIn(_Body):
-    """A navigation goal: a named point, or a pose (on the current map unless ``map`` is set)."""
+    """A navigation goal: a named point, or a pose (on the current map unless ``map`` is set),
+    in the current frame unless ``frame`` says otherwise."""
 
     model_config = ConfigDict(
         extra="forbid",
         json_schema_extra=_alternatives(
-            (("point",), ("x", "y", "theta")), (("x", "y"), ("point",))
+            (("point",), ("x", "y", "theta", "frame")), (("x", "y"), ("point",))
         ),
     )
 
@@ -456,12 +464,21 @@ class GoalIn(_Body):
     max_position_uncertainty: float | None = Field(
         default=None, gt=0.0, le=10.0, allow_inf_nan=False,
         description="the same with its own limit [m] (one standard deviation)")
+    frame: Literal["map", "odom", "robot"] | None = Field(
+        default=None,
+        description="the frame of the pose: the current one (the status's `frame`: `map`, or "
+        "`odom` without a map; the default; 409 if another is named), or `robot`: relative to "
+        "where the robot stands now, x ahead, y to the left, theta from its heading "
+        '(`{"x": 10, "y": 0, "theta": 0, "frame": "robot"}` is 10 m ahead)',
+    )
 
     @model_validator(mode="after")
     def _point_or_pose(self) -> GoalIn:
         pose = _pose_or_none(self.x, self.y, self.theta)
         if (pose is None) == (self.point is None):
             raise ValueError("give either a point or x and y")
+        if self.frame is not None and self.point is not None:
+            raise ValueError("a point is named on its map: give a frame with a pose only")
         return self
 
     def pose(self) -> Pose2D | None:
@@ -473,6 +490,9 @@ class GoalIn(_Body):
         if limit is None and self.precise:
             limit = PRECISE_POSITION_UNCERTAINTY
         return None if limit is None else GoalOptions(max_position_uncertainty=limit)
+
+    def goal_frame(self) -> GoalFrame | None:
+        return None if self.frame is None else GoalFrame(self.frame)
 
 
 class GoalAccepted(BaseModel):

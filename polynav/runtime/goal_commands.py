@@ -3,10 +3,17 @@
 A part of :class:`~polynav.runtime.robot_runtime.RobotRuntime` by subject (it is one class
 to its callers); what it shares with the others is declared in
 :class:`~polynav.runtime.internals.RuntimeParts`.
+
+A goal pose is in a :class:`GoalFrame`: the frame the robot navigates in (``map`` on a map,
+``odom`` without one, the default), or ``robot``, relative to where the robot stands when the
+goal is given ("10 m ahead" whatever its heading). The runtime turns a robot-frame goal into the
+navigation frame through its pose estimate at that instant, between ticks, so adapters only name
+the frame and never do the geometry.
 """
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import replace
 
@@ -23,7 +30,22 @@ UNDOCK_DISTANCE = 0.5
 """How far [m] a robot backs straight off its charger before it plans (clear of the dock)."""
 
 
+class GoalFrame(enum.Enum):
+    """The frame a goal pose is given in."""
+
+    MAP = "map"
+    """The map navigation runs on (its name is the status's ``map``)."""
+    ODOM = "odom"
+    """The odometry frame of navigation without a map: (0, 0, 0) where the robot was switched
+    on (the simulated one: created)."""
+    ROBOT = "robot"
+    """The robot's own frame when the goal is given: x ahead, y to the left, theta from its
+    heading [m, rad]."""
+
+
 class GoalCommands(RuntimeParts):
+    _mapless: bool
+
     def go_to(
         self,
         *,
@@ -31,6 +53,7 @@ class GoalCommands(RuntimeParts):
         pose: Pose2D | None = None,
         map_name: str | None = None,
         options: GoalOptions | None = None,
+        frame: GoalFrame | None = None,
     ) -> int:
         """Start a goal to a point of the current map, or to a pose on it; a goal already
         running is canceled first.
@@ -46,13 +69,17 @@ class GoalCommands(RuntimeParts):
                 :mod:`~polynav.runtime.lift_commands`): one attempt to the caller.
             options: tolerances and retries for this goal (see
                 :class:`~polynav.nav.attempt.GoalOptions`).
+            frame: the frame of ``pose``; ``None`` is the current navigation frame. ``ROBOT``
+                is relative to the robot's pose estimate now (on a map as without one); the
+                attempt's goal is then that pose in the navigation frame.
 
         Returns:
             The attempt id.
 
         Raises:
-            InvalidRequest: neither or both of ``point`` and ``pose``.
-            Conflict: not NAVIGATING.
+            InvalidRequest: neither or both of ``point`` and ``pose``; a frame with a point; a
+                robot-frame goal on another map.
+            Conflict: not NAVIGATING; ``MAP`` or ``ODOM`` that is not the current frame.
             NoRoute: (a Conflict) another map that no lift or connection reaches, with the
                 reason.
             NotFound: no such map, or no such point on the map.
@@ -61,11 +88,15 @@ class GoalCommands(RuntimeParts):
             raise InvalidRequest("point", "give exactly one of point and pose")
         if pose is not None and not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
             raise InvalidRequest("pose", "coordinates must be finite")
+        if frame is not None and point is not None:
+            raise InvalidRequest("frame", "a point is named on its map: give a frame with a pose")
 
         def run() -> int:
+            goal = pose if pose is None or frame is None else self._in_navigation_frame(
+                pose, frame, map_name)
             self._patrols.end()
             self._patrols.forget()  # the last task is this goal now
-            return self._start_goal(point, pose, map_name, options)
+            return self._start_goal(point, goal, map_name, options)
 
         return self._call(run)
 
@@ -168,6 +199,28 @@ class GoalCommands(RuntimeParts):
         finally:
             self._attempts.pending_point = None
         return self._attempts.runtime_id(nav_id)
+
+    def _navigation_frame(self) -> GoalFrame:
+        """The frame goals and the pose estimate are in now."""
+        return GoalFrame.ODOM if self._mapless else GoalFrame.MAP
+
+    def _in_navigation_frame(self, pose: Pose2D, frame: GoalFrame, map_name: str | None) -> Pose2D:
+        """``pose`` given in ``frame``, as a goal in the frame the robot navigates in."""
+        stack = self._require_navigating()
+        current = self._navigation_frame()
+        if frame is GoalFrame.ROBOT:
+            if map_name is not None and map_name != self._map_name:
+                raise InvalidRequest("frame", "a goal relative to the robot is on the robot's "
+                                              f"map ({self._map_name!r}), not on {map_name!r}")
+            # The estimate, not the odometry: on a map it is the pose the goal must be on, and
+            # without one it is the odometry corrected by scan matching, in the same frame.
+            return stack.estimate.pose.compose(pose)
+        if frame is not current:
+            hint = ("navigating without a map: there is no map frame"
+                    if self._mapless else "navigating on a map: goals are on the map")
+            raise Conflict(f"a goal in the {frame.value!r} frame, but {hint}; give it in "
+                           f"{current.value!r} or relative to the robot ('robot')")
+        return pose
 
     def _cancel_goal(self) -> bool:
         if self._end_route(NavigationState.CANCELED):

@@ -20,17 +20,36 @@ from polynav.worlds.world import World
 
 
 class SimDriver:
-    """Runs ``stack`` on ``sim`` in lock-step."""
+    """Runs ``stack`` on ``sim`` in lock-step.
 
-    def __init__(self, sim: Simulation, stack: NavigationStack) -> None:
+    Args:
+        sim: the simulated robot.
+        stack: its navigation stack.
+        mapless: whether the stack's frame is the odometry frame (navigation without a map)
+            rather than the map, which the simulator's world shares.
+    """
+
+    def __init__(self, sim: Simulation, stack: NavigationStack, *, mapless: bool = False) -> None:
         self.sim = sim
         self.stack = stack
+        self.mapless = mapless
         self._period = 1.0 / stack.config.control_rate
         self._next_control = sim.clock.now()
 
     @property
     def now(self) -> float:
         return self.sim.clock.now()
+
+    def to_odometry(self, pose: Pose2D) -> Pose2D:
+        """A world pose in the odometry frame, which starts at (0, 0, 0) where the simulated
+        base was created (as a real base's does where it is switched on)."""
+        return self.sim.world_to_odometry(pose)
+
+    def to_stack_frame(self, pose: Pose2D) -> Pose2D:
+        """A world pose as the stack takes goals: unchanged on a map (its frame is the
+        world's), in the odometry frame without one. For tests and benchmarks whose goals are
+        drawn in world coordinates."""
+        return self.to_odometry(pose) if self.mapless else pose
 
     def step(self) -> None:
         """One physics step, and a control tick when one is due."""
@@ -116,8 +135,9 @@ def simulate_mapless(
     """A simulated robot in ``world`` that navigates with no map (:mod:`polynav.nav.mapless`).
 
     The world is the simulator's ground truth only: the stack never sees its map. Goals are
-    poses in the odometry frame, which the simulator makes coincide with the world frame at the
-    start pose, so a goal in world coordinates is the same goal (``driver.stack.go_to``).
+    poses in the odometry frame, which starts at (0, 0, 0) where the robot stands at first
+    (``Pose2D(10, 0, 0)`` is 10 m ahead of it); a goal drawn in world coordinates goes through
+    :meth:`SimDriver.to_odometry` first.
 
     Args:
         as :func:`simulate`; ``mapless`` sets the rolling window and the localizer.
@@ -130,4 +150,4 @@ def simulate_mapless(
         world, config=sim_config or SimConfig(), seed=seed, floor=floor, pose=pose, people=people
     )
     stack = MaplessStack(sim.robot, config=stack_config, mapless=mapless, on_event=on_event)
-    return SimDriver(sim, stack)
+    return SimDriver(sim, stack, mapless=True)

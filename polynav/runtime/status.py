@@ -30,6 +30,10 @@ class StatusSnapshot:
             readers (every dialect shows the level) never reach for the store.
         pose: the localization estimate on ``map`` while navigating; otherwise the robot's pose
             on its floor's map (the simulator's ground truth, or odometry on a real robot).
+        frame: the frame ``pose`` and the goal are in: ``"map"`` (on a map: ``map`` while
+            navigating, the map being built while mapping, the floor's map otherwise) or
+            ``"odom"`` (navigating without a map: the odometry frame, (0, 0, 0) where the robot
+            was switched on).
         linear, angular: measured velocity [m/s, rad/s].
         battery_percent: charge [%]; ``charging`` while on a charger.
         estop_hardware, estop_software: the button and the software e-stop.
@@ -77,6 +81,7 @@ class StatusSnapshot:
     arrival_uncertainty: PoseUncertainty | None = None
     route: dict[str, object] | None = None
     """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
+    frame: str = "map"
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
@@ -89,6 +94,7 @@ class StatusSnapshot:
             "floor": self.floor,
             "floor_level": self.floor_level,
             "pose": pose_dict(self.pose),
+            "frame": self.frame,
             "velocity": {"linear": float(self.linear), "angular": float(self.angular)},
             "battery": {"percent": float(self.battery_percent), "charging": self.charging},
             "estop": {"hardware": self.estop_hardware, "software": self.estop_software},

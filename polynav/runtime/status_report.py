@@ -9,12 +9,15 @@ from __future__ import annotations
 import abc
 
 from polynav.errors import NotFound
+from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.status import StatusSnapshot
 
 
 class StatusReport(RuntimeParts):
     """The runtime's part that builds its :class:`StatusSnapshot`."""
+
+    _mapless: bool
 
     @abc.abstractmethod
     def _route_overlay(self, snapshot: StatusSnapshot) -> StatusSnapshot:
@@ -62,6 +65,7 @@ class StatusReport(RuntimeParts):
             phase=attempt.phase.value if attempt is not None else None,
             patrol_state=self._patrols.state,
             floor_level=self._floor_level(self._sim.floor),
+            frame=(GoalFrame.ODOM if self._mapless else GoalFrame.MAP).value,
         ))
 
     def _floor_level(self, floor: str | None) -> int | None:

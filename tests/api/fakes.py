@@ -22,6 +22,7 @@ from polynav.robot.profile import load_profile
 from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
+from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.status import StatusSnapshot
 from polynav.store.site_store import SiteStore
@@ -101,6 +102,7 @@ class FakeRuntime:
             estop_software=self.estop_software, localization_state="tracking",
             localization_quality=1.0, navigation_state=self.nav_state, stamp=self.now,
             attempt_id=self.attempt or None, goal=self.goal, goal_point=self.goal_point,
+            frame="odom" if self.map == "odom" else "map",
         )
 
     def settings(self) -> RobotSettings:
@@ -193,10 +195,13 @@ class FakeRuntime:
     def go_to(
         self, *, point: str | None = None, pose: Pose2D | None = None,
         map_name: str | None = None, options: GoalOptions | None = None,
+        frame: GoalFrame | None = None,
     ) -> int:
         self.goal_options = options
         if self.mode != "navigating" or self.map is None:
             raise Conflict("not navigating: start navigation on a map first")
+        if pose is not None and frame is GoalFrame.ROBOT:
+            pose = self.pose.compose(pose)
         if map_name is not None:
             self.store.map_record(map_name)  # 404 for an unknown map, as the runtime
         if map_name is not None and map_name != self.map:

@@ -53,11 +53,12 @@ def set_initial_pose(body: PoseIn, runtime: RuntimeDep) -> Ok:
 )
 def send_goal(body: GoalIn, runtime: RuntimeDep) -> GoalAccepted:
     """Go to a named point or a pose; answers at once with the attempt id, progress comes in
-    the status and the events (404 unknown point, 409 unless navigating). ``precise`` (or
-    ``max_position_uncertainty``) fails the goal ``not localized`` rather than succeed where
-    localization cannot confirm the pose."""
+    the status and the events (404 unknown point, 409 unless navigating or for a frame that is
+    not the current one). A pose with ``"frame": "robot"`` is relative to where the robot
+    stands now. ``precise`` (or ``max_position_uncertainty``) fails the goal ``not localized``
+    rather than succeed where localization cannot confirm the pose."""
     attempt = runtime.go_to(point=body.point, pose=body.pose(), map_name=body.map,
-                            options=body.options())
+                            options=body.options(), frame=body.goal_frame())
     return GoalAccepted(id=int(attempt))
 
 

@@ -1,12 +1,15 @@
 """Simulated wheel odometry: the true motion of each step, integrated with noise.
 
-Odometry lives in its own ``odom`` frame, which coincides with the map at the start pose and then
-drifts. Each physics step the base's true travel ``d`` and turn ``a`` become
-``d (1 + σ_t n₁) + ε_t n₂`` and ``a (1 + σ_r n₃) + ε_r n₄`` (``n`` standard normal): wheel slip and
-encoder error scale with the motion, plus a small floor of quantisation noise. A base at rest
-reads no motion at all, as encoders that do not tick, so a parked robot's odometry does not
-wander. The noisy increments are integrated as arcs, so the drift grows with distance like real
-odometry. A teleport (a lift ride) is not motion: odometry does not see it.
+Odometry lives in its own ``odom`` frame, which starts at (0, 0, 0) where the base is created, as
+a real base's encoders count from zero where it is switched on; it knows nothing of the map, and
+the simulator's ground truth stays in the world frame (``Simulation.odometry_origin`` is where the
+frame started, for tests that give goals in world coordinates). Each physics step the base's
+true travel ``d`` and turn ``a`` become ``d (1 + σ_t n₁) + ε_t n₂`` and ``a (1 + σ_r n₃) + ε_r n₄``
+(``n`` standard normal): wheel slip and encoder error scale with the motion, plus a small floor of
+quantisation noise. A base at rest reads no motion at all, as encoders that do not tick, so a
+parked robot's odometry does not wander. The noisy increments are integrated as arcs, so the drift
+grows with distance like real odometry. A teleport (a lift ride) is not motion: odometry does not
+see it.
 """
 
 from __future__ import annotations
@@ -26,11 +29,10 @@ log = logging.getLogger(__name__)
 class WheelOdometry:
     """Noisy dead reckoning of the base's true motion."""
 
-    def __init__(self, config: SimConfig, start: Pose2D, rng: np.random.Generator,
-                 stamp: float = 0.0) -> None:
+    def __init__(self, config: SimConfig, rng: np.random.Generator, stamp: float = 0.0) -> None:
         self._config = config
         self._rng = rng
-        self._reading = Odometry(stamp=stamp, pose=start, twist=Twist())
+        self._reading = Odometry(stamp=stamp, pose=Pose2D(), twist=Twist())
 
     @property
     def reading(self) -> Odometry:

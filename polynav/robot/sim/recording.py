@@ -41,10 +41,14 @@ class Recording:
     Attributes:
         lines: the CARMEN log's lines (no newlines).
         truth: per kept scan, its timestamp exactly as in the log and the true pose.
+        odometry_origin: the world pose where the log's odometry frame starts (the ``ODOM``
+            poses count from zero there, as a real base's do), so that a map made from the log
+            can be laid over the world.
     """
 
     lines: tuple[str, ...]
     truth: tuple[tuple[str, Pose2D], ...]
+    odometry_origin: Pose2D = Pose2D()
 
     def write(self, log_path: str | Path, truth_path: str | Path) -> None:
         """Write the log and the ground truth (``timestamp x y theta`` per scan)."""
@@ -125,7 +129,7 @@ def record(
                     + " ".join(f"{r:.3f}" for r in ranges)
                     + f" 0 {stamp} polynav {stamp}")
                 truth.append((stamp, sim.true_pose))
-    return Recording(tuple(lines), tuple(truth))
+    return Recording(tuple(lines), tuple(truth), sim.odometry_origin)
 
 
 def _odom_line(pose: Pose2D, now: float) -> str:

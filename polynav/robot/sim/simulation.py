@@ -13,8 +13,9 @@ fixed physics steps (``SimConfig.physics_rate``). Each step, in order:
    the base stops
    dead where it stands and, unless it was already in contact, a :class:`Collision` is
    recorded (one per contact: the next counts once the robot has got clear again);
-3. odometry and the IMU take in the step's true motion, the battery drains (or charges while
-   the robot stands docked on a charger point);
+3. odometry and the IMU take in the step's true motion (odometry in its own frame, which starts
+   at (0, 0, 0) where the body is created, as a real base's does where it is switched on), the
+   battery drains (or charges while the robot stands docked on a charger point);
 4. the clock advances, and the IMU and the lidar sample when they are due, stamped with the new
    time, so a scan describes the world as it is at its stamp.
 
@@ -112,7 +113,10 @@ class Simulation:
         now = self.clock.now()
         self._base = DiffDrive(config, pose)
         self._lidar = Lidar(config, np.random.default_rng(lidar_seed))
-        self._odometry = WheelOdometry(config, pose, np.random.default_rng(odometry_seed), now)
+        # Odometry counts from zero here, as a real base's does where it is switched on; the
+        # world pose of its frame is kept only to translate world poses for tests and benches.
+        self._odometry_origin = pose
+        self._odometry = WheelOdometry(config, np.random.default_rng(odometry_seed), now)
         self._imu = Imu(config, pose.theta, np.random.default_rng(imu_seed), now)
         self._battery = Battery(config, now)
         self._people_detector = PeopleDetector(config.lidar_range, config.lidar_fov)
@@ -183,8 +187,25 @@ class Simulation:
 
     @property
     def odometry(self) -> Odometry:
-        """The newest wheel odometry (every physics step)."""
+        """The newest wheel odometry (every physics step), in the odometry frame: (0, 0, 0)
+        where the body was created."""
         return self._odometry.reading
+
+    @property
+    def odometry_origin(self) -> Pose2D:
+        """Where the odometry frame lies in the world: the true pose the body was created at,
+        on its start floor (a teleport moves the body, not this frame)."""
+        return self._odometry_origin
+
+    def world_to_odometry(self, pose: Pose2D) -> Pose2D:
+        """A world pose (start floor) expressed in the odometry frame as it was laid down,
+        without the odometry's drift: what a goal given in world coordinates is, for a robot
+        whose only frame is odometry's (navigation without a map)."""
+        return pose.relative_to(self._odometry_origin)
+
+    def odometry_to_world(self, pose: Pose2D) -> Pose2D:
+        """The inverse of :meth:`world_to_odometry`."""
+        return self._odometry_origin.compose(pose)
 
     @property
     def scan(self) -> LaserScan | None:

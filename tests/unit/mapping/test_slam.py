@@ -60,10 +60,14 @@ def test_the_map_walls_lie_on_the_true_walls(run) -> None:
     rec, _, slam = run
     truth = load_world("demo").floor("floor1").map
     grid = slam.render_map()
-    # The map frame is the first scan's odometry frame; the simulator's odometry starts at the
-    # true pose, so map and world frames coincide.
+    # The map frame is the first scan's odometry frame, which starts at (0, 0, 0) where the
+    # simulated base was created: the walls go over to the world through that pose.
     walls = np.argwhere(grid.data == 100)[:, ::-1]
-    world = grid.info.cells_to_world(walls)
+    local = grid.info.cells_to_world(walls)
+    start = rec.odometry_origin
+    c, s = math.cos(start.theta), math.sin(start.theta)
+    world = np.column_stack((start.x + c * local[:, 0] - s * local[:, 1],
+                             start.y + s * local[:, 0] + c * local[:, 1]))
     cells = truth.info.world_to_cells(world)
     near = ndimage.distance_transform_edt(~truth.occupied())
     inside = ((cells[:, 0] >= 0) & (cells[:, 0] < truth.info.width)

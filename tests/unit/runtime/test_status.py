@@ -22,7 +22,7 @@ def _snapshot(**changes: object) -> StatusSnapshot:
 def test_to_dict_has_exactly_the_contract_keys() -> None:
     body = _snapshot().to_dict()
     assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
-                         "estop", "localization", "navigation", "stamp"}
+                         "estop", "localization", "navigation", "stamp", "frame"}
     assert set(body["pose"]) == {"x", "y", "theta"}  # type: ignore[arg-type]
     assert set(body["velocity"]) == {"linear", "angular"}  # type: ignore[arg-type]
     assert set(body["battery"]) == {"percent", "charging"}  # type: ignore[arg-type]
@@ -48,7 +48,7 @@ def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
                      distance_remaining=4.5, floor_level=1).to_dict()
     assert json.loads(json.dumps(body)) == {
         "mode": "navigating", "map": "floor1", "floor": "floor1", "floor_level": 1,
-        "pose": {"x": 1.0, "y": 2.0, "theta": 0.5},
+        "pose": {"x": 1.0, "y": 2.0, "theta": 0.5}, "frame": "map",
         "velocity": {"linear": 0.25, "angular": -0.5},
         "battery": {"percent": 80.0, "charging": False},
         "estop": {"hardware": False, "software": True},

@@ -47,12 +47,31 @@ def test_simulation_starts_at_the_start_pose_on_its_own_clock() -> None:
     assert sim.true_pose == Pose2D(0.6, 1.0, 0.0)
     assert sim.true_twist == Twist()
     assert sim.robot.read_scan() is None and sim.robot.read_imu() is None
-    assert sim.robot.read_odometry().pose == Pose2D(0.6, 1.0, 0.0)
+    assert sim.robot.read_odometry().pose == Pose2D(0.0, 0.0, 0.0)
     sim.step()
     assert sim.clock.now() == 0.02
     scan, imu = sim.robot.read_scan(), sim.robot.read_imu()
     assert scan is not None and scan.stamp == 0.02
     assert imu is not None and imu.stamp == 0.02
+
+
+def test_odometry_starts_at_zero_at_a_turned_start_pose_and_follows_in_its_own_frame() -> None:
+    start = Pose2D(3.0, 2.5, math.pi / 2)
+    sim = Simulation(ascii_world(HALL, start=start), config=QUIET)
+    assert sim.odometry.pose == Pose2D(0.0, 0.0, 0.0)
+    assert sim.odometry_origin == start and sim.true_pose == start
+    sim.robot.drive(Twist(0.5, 0.4))  # an arc to the left, from facing +y
+    _run(sim, 2.0)
+    true, odom = sim.true_pose, sim.odometry.pose
+    # Noise-free: the odometry is the true motion seen from the start pose, not the world pose.
+    seen = sim.world_to_odometry(true)
+    assert (odom.x, odom.y, odom.theta) == pytest.approx((seen.x, seen.y, seen.theta), abs=1e-9)
+    assert odom.theta == pytest.approx(true.theta - math.pi / 2, abs=1e-9)
+    assert odom.x > 0.5 and odom.y > 0.1 and true.y > 3.0 and true.x < 3.0
+    assert sim.odometry_to_world(odom).distance_to(true) < 1e-9
+    before = sim.odometry
+    sim.teleport(sim.floor, Pose2D(6.0, 2.0, 0.0))  # a ride moves the body, not the frame
+    assert sim.odometry == before and sim.odometry_origin == start
 
 
 def test_sim_robot_is_a_robot_reading_the_simulation() -> None:
@@ -246,7 +265,7 @@ def test_odometry_drifts_from_the_truth_but_stays_close() -> None:
     sim = Simulation(_corridor(), seed=2)
     sim.robot.drive(Twist(0.8, 0.0))
     _run(sim, 8.0)
-    error = sim.odometry.pose.distance_to(sim.true_pose)
+    error = sim.odometry_to_world(sim.odometry.pose).distance_to(sim.true_pose)
     assert sim.true_pose.x > 6.0
     assert 0.0 < error < 0.1
 
