@@ -61,6 +61,7 @@ class BackOut:
         max_distance: float = 2.0,
         speed: float = 0.2,
         timeout: float = 20.0,
+        allowed: bool = True,
     ) -> None:
         self._costmap = costmap
         self._trail = trail
@@ -68,6 +69,7 @@ class BackOut:
         self.max_distance = max_distance
         self.speed = speed
         self.timeout = timeout
+        self.allowed = allowed
         self._way: list[Pose2D] = []
         self._index = 0
         self._origin = Pose2D()
@@ -82,9 +84,9 @@ class BackOut:
         self._origins.clear()
 
     def may_start(self, pose: Pose2D) -> bool:
-        """Is there a way back, and has no back-out started here before in this goal (a
-        second one from the same place would only repeat the first)?"""
-        return len(self._trail.way_back()) > 1 and all(
+        """May the robot reverse, is there a way back, and has no back-out started here before
+        in this goal (a second one from the same place would only repeat the first)?"""
+        return self.allowed and len(self._trail.way_back()) > 1 and all(
             o.distance_to(pose) > 0.2 for o in self._origins
         )
 

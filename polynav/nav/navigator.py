@@ -122,12 +122,13 @@ class Navigator(ChargerPhases, PlanFailures):
         self._sinks: list[EventSink] = [on_event] if on_event else []
         cfg = self.config
         self._rotate = Rotate(costmap, footprint=self._footprint, angle=cfg.recovery_rotate_angle)
+        back_up: tuple[Recovery, ...] = (BackUp(
+            costmap, distance=cfg.recovery_backup_distance, speed=cfg.recovery_backup_speed,
+            robot_radius=robot_radius, footprint=self._footprint,
+        ),) if cfg.reverse_allowed else ()
         self._ladder_steps: Sequence[Recovery] = (
             ClearAround(costmap, radius=cfg.recovery_clear_radius),
-            BackUp(
-                costmap, distance=cfg.recovery_backup_distance, speed=cfg.recovery_backup_speed,
-                robot_radius=robot_radius, footprint=self._footprint,
-            ),
+            *back_up,
             self._rotate,
             Wait(cfg.recovery_wait),
         )
@@ -139,7 +140,8 @@ class Navigator(ChargerPhases, PlanFailures):
         self._trail = Trail(cfg.recovery_backout_distance + 1.0)
         self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
                                  max_distance=cfg.recovery_backout_distance,
-                                 speed=cfg.recovery_backup_speed)
+                                 speed=cfg.recovery_backup_speed,
+                                 allowed=cfg.reverse_allowed)
         self._next_id = 1
         self._attempt: NavigationAttempt | None = None
         self._path: Path | None = None

@@ -26,7 +26,8 @@ class NavigatorConfig:
     ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
     ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), and a robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
-    (:mod:`~polynav.nav.back_out`).
+    (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
+    neither backs out nor backs up.
     """
 
     replan_period: float = 3.0
@@ -58,6 +59,7 @@ class NavigatorConfig:
     goal_wait_period: float = 1.0
     passage_limit: int = 12
     recovery_backout_distance: float = 3.0
+    reverse_allowed: bool = True
 
     def __post_init__(self) -> None:
         for key in (

@@ -81,6 +81,10 @@ class StackConfig:
 # walls by a margin even for a rectangle's corners.
 INFLATION_MARGIN = 0.3
 
+# A robot blind behind backs out of a pocket at most this far [m]: along the way it came, which
+# was free, but where nothing that came in behind it since would be seen.
+BLIND_BACKOUT = 0.5
+
 
 def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> StackConfig:
     """``base`` (default: the defaults) built for ``profile``'s robot.
@@ -89,7 +93,9 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
     ``INFLATION_MARGIN`` past its circumscribed radius (Nav2's convention: a centre nearer than
     the inscribed radius to an obstacle is certainly a collision, one nearer than the
     circumscribed radius possibly, depending on the heading). The controller drives at the
-    profile's cruise speeds and accelerations, never above its limits. Operator settings
+    profile's cruise speeds and accelerations, never above its limits. It reverses in a recovery
+    only if the profile allows, and backs out of a pocket no farther than its rear is seen (at
+    least ``BLIND_BACKOUT`` along its way in). Operator settings
     (:meth:`polynav.runtime.settings.RobotSettings.stack_config`) then apply on top.
     """
     base = base or StackConfig()
@@ -113,7 +119,15 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
         inflation_radius=max(cm.inflation_radius, profile.circumscribed_radius + INFLATION_MARGIN),
         range_noise=profile.lidar.noise,
     )
-    return replace(base, controller=controller, costmap=costmap, footprint=profile.footprint)
+    nav = base.navigator
+    navigator = replace(
+        nav,
+        reverse_allowed=nav.reverse_allowed and profile.reverse.allowed,
+        recovery_backout_distance=min(nav.recovery_backout_distance,
+                                      max(profile.rear_view, BLIND_BACKOUT)),
+    )
+    return replace(base, controller=controller, costmap=costmap, navigator=navigator,
+                   footprint=profile.footprint)
 
 
 class NavigationStack:

@@ -40,6 +40,9 @@ The file, every key optional except ``name`` and ``footprint`` (units SI, angles
                translation_additive: 0.0002, rotation_additive: 0.0002}
     imu: {rate: 50.0, yaw_rate_noise: 0.005, yaw_rate_bias: 0.002, acceleration_noise: 0.05}
     charger: {distance_tolerance: 0.1, heading_tolerance: 0.3}
+    reverse: {allowed: true, rear_view: 12.0}   # may it back up in a recovery; how far [m] its
+                                               # sensors see behind it (default: the lidar's
+                                               # range if it sees behind, else 0)
 
 Frame conventions (REP 103): x forward, y left, the base's origin is its centre of rotation. A
 polygon is listed in order (either winding), must not cross itself, and must contain the
@@ -168,6 +171,16 @@ class ChargerContact:
 
 
 @dataclass(frozen=True, slots=True)
+class Reverse:
+    """Whether the base may drive backwards in a recovery (backing up, backing out of a pocket),
+    and how far [m] behind it its sensors see; ``rear_view`` ``None`` takes the lidar's range
+    when its field of view reaches behind the base, else 0 (blind behind)."""
+
+    allowed: bool = True
+    rear_view: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
 class RobotProfile:
     """One robot: body, limits, sensors and charger contact (see the module docstring).
 
@@ -184,9 +197,19 @@ class RobotProfile:
     odometry: OdometryNoise = field(default_factory=OdometryNoise)
     imu: ImuSpec = field(default_factory=ImuSpec)
     charger: ChargerContact = field(default_factory=ChargerContact)
+    reverse: Reverse = field(default_factory=Reverse)
 
     def __post_init__(self) -> None:
         _validate(self)
+
+    @property
+    def rear_view(self) -> float:
+        """How far [m] behind the base its sensors see (:class:`Reverse`)."""
+        if self.reverse.rear_view is not None:
+            return self.reverse.rear_view
+        # Seen behind when the lidar's field of view reaches straight back from its heading.
+        behind = abs(math.remainder(math.pi - self.lidar.theta, 2.0 * math.pi))
+        return self.lidar.range_max if self.lidar.fov / 2.0 >= behind - 1e-9 else 0.0
 
     @property
     def inscribed_radius(self) -> float:
@@ -254,6 +277,7 @@ class RobotProfile:
             "odometry": asdict(self.odometry),
             "imu": asdict(self.imu),
             "charger": asdict(self.charger),
+            "reverse": {"allowed": self.reverse.allowed, "rear_view": self.rear_view},
         }
 
 
@@ -303,7 +327,7 @@ def parse_profile(doc: object) -> RobotProfile:
     """
     top = _mapping(doc, "robot")
     _known(top, "robot", ("name", "description", "footprint", "limits", "cruise", "lidar",
-                          "odometry", "imu", "charger"))
+                          "odometry", "imu", "charger", "reverse"))
     name = top.get("name")
     if not isinstance(name, str) or not name.strip():
         raise ProfileError("name", f"expected a non-empty string, got {name!r}")
@@ -330,7 +354,18 @@ def parse_profile(doc: object) -> RobotProfile:
         odometry=_section(OdometryNoise, top.get("odometry", {}), "odometry"),
         imu=_section(ImuSpec, top.get("imu", {}), "imu"),
         charger=_section(ChargerContact, top.get("charger", {}), "charger"),
+        reverse=_reverse(top.get("reverse", {})),
     )
+
+
+def _reverse(raw: object) -> Reverse:
+    doc = _mapping(raw, "reverse")
+    _known(doc, "reverse", ("allowed", "rear_view"))
+    allowed = doc.get("allowed", True)
+    if not isinstance(allowed, bool):
+        raise ProfileError("reverse.allowed", f"expected true or false, got {allowed!r}")
+    view = doc.get("rear_view")
+    return Reverse(allowed, None if view is None else _number(view, "reverse.rear_view"))
 
 
 def _footprint(raw: object) -> Footprint:
@@ -452,6 +487,8 @@ def _validate(p: RobotProfile) -> None:
         _non_negative(getattr(p.imu, name), f"imu.{name}")
     for name in ("distance_tolerance", "heading_tolerance"):
         _positive(getattr(p.charger, name), f"charger.{name}")
+    if p.reverse.rear_view is not None:
+        _non_negative(p.reverse.rear_view, "reverse.rear_view")
     physics = SimConfig().physics_rate
     for key, rate in (("lidar.rate", li.rate), ("imu.rate", p.imu.rate)):
         if rate > physics:

@@ -8,13 +8,14 @@ turn into, and every retry planned the same gap again.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
 
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import FailureReason, NavigationState
-from polynav.robot.profile import RobotProfile, load_profile
+from polynav.robot.profile import Reverse, RobotProfile, load_profile
 from tests.helpers.rooms import drive, go, retries, room
 
 
@@ -74,14 +75,16 @@ def test_a_post_the_map_does_not_have_closes_its_passage_and_the_robot_goes_roun
     assert all(cause.startswith("blocked at") for cause, _ in tried), tried
 
 
+# A dead-end bay 0.6 m wide and 2.4 m deep, open towards the start.
+_BAY = [(3.2, 2.1, 5.6, 2.15), (3.2, 2.75, 5.6, 2.8), (5.55, 2.1, 5.6, 2.8)]
+
+
 def test_a_robot_in_a_pocket_it_cannot_turn_in_backs_out_and_goes_round(
     base: RobotProfile,
 ) -> None:
-    # A dead-end bay 0.6 m wide and 2.4 m deep, open towards the start. The robot is sent to
-    # its far end, then to a goal behind it: it cannot turn in the bay, so it backs out along
-    # the way it came in, turns at the mouth and drives on.
-    bay = [(3.2, 2.1, 5.6, 2.15), (3.2, 2.75, 5.6, 2.8), (5.55, 2.1, 5.6, 2.8)]
-    driver, seen = drive(room(8.0, 4.4, bay), Pose2D(1.5, 2.45, 0.0), base)
+    # The robot is sent to the bay's far end, then to a goal behind it: it cannot turn in the
+    # bay, so it backs out along the way it came in, turns at the mouth and drives on.
+    driver, seen = drive(room(8.0, 4.4, _BAY), Pose2D(1.5, 2.45, 0.0), base)
     go(driver, Pose2D(5.0, 2.45, 0.0), timeout=30.0)
     assert driver.stack.navigator.state is NavigationState.SUCCEEDED
     seen.clear()
@@ -95,3 +98,20 @@ def test_a_robot_in_a_pocket_it_cannot_turn_in_backs_out_and_goes_round(
     assert recoveries.count("back out") == 1, recoveries
     assert "clear around" not in recoveries  # no ladder of blind retries
     assert driver.now - began < 30.0
+
+
+def test_a_robot_that_may_not_reverse_never_backs_out_of_the_pocket(base: RobotProfile) -> None:
+    no_reverse = dataclasses.replace(base, reverse=Reverse(allowed=False))
+    driver, seen = drive(room(8.0, 4.4, _BAY), Pose2D(1.5, 2.45, 0.0), no_reverse)
+    go(driver, Pose2D(5.0, 2.45, 0.0), timeout=30.0)
+    assert driver.stack.navigator.state is NavigationState.SUCCEEDED
+    seen.clear()
+    inside = driver.sim.true_pose
+    go(driver, Pose2D(1.5, 1.0, math.pi), timeout=120.0)
+    attempt = driver.stack.navigator.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.STUCK
+    recoveries = [recovery for _, recovery in retries(seen)]
+    assert not [r for r in recoveries if "back" in r], recoveries
+    assert driver.sim.true_pose.x > inside.x - 0.1  # it never drove backwards
+    assert driver.sim.collisions == []

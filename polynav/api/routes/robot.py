@@ -109,6 +109,14 @@ class ChargerIO(_Strict):
     heading_tolerance: Number | None = None
 
 
+class ReverseIO(_Strict):
+    """May the base back up in a recovery, and how far [m] behind it its sensors see (left out:
+    the lidar's range if it sees behind, else 0)."""
+
+    allowed: bool | None = None
+    rear_view: Number | None = None
+
+
 class ProfileIn(_Strict):
     """A robot profile, as in ``robot.yaml``; left-out sections take the defaults."""
 
@@ -121,6 +129,7 @@ class ProfileIn(_Strict):
     odometry: OdometryIO | None = None
     imu: ImuIO | None = None
     charger: ChargerIO | None = None
+    reverse: ReverseIO | None = None
 
 
 class ProfileOut(BaseModel):
@@ -137,6 +146,7 @@ class ProfileOut(BaseModel):
     odometry: OdometryIO
     imu: ImuIO
     charger: ChargerIO
+    reverse: ReverseIO
 
 
 ProfileBody = Body(

@@ -84,6 +84,10 @@ def test_profile_loads_from_a_file(tmp_path: Path) -> None:
         ({"odometry": {"rotation_noise": -0.1}}, "robot.odometry.rotation_noise"),
         ({"imu": {"rate": 0.0}}, "robot.imu.rate"),
         ({"charger": {"distance_tolerance": 0.0}}, "robot.charger.distance_tolerance"),
+        ({"reverse": {"allowed": "yes"}}, "robot.reverse.allowed"),
+        ({"reverse": {"rear_view": -1.0}}, "robot.reverse.rear_view"),
+        ({"reverse": {"mirrors": 2}}, "robot.reverse.mirrors"),
+        ({"reverse": True}, "robot.reverse"),
         ({"limits": {"max_speed": 1.0}}, "robot.limits.max_speed"),
         ({"wheels": 4}, "robot.wheels"),
         ({"name": ""}, "robot.name"),
@@ -126,3 +130,26 @@ def test_profile_built_in_python_is_validated() -> None:
     with pytest.raises(ProfileError, match="robot.lidar.pose"):
         RobotProfile(name="x", footprint=good.footprint,
                      lidar=type(good.lidar)(x=2.0))
+
+
+def test_the_rear_is_seen_as_far_as_a_lidar_that_looks_behind_unless_the_profile_says() -> None:
+    round_lidar = parse_profile(_doc())
+    assert round_lidar.reverse.allowed and round_lidar.rear_view == 12.0
+    forward = parse_profile(_doc(lidar={"pose": {"x": 0.1, "y": 0.0, "theta": 0.0},
+                                        "fov": math.pi}))
+    assert forward.rear_view == 0.0
+    told = parse_profile(_doc(reverse={"allowed": False, "rear_view": 0.8}))
+    assert not told.reverse.allowed and told.rear_view == 0.8
+    assert told.to_dict()["reverse"] == {"allowed": False, "rear_view": 0.8}
+    assert parse_profile(told.to_document()) == told
+
+
+def test_the_stack_reverses_only_as_the_profile_allows_and_backs_out_only_as_far_as_it_sees(
+) -> None:
+    from polynav.nav.stack import BLIND_BACKOUT, stack_config_for
+
+    assert stack_config_for(parse_profile(_doc())).navigator.reverse_allowed
+    may_not = stack_config_for(parse_profile(_doc(reverse={"allowed": False})))
+    assert not may_not.navigator.reverse_allowed
+    blind = stack_config_for(parse_profile(_doc(reverse={"rear_view": 0.0})))
+    assert blind.navigator.recovery_backout_distance == BLIND_BACKOUT
