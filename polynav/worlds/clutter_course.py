@@ -121,7 +121,7 @@ class Gap:
 class ClutterCourse:
     """A drawn course: the world, where the robot starts and where it goes, and the checked path.
 
-    ``path`` is the planner's path on the static map inflated by the body's inscribed radius;
+    ``path`` is the planner's path on the static map (see :attr:`optimal_length`);
     ``optimal_length`` its length [m] (the benchmark's yardstick at top speed). ``min_gap`` is
     the narrowest gap [m] the generator meant to leave (``posts``: between any two posts;
     ``lattice``: the narrowest of ``gaps``). ``way`` is the kind's checked feasible route when
@@ -143,15 +143,13 @@ class ClutterCourse:
 
     @property
     def optimal_length(self) -> float:
-        """Length [m] of ``path``: a lower bound on any route the body can drive.
+        """Length [m] of ``path``: the benchmark's yardstick.
 
-        Every pose of a body keeps its centre at least the inscribed radius from every
-        obstacle, so any feasible route lies in the free space of the map inflated by that
-        radius. ``lattice`` plans ``path`` there with no cost penalty, so it is the shortest
-        such route up to the grid's few centimetres; ``posts`` keeps issue 18's plan with the
-        planner's default cost weight, a little longer than that. For a polygonal body the
-        true shortest route is longer still: it cannot turn in every gap the inflated map
-        leaves open, so this is a lower bound, not a route it can drive.
+        ``posts`` keeps issue 18's plan on the map inflated by the inscribed radius with the
+        planner's default cost weight (a route the body can drive facing along it, checked).
+        ``lattice`` plans with the body's own planner and no cost penalty: the shortest route
+        the body can drive, up to the lattice's 16 headings (a disk: the grid's shortest
+        path). Time spent turning in place is not in it.
         """
         return self.path.length
 

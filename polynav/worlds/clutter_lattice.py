@@ -26,10 +26,10 @@ short wall) and are grouped into structures, drawn from a seed and a *density* i
    wide). Some pockets sit on the straight line. Their count grows with the density.
 5. The guarantee is *checked* (:func:`check`): the exact distance from the way's centre line to
    every occupied cell (a cell is its full square) is at least the way's clearance, and the
-   planner finds a path on the static map inflated by the inscribed radius. That path (planned
-   with no cost penalty) gives ``optimal_length``, a lower bound on any route the body can
-   drive, not the length of one: for a polygon, the inflated map leaves gaps open that the body
-   cannot use.
+   body's planner (:func:`polynav.planning.registry.for_footprint`: the grid planner for a
+   disk, the footprint planner for a polygon) finds a route on the static map, planned with no
+   cost penalty. Its length is ``optimal_length``: the shortest route the body can drive (for a
+   polygon up to the lattice's 16 headings; turning in place takes no length).
 
 What the generator placed is kept on the course (``structures``, and ``gaps`` with their
 widths measured on the drawn grid) so tests and readers of a failed run can see it.
@@ -49,7 +49,8 @@ from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps.costmap import Costmap
 from polynav.maps.map import Map
-from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
+from polynav.planning import registry
+from polynav.planning.grid_planner import GridPlannerConfig
 from polynav.planning.path import Path
 from polynav.worlds.clutter_course import (
     RESOLUTION,
@@ -149,9 +150,9 @@ def draw_once(
     gaps = tuple(g for g in (_measure(frame, grid, c, a) for c, a in openings) if g is not None)
     static = Costmap.from_map(grid, static_config(footprint))
     try:
-        # No cost penalty: the shortest path on the inflated map, the honest lower bound.
-        path = GridPlanner(GridPlannerConfig(cost_weight=0.0)).plan(static, frame.start,
-                                                                     frame.goal)
+        # No cost penalty: the shortest route the body can drive on the static map.
+        planner = registry.for_footprint(footprint, GridPlannerConfig(cost_weight=0.0))
+        path = planner.plan(static, frame.start, frame.goal)
     except PolynavError as exc:
         path = Path(np.zeros((0, 2)))
         log.warning("clutter lattice course %d: no path on the static map: %s", seed, exc)
