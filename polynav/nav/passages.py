@@ -80,6 +80,11 @@ class ClosedPassages:
         self.tried.clear()
         self._noted = None
 
+    def reopen_all(self) -> None:
+        """Forget every closure (their names stay in ``tried``): when they leave no way at all,
+        the block may have been something that moves on (another robot, a trolley)."""
+        self.passages.clear()
+
     @property
     def full(self) -> bool:
         return len(self.passages) >= self.limit

@@ -12,9 +12,11 @@ users). Two moments are decided here:
   and time (:mod:`~polynav.nav.retry_budget`), with the recovery ladder.
 - **A plan fails**: the lidar's marks are cleared once and the plan tried again; a goal held by
   something not on the map is waited for (:mod:`~polynav.nav.goal_wait`); people in a narrow way
-  are waited for. When passages have been closed and no way is left, a robot that cannot turn
-  backs out first; then the goal fails ``stuck``, naming the passages tried, since every way the
-  closures leave has been tried. Without closures it fails ``no path`` / ``goal occupied``.
+  are waited for. When no way is left, a robot that cannot turn backs out first; when passages
+  have been closed, every way they leave has been tried: they are opened again and the robot
+  retries, counted by place and time, so that something that has moved on (another robot, a
+  trolley) does not end the goal, and one that stays ends it ``stuck`` with the passages named.
+  Without closures a plan that finds no way fails ``no path`` / ``goal occupied``.
 """
 
 from __future__ import annotations
@@ -146,8 +148,11 @@ class PlanFailures:
                 self._start_back_out("no way on from here", pose, now)
             else:
                 self._retry("no way on from here", pose, now)
-        elif self._passages.tried and isinstance(exc, NoPath):
-            tried = ", ".join(self._passages.tried)
-            self._fail(FailureReason.STUCK, f"no way left: passages tried at {tried}", now)
+        elif self._passages.passages and isinstance(exc, NoPath):
+            # Every way the closures leave has been tried: what closed them may have moved on
+            # (another robot, a trolley). Open them again and retry, counted by place and time,
+            # so the goal fails stuck, naming them, once the place's retries are spent.
+            self._passages.reopen_all()
+            self._retry("no way left but closed passages", pose, now)
         else:
             self._fail(reason, str(exc) or reason.value, now)
