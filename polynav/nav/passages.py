@@ -63,22 +63,34 @@ class ClosedPassages:
         footprint: the body.
         limit: at most this many closures per goal; blocks beyond it count as plain failures.
         reopen_after: a closure whose cells stay free this long [s] is forgotten.
+        time_budget: no passage is closed later than this [s] after the first closure of the
+            goal: a robot that has gone round for that long without getting through is dealt
+            with as any robot failing at a place (the retry budget decides).
     """
 
     footprint: Footprint
     limit: int = 12
     reopen_after: float = 2.0
+    time_budget: float = 60.0
     passages: list[ClosedPassage] = field(default_factory=list)
     tried: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self._noted: ClosedPassage | None = None
+        self._first: float | None = None
 
     def reset(self) -> None:
         """A new goal: nothing is closed."""
         self.passages.clear()
         self.tried.clear()
         self._noted = None
+        self._first = None
+
+    def near_earlier(self, passage: ClosedPassage, radius: float) -> bool:
+        """Was another passage closed within ``radius`` [m] of ``passage`` in this goal? (A
+        wall of obstacles across the way closes one spot after another along it.)"""
+        return any(p is not passage and math.hypot(p.x - passage.x, p.y - passage.y) <= radius
+                   for p in self.passages)
 
     def reopen_all(self) -> None:
         """Forget every closure (their names stay in ``tried``): when they leave no way at all,
@@ -109,18 +121,22 @@ class ClosedPassages:
             cells = _touched_cells(self.footprint, costmap, x, y, theta)
             self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells)
 
-    def close(self) -> ClosedPassage | None:
+    def close(self, now: float) -> ClosedPassage | None:
         """Close the passage noted at the last block; ``None`` when the body touched nothing
         along the route then (the block was the arc or a turn), the place is closed already,
-        or the limit is reached."""
+        or the limit or the time budget is spent."""
         passage, self._noted = self._noted, None
         if passage is None or self.full:
+            return None
+        if self._first is not None and now - self._first > self.time_budget:
             return None
         for known in self.passages:
             if math.hypot(known.x - passage.x, known.y - passage.y) < passage.radius:
                 return None
         self.passages.append(passage)
         self.tried.append(passage.name)
+        if self._first is None:
+            self._first = now
         log.info("passage at %s closed for this goal (%d cells)", passage.name,
                  passage.cells.shape[0])
         return passage

@@ -8,8 +8,12 @@ users). Two moments are decided here:
   (:mod:`~polynav.nav.passages`) and the robot plans again at once, round it; where it cannot
   turn (a pocket narrower than its diagonal) it first backs out along the way in
   (:mod:`~polynav.nav.back_out`). A block that closes a new passage is progress, not a failure:
-  it does not count against the place's retries. Anything else is a failure, counted by place
-  and time (:mod:`~polynav.nav.retry_budget`), with the recovery ladder.
+  it does not count against the place's retries, unless an earlier closure lies within
+  ``progress_reset_distance`` (one obstacle across the way closes spot after spot along it).
+  A caller that sets its own retry limit (Yunji's ``max_continuous_retries``, a lift leg) runs
+  its own policy: nothing is closed, and every block is one of its retries. Anything else is a
+  failure, counted by place and time (:mod:`~polynav.nav.retry_budget`), with the recovery
+  ladder.
 - **A plan fails**: the lidar's marks are cleared once and the plan tried again; a goal held by
   something not on the map is waited for (:mod:`~polynav.nav.goal_wait`); people in a narrow way
   are waited for. When no way is left, a robot that cannot turn backs out first; when passages
@@ -84,11 +88,16 @@ class PlanFailures:
 
         def _enter(self, phase: NavPhase, now: float) -> None: ...
 
+        def _update(self, **changes: object) -> None: ...
+
         def _wait_for_people(self, pose: Pose2D, now: float) -> None: ...
 
     def _on_blocked(self, pose: Pose2D, now: float) -> None:
         """The controller stopped and nobody is in the way: close the passage or retry."""
-        passage = self._passages.close()
+        # A caller with its own retry limit (Yunji's max_continuous_retries, a lift leg) runs
+        # its own policy: every block is one of its retries, and nothing is closed.
+        own_limit = self._require().options.max_retries is not None
+        passage = None if own_limit else self._passages.close(now)
         if passage is None:
             if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):
                 self._controller.reset()
@@ -96,11 +105,18 @@ class PlanFailures:
             else:
                 self._retry("blocked", pose, now)
             return
-        self._controller.reset()
-        if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):
-            self._start_back_out(f"blocked at {passage.name}", pose, now)
+        cause = f"blocked at {passage.name}"
+        if self._passages.near_earlier(passage, self.config.progress_reset_distance):
+            # A passage closed next to an earlier one is one obstacle across the way, not
+            # another way tried: a retry like any other.
+            self._retry(cause, pose, now)
             return
-        self._emit_retry(f"blocked at {passage.name}", "re-plan round it", now)
+        self._controller.reset()
+        self._update(retries=self._require().retries + 1)
+        if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):
+            self._start_back_out(cause, pose, now)
+            return
+        self._emit_retry(cause, "re-plan round it", now)
         self._enter(NavPhase.PLAN, now)
 
     def _start_back_out(self, cause: str, pose: Pose2D, now: float) -> None:

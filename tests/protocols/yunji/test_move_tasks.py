@@ -154,7 +154,10 @@ def test_an_obstacle_across_the_way_sends_01204_01005_then_01006_and_01003(
     assert codes[:3] == ["01001", "01204", "01005"]
     assert codes[-3:] == ["01204", "01006", "01003"]
     assert codes.count("01005") == retries[-1] - 1
-    assert set(codes) == {"01001", "01204", "01005", "01006", "01003"}
+    # The obstacle's marks and inflation may close the corridor for one plan (01203, planning
+    # failed), then the marks are cleared and the next plan goes on; nothing else is sent.
+    assert {"01001", "01204", "01005", "01006", "01003"} <= set(codes)
+    assert set(codes) <= {"01001", "01204", "01005", "01006", "01003", "01203"}
 
 
 def test_a_location_in_a_wall_sends_01007_then_01003_without_retries(

@@ -30,27 +30,27 @@ def _route() -> TrackedPath:
 def test_a_block_closes_the_place_the_body_first_touches_along_the_route() -> None:
     passages = ClosedPassages(BODY)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
-    passage = passages.close()
+    passage = passages.close(0.0)
     assert passage is not None
     assert 2.6 < passage.x < 2.8 and abs(passage.y - 1.5) < 1e-9
     assert passage.cells.tolist() == [[60, 30]]
     assert passages.tried == [passage.name]
     # The same place again is no new passage.
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
-    assert passages.close() is None
+    assert passages.close(0.0) is None
 
 
 def test_a_block_with_nothing_on_the_route_closes_nothing() -> None:
     passages = ClosedPassages(BODY)
     empty = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
     passages.note_block(empty, _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
-    assert passages.close() is None
+    assert passages.close(0.0) is None
 
 
 def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> None:
     passages = ClosedPassages(BODY)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
-    passage = passages.close()
+    passage = passages.close(0.0)
     assert passage is not None
     robot = Pose2D(2.4, 1.5, 0.0)  # its nose reaches into the disc
     painted = passages.planning_grid(_grid_with_post(), robot).costs
@@ -63,7 +63,7 @@ def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> Non
 def test_a_closure_is_forgotten_only_after_its_cells_stay_free() -> None:
     passages = ClosedPassages(BODY, reopen_after=2.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
-    assert passages.close() is not None
+    assert passages.close(0.0) is not None
     free = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
     passages.refresh(free, 10.0)  # a recovery cleared the mark ...
     passages.refresh(_grid_with_post(), 10.1)  # ... and the next scan put it back
@@ -73,3 +73,14 @@ def test_a_closure_is_forgotten_only_after_its_cells_stay_free() -> None:
     passages.refresh(free, 13.0)
     assert passages.passages == []
     assert len(passages.tried) == 1  # still named when the goal fails
+
+
+def test_no_passage_is_closed_once_the_time_budget_after_the_first_is_spent() -> None:
+    passages = ClosedPassages(BODY, time_budget=60.0)
+    passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
+    assert passages.close(10.0) is not None
+    passages.reopen_all()  # the closure is gone; the budget still runs from it
+    passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
+    assert passages.close(71.0) is None
+    passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
+    assert passages.close(69.0) is not None
