@@ -50,18 +50,31 @@ class LatticeConfig:
     Attributes:
         turn_cost: price of turning in place [m per rad]: a quarter turn costs as much as
             driving ``turn_cost * pi / 2`` metres, so the route does not wriggle.
-        window_margin: the search window reaches this far [m] beyond the grid route's box.
+        window_margins: the search runs in a window this far [m] beyond the stretch's box,
+            then in the next wider one if that holds no way.
+        max_states: a window of more states than this (cells x 16 headings) is not searched:
+            the bound on memory (about 10 bytes a state).
         max_expansions: the search gives up after this many states (a bound on time).
         max_leg: the shortening tries straight legs up to this long [m].
+        local_repair_over: a route longer than this [m] is repaired only round the stretch
+            the body cannot drive, ``repair_margin`` [m] either side of it, when that works.
     """
 
     turn_cost: float = 0.3
-    window_margin: float = 4.0
+    window_margins: tuple[float, ...] = (4.0, 12.0)
+    max_states: int = 12_000_000
     max_expansions: int = 3_000_000
     max_leg: float = 4.0
+    local_repair_over: float = 30.0
+    repair_margin: float = 5.0
 
     def __post_init__(self) -> None:
-        for key in ("turn_cost", "window_margin", "max_leg"):
+        if not self.window_margins or any(not (math.isfinite(m) and m >= 0.0)
+                                          for m in self.window_margins):
+            raise ConfigError("planner.lattice.window_margins", "must be finite values >= 0")
+        if self.max_states < 1:
+            raise ConfigError("planner.lattice.max_states", "must be >= 1")
+        for key in ("turn_cost", "max_leg", "local_repair_over", "repair_margin"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ConfigError(f"planner.lattice.{key}", f"must be finite and >= 0, got {value}")
@@ -159,12 +172,28 @@ class FootprintPlanner:
             route lets the body through.
         """
         path = self._grid.plan(costmap, start, goal, goal_tolerance=goal_tolerance)
-        if drivable(path, self._footprint, costmap, start.theta):
+        stretch = _undrivable_stretch(path, self._footprint, costmap, start.theta)
+        if stretch is None:
             return path
         end = (float(path.points[-1, 0]), float(path.points[-1, 1]))
         reached_goal = math.hypot(end[0] - goal.x, end[1] - goal.y) < 1e-9
         self.lattice_plans += 1
-        return self._lattice_route(costmap, start, end, reached_goal, path)
+        route = _Polyline.of(path.points)
+        cfg = self._lattice
+        if route.length > cfg.local_repair_over:
+            # A long route: search round the stretch the body cannot drive, then splice.
+            s0 = max(stretch[0] - cfg.repair_margin, 0.0)
+            s1 = min(stretch[1] + cfg.repair_margin, route.length)
+            if s1 < route.length:
+                local = self._search(costmap, route, s0, s1, start, None)
+                if local is not None:
+                    return _spliced(route, s0, s1, local, path.cost)
+        whole = self._search(costmap, route, 0.0, route.length, start,
+                             end if reached_goal else None)
+        if whole is None:
+            raise NoPath("no route the body fits: every way is narrower than the body at the "
+                         "headings it can have there")
+        return whole
 
     def reachable(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> bool:
         try:
@@ -173,14 +202,17 @@ class FootprintPlanner:
             return False
         return True
 
-    def _lattice_route(
+    def _search(
         self,
         costmap: CostGrid,
+        route: _Polyline,
+        s0: float,
+        s1: float,
         start: Pose2D,
-        end: tuple[float, float],
-        reached_goal: bool,
-        grid_path: Path,
-    ) -> Path:
+        goal: tuple[float, float] | None,
+    ) -> Path | None:
+        """The lattice route from the route's point at ``s0`` [m] (the robot's own pose at 0)
+        to its point at ``s1``, in windows round that stretch; ``None`` if none holds one."""
         info = costmap.info
         grid = np.ascontiguousarray(costmap.costs, dtype=np.uint8)
         cfg = self._grid.config
@@ -189,18 +221,26 @@ class FootprintPlanner:
         mult = step_multipliers(cost_weight=cfg.cost_weight, lethal_threshold=cost_values.INSCRIBED,
                                 unknown_cost=unknown, escape_below=cost_values.LETHAL)
         fp = self._footprint
-        reach = fp.circumscribed_radius
-        near = _near_obstacles(grid, info.resolution, reach)
+        if s0 > 0.0:
+            x, y = route.point_at(s0)
+            start = Pose2D(x, y, route.heading_at(s0))
+        end = route.point_at(s1) if goal is None else goal
         sx, sy = info.world_to_cell(start.x, start.y)
-        gx, gy = info.world_to_cell(*end)
+        gx, gy = info.world_to_cell(float(end[0]), float(end[1]))
         sk = lattice.nearest_heading(start.theta - info.origin.theta)
         verts = np.ascontiguousarray(fp.vertices, dtype=np.float64)
         rot_step = fp.rotation_step(info.resolution)
         turn_cost = self._lattice.turn_cost / info.resolution
         start_ignore = _overlapped(fp, grid, info, start)
-        windows = [_window(info, grid_path.points, self._lattice.window_margin),
-                   (0, 0, info.width, info.height)]
-        for x0, y0, x1, y1 in windows:
+        stretch = route.points[(route.cumulative >= s0) & (route.cumulative <= s1)]
+        stretch = np.vstack([[start.x, start.y], stretch, [end]])
+        near = np.zeros(grid.shape, dtype=np.bool_)
+        for margin in self._lattice.window_margins:
+            x0, y0, x1, y1 = _window(info, stretch, margin)
+            if (x1 - x0) * (y1 - y0) * lattice.HEADINGS > self._lattice.max_states:
+                log.debug("lattice window of %d x %d cells too large", x1 - x0, y1 - y0)
+                break
+            _mark_near(near, grid, info.resolution, fp.circumscribed_radius, (x0, y0, x1, y1))
             h = lattice.cost_to_go(grid, mult, gx, gy, x0, y0, x1, y1)
             states, cost, expansions = lattice.search(
                 grid, mult, near, info.resolution, verts, rot_step, turn_cost, h, x0, y0,
@@ -210,11 +250,10 @@ class FootprintPlanner:
                       y0, y1, expansions, "found" if states.shape[0] else "none")
             if states.shape[0]:
                 return self._route(info, grid, mult, near, verts, rot_step, states, cost, start,
-                                   end if reached_goal else None)
+                                   (float(end[0]), float(end[1])))
             if (x0, y0, x1, y1) == (0, 0, info.width, info.height):
                 break
-        raise NoPath("no route the body fits: every way is narrower than the body at the "
-                     "headings it can have there")
+        return None
 
     def _route(
         self,
@@ -254,16 +293,81 @@ def _overlapped(
                                        footprint.radius, local, False))
 
 
-def _near_obstacles(
-    grid: npt.NDArray[np.uint8], resolution: float, reach: float
-) -> npt.NDArray[np.bool_]:
-    """Cells whose centre lies within ``reach`` (plus a cell) of a LETHAL cell: only there can
-    some heading of the body touch one."""
-    lethal = grid == cost_values.LETHAL
+def _mark_near(
+    near: npt.NDArray[np.bool_],
+    grid: npt.NDArray[np.uint8],
+    resolution: float,
+    reach: float,
+    window: tuple[int, int, int, int],
+) -> None:
+    """Mark in ``near`` the window's cells whose centre lies within ``reach`` (plus a cell) of a
+    LETHAL cell: only there can some heading of the body touch one. The distance transform runs
+    on the window grown by the reach, so obstacles just outside it count."""
+    x0, y0, x1, y1 = window
+    pad = int(math.ceil(reach / resolution)) + 2
+    h, w = grid.shape
+    gx0, gy0, gx1, gy1 = max(x0 - pad, 0), max(y0 - pad, 0), min(x1 + pad, w), min(y1 + pad, h)
+    lethal = grid[gy0:gy1, gx0:gx1] == cost_values.LETHAL
     if not lethal.any():
-        return np.zeros(grid.shape, dtype=np.bool_)
+        return
     distance = ndimage.distance_transform_edt(~lethal) * resolution
-    return np.asarray(distance <= reach + resolution)
+    near[y0:y1, x0:x1] = (distance <= reach + resolution)[y0 - gy0:y1 - gy0, x0 - gx0:x1 - gx0]
+
+
+def _undrivable_stretch(
+    path: Path, footprint: Footprint, costmap: CostGrid, start_theta: float
+) -> tuple[float, float] | None:
+    """Arc lengths [m] along ``path`` of the first and last pose the body cannot take
+    (:func:`route_poses`; what it touches where it stands aside), or ``None``."""
+    poses = route_poses(path.points, footprint, costmap.info.resolution, start_theta)
+    if poses.shape[0] == 0:
+        return None
+    first = body.first_collision(footprint, costmap, poses, ignore_start=True)
+    if first is None:
+        return None
+    hits = np.flatnonzero(body.collision_mask(footprint, costmap, poses))
+    along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(poses[:, :2], axis=0).T))])
+    return float(along[first]), float(along[max(int(hits.max()), first)])
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _Polyline:
+    """A route's points without repeats and their arc lengths [m]."""
+
+    points: npt.NDArray[np.float64]
+    cumulative: npt.NDArray[np.float64]
+
+    @classmethod
+    def of(cls, points: npt.NDArray[np.float64]) -> _Polyline:
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        step = np.hypot(*np.diff(pts, axis=0).T)
+        keep = np.concatenate([[True], step > 1e-12])
+        return cls(pts[keep], np.concatenate([[0.0], np.cumsum(step[step > 1e-12])]))
+
+    @property
+    def length(self) -> float:
+        return float(self.cumulative[-1])
+
+    def point_at(self, s: float) -> tuple[float, float]:
+        return (float(np.interp(s, self.cumulative, self.points[:, 0])),
+                float(np.interp(s, self.cumulative, self.points[:, 1])))
+
+    def heading_at(self, s: float) -> float:
+        last = max(self.points.shape[0] - 2, 0)
+        k = int(np.clip(np.searchsorted(self.cumulative, s, side="right") - 1, 0, last))
+        d = self.points[min(k + 1, self.points.shape[0] - 1)] - self.points[k]
+        return float(math.atan2(d[1], d[0]))
+
+
+def _spliced(
+    route: _Polyline, s0: float, s1: float, stretch: Path, cost: float
+) -> Path:
+    """The route up to ``s0``, ``stretch`` (from the point at ``s0`` to the point at ``s1``),
+    and the route from ``s1`` on."""
+    before = route.points[route.cumulative < s0 - 1e-9]
+    after = route.points[route.cumulative > s1 + 1e-9]
+    points = np.vstack([before, stretch.points, after])
+    return Path(points=points, cost=cost + stretch.cost)
 
 
 def _window(
