@@ -7,9 +7,13 @@ its diagonal that the route enters turning, and every re-plan sends it into the 
 this planner first plans on the grid (fast, and the route a disk would take), then *checks* that
 route with the footprint at the headings the robot will have along it, turns in place at its
 corners included (:func:`route_poses`). A route the body can drive is returned as it is; only
-when the check fails does the lattice search run, in a window around the route (then over the
-whole map if the window holds no way), and its shortened route is returned. When no heading
-lets the body through anywhere, the goal fails at once with :class:`NoPath`, never by trial.
+when the check fails does the lattice search run, in a window 4 m round the route (then 12 m),
+and its shortened route is returned. A long route (over 30 m) is first repaired only round the
+stretch the body cannot drive, 5 m either side, and spliced. Windows are capped in states (the
+bound on memory); a route too long to search round keeps the grid route, as before this
+planner, and the controller and the closed passages deal with it. When no heading lets the
+body through in any window searched, the goal fails at once with :class:`NoPath`, never by
+trial.
 
 The grid planner's rules (typed errors for start, goal and tolerance) apply unchanged: the grid
 plan comes first and decides the end point. A disk needs none of this, and keeps the grid
@@ -185,15 +189,21 @@ class FootprintPlanner:
             s0 = max(stretch[0] - cfg.repair_margin, 0.0)
             s1 = min(stretch[1] + cfg.repair_margin, route.length)
             if s1 < route.length:
-                local = self._search(costmap, route, s0, s1, start, None)
+                local, _ = self._search(costmap, route, s0, s1, start, None)
                 if local is not None:
                     return _spliced(route, s0, s1, local, path.cost)
-        whole = self._search(costmap, route, 0.0, route.length, start,
-                             end if reached_goal else None)
-        if whole is None:
-            raise NoPath("no route the body fits: every way is narrower than the body at the "
-                         "headings it can have there")
-        return whole
+        whole, searched = self._search(costmap, route, 0.0, route.length, start,
+                                       end if reached_goal else None)
+        if whole is not None:
+            return whole
+        if not searched:
+            # Too far round to search for the body: the grid route it is, and the controller
+            # and the closed passages deal with the stretch (as before this planner).
+            log.warning("route of %.0f m not drivable by the body and too large to search "
+                        "round; keeping the grid route", route.length)
+            return path
+        raise NoPath("no route the body fits: every way is narrower than the body at the "
+                     "headings it can have there")
 
     def reachable(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> bool:
         try:
@@ -210,9 +220,10 @@ class FootprintPlanner:
         s1: float,
         start: Pose2D,
         goal: tuple[float, float] | None,
-    ) -> Path | None:
+    ) -> tuple[Path | None, bool]:
         """The lattice route from the route's point at ``s0`` [m] (the robot's own pose at 0)
-        to its point at ``s1``, in windows round that stretch; ``None`` if none holds one."""
+        to its point at ``s1``, in windows round that stretch (``None`` if none holds one), and
+        whether any window was small enough to search."""
         info = costmap.info
         grid = np.ascontiguousarray(costmap.costs, dtype=np.uint8)
         cfg = self._grid.config
@@ -235,11 +246,13 @@ class FootprintPlanner:
         stretch = route.points[(route.cumulative >= s0) & (route.cumulative <= s1)]
         stretch = np.vstack([[start.x, start.y], stretch, [end]])
         near = np.zeros(grid.shape, dtype=np.bool_)
+        searched = False
         for margin in self._lattice.window_margins:
             x0, y0, x1, y1 = _window(info, stretch, margin)
             if (x1 - x0) * (y1 - y0) * lattice.HEADINGS > self._lattice.max_states:
                 log.debug("lattice window of %d x %d cells too large", x1 - x0, y1 - y0)
                 break
+            searched = True
             _mark_near(near, grid, info.resolution, fp.circumscribed_radius, (x0, y0, x1, y1))
             h = lattice.cost_to_go(grid, mult, gx, gy, x0, y0, x1, y1)
             states, cost, expansions = lattice.search(
@@ -250,10 +263,10 @@ class FootprintPlanner:
                       y0, y1, expansions, "found" if states.shape[0] else "none")
             if states.shape[0]:
                 return self._route(info, grid, mult, near, verts, rot_step, states, cost, start,
-                                   (float(end[0]), float(end[1])))
+                                   (float(end[0]), float(end[1]))), True
             if (x0, y0, x1, y1) == (0, 0, info.width, info.height):
                 break
-        return None
+        return None, searched
 
     def _route(
         self,
