@@ -75,6 +75,7 @@ log = logging.getLogger(__name__)
 
 _CLOSE_IN_SHARES = (0.5, 0.25)  # nearer carrots, as shares of the lookahead, tried in turn
 _CLOSE_IN_ALIGNED = 0.05  # [rad] lined up with the path closely enough to need no turn
+_CREEP_MARGIN = 0.02  # [m/s] over the slowest regulated speed, a robot still creeps
 
 DEFAULT_FOOTPRINT = Footprint.circle(0.25)
 """The demo robot's body, when none is given."""
@@ -388,8 +389,9 @@ class RegulatedPurePursuit:
         stop_at: float,
     ) -> ControlCommand | None:
         """Follow the path more closely where the arc to the carrot cuts into an obstacle: a
-        nearer carrot (a tighter arc back onto the path) at the slowest regulated speed, or
-        else a turn in place onto the path's heading; ``None`` when neither is clear.
+        nearer carrot (a tighter arc back onto the path) at the slowest regulated speed; else,
+        lined up with the path, straight on along it to the corner the arc cut; else a turn in
+        place onto the path's heading (from a creep at most); ``None`` when none is clear.
 
         Pure pursuit cuts corners by design; in a field of posts a rectangular body that fits
         a gap only when lined up with it must not, or it stops at every gap."""
@@ -414,11 +416,21 @@ class RegulatedPurePursuit:
                                     ControlStatus.SLOWING)
         heading = float(path.headings_at(np.array([self._place]))[0])
         error = angle_diff(heading, pose.theta)
-        if abs(error) < _CLOSE_IN_ALIGNED or velocity.linear > cfg.standstill_speed:
+        if abs(error) < _CLOSE_IN_ALIGNED:
+            # Lined up with the path (to a corner the arc would cut): straight on along it,
+            # slowly, as long as straight ahead is clear; past the corner the robot turns.
+            ahead = collision.arc_poses(pose, 0.0, stop_at, 0.5 * costmap.info.resolution)
+            if collision.first_footprint_collision(self.footprint, costmap, ahead) is not None:
+                return None
+            speed = min(cfg.min_regulated_speed, self._clearance_speed(ahead, costmap))
+            return self._answer(self._limit(speed, 0.0, velocity, dt), ControlStatus.SLOWING)
+        if velocity.linear > cfg.min_regulated_speed + _CREEP_MARGIN:
             return None
         if collision.turn_collides(self.footprint, costmap, pose, error):
             return None
-        return self._answer(self._turn(error, velocity, dt), ControlStatus.ROTATING)
+        # Creeping at most: the turn's own check covers what it rolls on while it stops.
+        answer = self._rotate(pose, error, velocity, costmap, dt)
+        return None if answer.status is ControlStatus.BLOCKED else answer
 
     def _arc_to_carrot(
         self, pose: Pose2D, kappa: float, chord: float, stop_at: float, costmap: CostGrid

@@ -83,7 +83,7 @@ class PurePursuitConfig:
     pose_filter_gain: float = 0.2
     pose_filter_reset_distance: float = 0.2
     standstill_speed: float = 0.05
-    clearance_time: float = 0.25
+    clearance_time: float = 0.15
 
     def __post_init__(self) -> None:
         positive = (

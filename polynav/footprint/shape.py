@@ -125,6 +125,31 @@ class Footprint:
             key=key,
         )
 
+    def padded(self, margin: float) -> Footprint:
+        """The body grown by ``margin`` [m] all round (Nav2's ``footprint_padding``): a planner
+        leaves this much room either side for control and localization to err in.
+
+        A polygon's edges move out by ``margin`` and meet at new vertices (the mitred offset,
+        exact for a convex outline; a concave corner is moved out as far, which may grow it a
+        little more there).
+        """
+        if margin == 0.0:
+            return self
+        if self.is_circle:
+            return Footprint.circle(self.radius + margin)
+        pts = self.vertices  # counter-clockwise
+        prev = np.roll(pts, 1, axis=0)
+        nxt = np.roll(pts, -1, axis=0)
+
+        def normals(d: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+            n = np.column_stack((d[:, 1], -d[:, 0]))  # outward for a counter-clockwise outline
+            return np.asarray(n / np.hypot(n[:, 0], n[:, 1])[:, None])
+
+        n_in, n_out = normals(pts - prev), normals(nxt - pts)
+        bisector = n_in + n_out
+        scale = margin / np.maximum(1.0 + np.sum(n_in * n_out, axis=1), 1e-6)
+        return Footprint.polygon(pts + bisector * scale[:, None])
+
     @property
     def is_circle(self) -> bool:
         return bool(self.vertices.shape[0] == 0)

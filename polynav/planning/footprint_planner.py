@@ -62,6 +62,10 @@ class LatticeConfig:
         max_leg: the shortening tries straight legs up to this long [m].
         local_repair_over: a route longer than this [m] is repaired only round the stretch
             the body cannot drive, ``repair_margin`` [m] either side of it, when that works.
+        footprint_padding: the route must leave the body this much room [m] all round
+            (Nav2's ``footprint_padding``), for control and localization to err in ...
+        exact_near_start: ... except within this distance [m] of where the robot stands,
+            where it is checked as it is (it may not have that room where it stands).
     """
 
     turn_cost: float = 0.3
@@ -71,6 +75,8 @@ class LatticeConfig:
     max_leg: float = 4.0
     local_repair_over: float = 30.0
     repair_margin: float = 5.0
+    footprint_padding: float = 0.05
+    exact_near_start: float = 0.5
 
     def __post_init__(self) -> None:
         if not self.window_margins or any(not (math.isfinite(m) and m >= 0.0)
@@ -78,7 +84,8 @@ class LatticeConfig:
             raise ConfigError("planner.lattice.window_margins", "must be finite values >= 0")
         if self.max_states < 1:
             raise ConfigError("planner.lattice.max_states", "must be >= 1")
-        for key in ("turn_cost", "max_leg", "local_repair_over", "repair_margin"):
+        for key in ("turn_cost", "max_leg", "local_repair_over", "repair_margin",
+                    "footprint_padding", "exact_near_start"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ConfigError(f"planner.lattice.{key}", f"must be finite and >= 0, got {value}")
@@ -154,6 +161,7 @@ class FootprintPlanner:
         self._footprint = footprint
         self._grid = GridPlanner(config)
         self._lattice = lattice_config or LatticeConfig()
+        self._padded = footprint.padded(self._lattice.footprint_padding)
         self.lattice_plans = 0
         """How many plans needed the lattice (for tests and benchmarks)."""
 
@@ -176,7 +184,8 @@ class FootprintPlanner:
             route lets the body through.
         """
         path = self._grid.plan(costmap, start, goal, goal_tolerance=goal_tolerance)
-        stretch = _undrivable_stretch(path, self._footprint, costmap, start.theta)
+        stretch = _undrivable_stretch(path, self._footprint, self._padded, costmap, start.theta,
+                                      self._lattice.exact_near_start)
         if stretch is None:
             return path
         end = (float(path.points[-1, 0]), float(path.points[-1, 1]))
@@ -253,11 +262,13 @@ class FootprintPlanner:
                 log.debug("lattice window of %d x %d cells too large", x1 - x0, y1 - y0)
                 break
             searched = True
-            _mark_near(near, grid, info.resolution, fp.circumscribed_radius, (x0, y0, x1, y1))
+            _mark_near(near, grid, info.resolution, self._padded.circumscribed_radius,
+                       (x0, y0, x1, y1))
             h = lattice.cost_to_go(grid, mult, gx, gy, x0, y0, x1, y1)
             states, cost, expansions = lattice.search(
                 grid, mult, near, info.resolution, verts, rot_step, turn_cost, h, x0, y0,
                 sx, sy, sk, gx, gy, self._lattice.max_expansions, start_ignore,
+                self._padded_vertices(), self._exact_within(info),
             )
             log.debug("lattice search in [%d, %d) x [%d, %d): %d states expanded, %s", x0, x1,
                       y0, y1, expansions, "found" if states.shape[0] else "none")
@@ -267,6 +278,12 @@ class FootprintPlanner:
             if (x0, y0, x1, y1) == (0, 0, info.width, info.height):
                 break
         return None, searched
+
+    def _padded_vertices(self) -> npt.NDArray[np.float64]:
+        return np.ascontiguousarray(self._padded.vertices, dtype=np.float64)
+
+    def _exact_within(self, info: MapInfo) -> float:
+        return self._lattice.exact_near_start / info.resolution
 
     def _route(
         self,
@@ -283,7 +300,8 @@ class FootprintPlanner:
     ) -> Path:
         span = max(int(self._lattice.max_leg / info.resolution), 1)
         kept = lattice.shorten(grid, mult, near, info.resolution, verts, rot_step, states,
-                               start.theta - info.origin.theta, span)
+                               start.theta - info.origin.theta, span, self._padded_vertices(),
+                               self._exact_within(info))
         points = info.cells_to_world(states[kept, :2])
         points[0] = (start.x, start.y)
         if goal is not None:
@@ -328,19 +346,30 @@ def _mark_near(
 
 
 def _undrivable_stretch(
-    path: Path, footprint: Footprint, costmap: CostGrid, start_theta: float
+    path: Path,
+    footprint: Footprint,
+    padded: Footprint,
+    costmap: CostGrid,
+    start_theta: float,
+    exact_near_start: float,
 ) -> tuple[float, float] | None:
     """Arc lengths [m] along ``path`` of the first and last pose the body cannot take
-    (:func:`route_poses`; what it touches where it stands aside), or ``None``."""
+    (:func:`route_poses`), or ``None``. Within ``exact_near_start`` [m] of the start the body
+    is checked as it is (what it touches where it stands aside), beyond with ``padded``."""
     poses = route_poses(path.points, footprint, costmap.info.resolution, start_theta)
     if poses.shape[0] == 0:
         return None
-    first = body.first_collision(footprint, costmap, poses, ignore_start=True)
-    if first is None:
+    far = np.hypot(poses[:, 0] - poses[0, 0], poses[:, 1] - poses[0, 1]) > exact_near_start
+    hits = np.zeros(poses.shape[0], dtype=bool)
+    hits[far] = body.collision_mask(padded, costmap, poses[far])
+    first = body.first_collision(footprint, costmap, poses[~far], ignore_start=True)
+    if first is not None:
+        hits[np.flatnonzero(~far)[first]] = True
+    if not hits.any():
         return None
-    hits = np.flatnonzero(body.collision_mask(footprint, costmap, poses))
     along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(poses[:, :2], axis=0).T))])
-    return float(along[first]), float(along[max(int(hits.max()), first)])
+    index = np.flatnonzero(hits)
+    return float(along[index[0]]), float(along[index[-1]])
 
 
 @dataclass(frozen=True, slots=True, eq=False)

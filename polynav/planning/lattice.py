@@ -246,6 +246,8 @@ def search(
     gy: int,
     max_expansions: int,
     start_ignore: npt.NDArray[np.int64],
+    padded: npt.NDArray[np.float64],
+    exact_within: float,
 ) -> tuple[npt.NDArray[np.int64], float, int]:
     """The cheapest lattice route from state ``(sx, sy, sk)`` to cell ``(gx, gy)`` at any heading.
 
@@ -253,6 +255,10 @@ def search(
     against the whole ``grid``. The start state is not checked (the robot is there already), and
     at the start cell the LETHAL cells in ``start_ignore`` (those the body overlaps where it
     stands) do not count: a robot touching a mark may turn away from it, but not into more.
+    States farther than ``exact_within`` [cells] from the start are checked with the ``padded``
+    body (the same outline grown by a margin, with as many vertices): the route ahead leaves
+    room for control and localization to err, but the robot is not asked for room it has not
+    got where it stands.
 
     Returns:
         ``(states, cost, expansions)``: states (N, 3) of ``(ix, iy, k)`` from start to goal, or
@@ -265,7 +271,8 @@ def search(
     state = np.zeros(n_states, dtype=np.uint8)  # body check: unseen, free, blocked
     closed = np.zeros(n_states, dtype=np.bool_)
     world = np.empty_like(verts)
-    reach = reach_of(verts, 0.0)
+    reach = reach_of(padded, 0.0)
+    near2 = exact_within * exact_within
     cap = 4096
     keys = np.empty(cap, dtype=np.float64)
     vals = np.empty(cap, dtype=np.int64)
@@ -343,8 +350,9 @@ def search(
                     d += 2.0 * math.pi
                 step = turn_cost * abs(d)
             ignore = start_ignore if at_start and move != 0 else NO_CELLS
+            body = verts if (nx - sx) ** 2 + (ny - sy) ** 2 <= near2 else padded
             if state[t] == _UNSEEN or (at_start and move != 0):
-                free = _body_free(grid, near, res, verts, reach, nx + 0.5, ny + 0.5,
+                free = _body_free(grid, near, res, body, reach, nx + 0.5, ny + 0.5,
                                   ANGLES[nk], world, ignore)
                 if not (at_start and move != 0):
                     state[t] = _FREE if free else _BLOCKED
@@ -352,7 +360,7 @@ def search(
                 free = state[t] == _FREE
             if not free:
                 continue
-            if move != 0 and not _turn_free(grid, near, res, verts, reach, ix + 0.5, iy + 0.5,
+            if move != 0 and not _turn_free(grid, near, res, body, reach, ix + 0.5, iy + 0.5,
                                             ANGLES[k], ANGLES[nk], rot_step, world, ignore):
                 continue
             ng = gs + step
@@ -432,16 +440,21 @@ def shorten(
     states: npt.NDArray[np.int64],
     start_theta: float,
     max_span: int,
+    padded: npt.NDArray[np.float64],
+    exact_within: float,
 ) -> npt.NDArray[np.int64]:
     """Indices of the lattice states kept as vertices of the shortened route (module docstring).
 
     A leg from vertex ``i`` to state ``j`` replaces the states between them when the body stays
     free along it, the turn at ``i`` onto it is free (not checked at the start, where the robot
-    already stands), and it costs no more than the lattice route between them.
+    already stands), and it costs no more than the lattice route between them. Legs from
+    vertices farther than ``exact_within`` [cells] from the start are checked with the
+    ``padded`` body, as the search checks its states.
     """
     n = states.shape[0]
     world = np.empty_like(verts)
-    reach = reach_of(verts, 0.0)
+    reach = reach_of(padded, 0.0)
+    near2 = exact_within * exact_within
     # Lattice cost of the moves (turns left out) up to each state.
     along = np.zeros(n)
     for i in range(1, n):
@@ -458,16 +471,18 @@ def shorten(
     while i < n - 1:
         best = i + 1
         ax, ay = states[i, 0] + 0.5, states[i, 1] + 0.5
+        dx0, dy0 = states[i, 0] - states[0, 0], states[i, 1] - states[0, 1]
+        body = verts if dx0 * dx0 + dy0 * dy0 <= near2 else padded
         for j in range(i + 1, min(n, i + max_span + 1)):
             bx, by = states[j, 0] + 0.5, states[j, 1] + 0.5
             if bx == ax and by == ay:
                 best = j
                 continue
-            cost = _segment(grid, mult, near, res, verts, reach, ax, ay, bx, by, world)
+            cost = _segment(grid, mult, near, res, body, reach, ax, ay, bx, by, world)
             if cost > along[j] - along[i] + 1e-6:
                 continue
             theta = math.atan2(by - ay, bx - ax)
-            if i > 0 and not _turn_free(grid, near, res, verts, reach, ax, ay, heading, theta,
+            if i > 0 and not _turn_free(grid, near, res, body, reach, ax, ay, heading, theta,
                                         rot_step, world, NO_CELLS):
                 continue
             best = j
@@ -490,5 +505,5 @@ def warm_up() -> None:
     verts = np.array([[0.1, 0.08], [-0.1, 0.08], [-0.1, -0.08], [0.1, -0.08]])
     h = cost_to_go(grid, mult, 10, 10, 0, 0, 12, 12)
     states, _, _ = search(grid, mult, near, 0.05, verts, 0.1, 1.0, h, 0, 0, 1, 1, 0, 10, 10,
-                          10_000, NO_CELLS)
-    shorten(grid, mult, near, 0.05, verts, 0.1, states, 0.0, 20)
+                          10_000, NO_CELLS, verts * 1.2, 4.0)
+    shorten(grid, mult, near, 0.05, verts, 0.1, states, 0.0, 20, verts * 1.2, 4.0)

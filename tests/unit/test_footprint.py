@@ -255,3 +255,13 @@ def test_clearance_agrees_with_brute_force_on_random_scenes() -> None:
 
 def test_warm_up_runs() -> None:
     fp_mod.warm_up()
+
+
+def test_a_padded_footprint_moves_every_edge_out_by_the_margin() -> None:
+    rect = Footprint.rectangle(0.51, 0.43).padded(0.05)
+    np.testing.assert_allclose(np.sort(np.abs(rect.vertices), axis=0)[-1], [0.305, 0.265])
+    assert rect.inscribed_radius == pytest.approx(0.265)
+    assert Footprint.circle(0.25).padded(0.05).radius == pytest.approx(0.30)
+    triangle = Footprint.polygon([[0.3, 0.0], [-0.1, 0.2], [-0.1, -0.2]])
+    grown = triangle.padded(0.02)
+    assert grown.inscribed_radius == pytest.approx(triangle.inscribed_radius + 0.02)

@@ -83,3 +83,14 @@ def test_route_poses_turn_in_place_at_corners_and_from_the_start_heading() -> No
     assert corner[:, 2].max() == pytest.approx(math.pi / 2)
     assert np.all(np.abs(np.diff(corner[:, 2])) <= BODY.rotation_step(0.05) + 1e-9)
     assert poses[-1, :2] == pytest.approx([1.0, 1.0])
+
+
+def test_a_gate_barely_wider_than_the_body_is_left_for_a_way_with_room() -> None:
+    # A wall across the room: a 0.46 m gate on the straight line (1.5 cm either side of the
+    # 0.43 m body, no room for control to err) and a 1 m opening 1.6 m off it.
+    wall = [(4.0, 0.2, 4.1, 1.0), (4.0, 2.0, 4.1, 3.37), (4.0, 3.83, 4.1, 6.2)]
+    costmap = _costmap(wall, length=8.0, width=6.0)
+    start, goal = Pose2D(1.5, 3.6, 0.0), Pose2D(6.5, 3.6, 0.0)
+    path = FootprintPlanner(BODY).plan(costmap, start, goal)
+    crossing = path.points[np.argmin(np.abs(path.points[:, 0] - 4.05))]
+    assert 1.0 < crossing[1] < 2.0  # through the wide opening
