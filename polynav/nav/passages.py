@@ -86,12 +86,6 @@ class ClosedPassages:
         self._noted = None
         self._first = None
 
-    def near_earlier(self, passage: ClosedPassage, radius: float) -> bool:
-        """Was another passage closed within ``radius`` [m] of ``passage`` in this goal? (A
-        wall of obstacles across the way closes one spot after another along it.)"""
-        return any(p is not passage and math.hypot(p.x - passage.x, p.y - passage.y) <= radius
-                   for p in self.passages)
-
     def reopen_all(self) -> None:
         """Forget every closure (their names stay in ``tried``): when they leave no way at all,
         the block may have been something that moves on (another robot, a trolley)."""

@@ -8,12 +8,11 @@ users). Two moments are decided here:
   (:mod:`~polynav.nav.passages`) and the robot plans again at once, round it; where it cannot
   turn (a pocket narrower than its diagonal) it first backs out along the way in
   (:mod:`~polynav.nav.back_out`). A block that closes a new passage is progress, not a failure:
-  it does not count against the place's retries, unless an earlier closure lies within
-  ``progress_reset_distance`` (one obstacle across the way closes spot after spot along it).
-  A caller that sets its own retry limit (Yunji's ``max_continuous_retries``, a lift leg) runs
-  its own policy: nothing is closed, and every block is one of its retries. Anything else is a
-  failure, counted by place and time (:mod:`~polynav.nav.retry_budget`), with the recovery
-  ladder.
+  it does not count against the place's retries (within the closures' limit and time budget,
+  :class:`~polynav.nav.passages.ClosedPassages`). A caller that sets its own retry limit
+  (Yunji's ``max_continuous_retries``, a lift leg) runs its own policy: nothing is closed, and
+  every block is one of its retries. Anything else is a failure, counted by place and time
+  (:mod:`~polynav.nav.retry_budget`), with the recovery ladder.
 - **A plan fails**: the lidar's marks are cleared once and the plan tried again; a goal held by
   something not on the map is waited for (:mod:`~polynav.nav.goal_wait`); people in a narrow way
   are waited for. When no way is left, a robot that cannot turn backs out first; when passages
@@ -106,11 +105,6 @@ class PlanFailures:
                 self._retry("blocked", pose, now)
             return
         cause = f"blocked at {passage.name}"
-        if self._passages.near_earlier(passage, self.config.progress_reset_distance):
-            # A passage closed next to an earlier one is one obstacle across the way, not
-            # another way tried: a retry like any other.
-            self._retry(cause, pose, now)
-            return
         self._controller.reset()
         self._update(retries=self._require().retries + 1)
         if not self._back_out.can_turn(pose) and self._back_out.may_start(pose):

@@ -113,8 +113,11 @@ NEAR_LIFT_OPTIONS = GoalOptions(near_tolerance=1.5)
 """Going to a lift (its waiting spot or door): another robot may stand on the spot; ending near
 it will do."""
 
-AT_DOOR = GoalOptions(near_tolerance=0.3)
-"""To the door once the car is this robot's: on the spot, or next to it."""
+AT_DOOR = GoalOptions(near_tolerance=0.3, max_retries=4)
+"""To the door once the car is this robot's: on the spot, or next to it. The sequence tries
+this leg again itself (then queues again or takes another car), so the leg keeps the plain
+retry limit and closes no passages (:mod:`polynav.nav.passages`): a blocked door is reported
+in the time the sequence's retries expect, not after a minute of going round."""
 
 IN_CAR = GoalOptions(yaw_tolerance=0.3, max_retries=1, goal_wait=0.0)
 """Goals into and out of a car: a loose heading (the car is small), one retry and no wait for
