@@ -14,7 +14,7 @@ import logging
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Body
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 from polynav.api.deps import RuntimeDep
 from polynav.api.errors import BODY, STATE, responses
@@ -28,7 +28,14 @@ router = APIRouter(prefix="/api/robot", tags=["robot"])
 # narrower (positive speeds, a lidar on the body ...) and name the field when broken.
 _BIG = 1.0e6
 Number = Annotated[float, Field(strict=True, allow_inf_nan=False, ge=-_BIG, le=_BIG)]
-Beams = Annotated[int, Field(strict=True, ge=1, le=100_000)]
+def _integral(value: object) -> object:
+    """JSON Schema's ``integer`` takes 360.0 too: a float with no fraction is that integer."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+Beams = Annotated[int, Field(strict=True, ge=1, le=100_000), BeforeValidator(_integral)]
 Vertex = Annotated[list[Number], Field(min_length=2, max_length=2)]
 
 
@@ -113,7 +120,7 @@ class ReverseIO(_Strict):
     """May the base back up in a recovery, and how far [m] behind it its sensors see (left out:
     the lidar's range if it sees behind, else 0)."""
 
-    allowed: bool | None = None
+    allowed: Annotated[bool, Field(strict=True)] | None = None
     rear_view: Number | None = None
 
 
