@@ -159,6 +159,19 @@ def _heap_pop(keys: npt.NDArray[np.float64], vals: npt.NDArray[np.int64], n: int
 
 
 @numba.njit(cache=True, nogil=True)
+def _grown(
+    keys: npt.NDArray[np.float64], vals: npt.NDArray[np.int64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """A full heap's arrays, copied into twice the room."""
+    n = keys.shape[0]
+    more_keys = np.empty(2 * n, dtype=np.float64)
+    more_vals = np.empty(2 * n, dtype=np.int64)
+    more_keys[:n] = keys
+    more_vals[:n] = vals
+    return more_keys, more_vals
+
+
+@numba.njit(cache=True, nogil=True)
 def cost_to_go(
     grid: npt.NDArray[np.uint8],
     mult: npt.NDArray[np.float64],
@@ -174,9 +187,8 @@ def cost_to_go(
     w, h = x1 - x0, y1 - y0
     dist = np.full((h, w), np.inf)
     done = np.zeros((h, w), dtype=np.bool_)
-    cap = 1024
-    keys = np.empty(cap, dtype=np.float64)
-    vals = np.empty(cap, dtype=np.int64)
+    keys = np.empty(1024, dtype=np.float64)
+    vals = np.empty(1024, dtype=np.int64)
     n = 0
     if gx < x0 or gy < y0 or gx >= x1 or gy >= y1:
         return dist
@@ -215,13 +227,8 @@ def cost_to_go(
                     nd = d + m
                 if nd < dist[ny, nx]:
                     dist[ny, nx] = nd
-                    if n == cap:
-                        cap *= 2
-                        nk = np.empty(cap, dtype=np.float64)
-                        nv = np.empty(cap, dtype=np.int64)
-                        nk[:n] = keys[:n]
-                        nv[:n] = vals[:n]
-                        keys, vals = nk, nv
+                    if n == keys.shape[0]:
+                        keys, vals = _grown(keys, vals)
                     _heap_push(keys, vals, n, nd, ny * w + nx)
                     n += 1
     return dist
@@ -273,9 +280,8 @@ def search(
     world = np.empty_like(verts)
     reach = reach_of(padded, 0.0)
     near2 = exact_within * exact_within
-    cap = 4096
-    keys = np.empty(cap, dtype=np.float64)
-    vals = np.empty(cap, dtype=np.int64)
+    keys = np.empty(4096, dtype=np.float64)
+    vals = np.empty(4096, dtype=np.int64)
     empty = np.zeros((0, 3), dtype=np.int64)
     if not (x0 <= sx < x0 + ww and y0 <= sy < y0 + hh):
         return empty, np.inf, 0
@@ -367,13 +373,8 @@ def search(
             if ng < g[t]:
                 g[t] = ng
                 parent[t] = s
-                if n == cap:
-                    cap *= 2
-                    nkeys = np.empty(cap, dtype=np.float64)
-                    nvals = np.empty(cap, dtype=np.int64)
-                    nkeys[:n] = keys[:n]
-                    nvals[:n] = vals[:n]
-                    keys, vals = nkeys, nvals
+                if n == keys.shape[0]:
+                    keys, vals = _grown(keys, vals)
                 _heap_push(keys, vals, n, ng + h[lny, lnx], t)
                 n += 1
     if goal_state < 0:
