@@ -62,7 +62,7 @@ from polynav.nav.charger_phases import ChargerPhases
 from polynav.nav.goal_wait import GoalWait
 from polynav.nav.holds import Hold
 from polynav.nav.navigator_config import NavigatorConfig
-from polynav.nav.passages import ClosedPassages
+from polynav.nav.passages import ClosedPassages, touches_marks
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.nav.people_wait import PeopleWait
 from polynav.nav.phases import NavPhase
@@ -78,7 +78,7 @@ from polynav.nav.recoveries import (
 )
 from polynav.nav.replanning import PeriodicReplan
 from polynav.nav.retry_budget import RetryBudget
-from polynav.planning.errors import PlanningError
+from polynav.planning.errors import NoBodyRoute, PlanningError
 from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
 
@@ -383,10 +383,19 @@ class Navigator(ChargerPhases, PlanFailures):
 
     def _plan_path(self, pose: Pose2D) -> Path:
         self._passages.refresh(self._costmap, self._last_tick or 0.0)
-        return self._planner.plan(
-            self._passages.planning_grid(self._costmap, pose), pose, self._target,
-            goal_tolerance=self._require().options.near_tolerance,
-        )
+        try:
+            return self._planner.plan(
+                self._passages.planning_grid(self._costmap, pose), pose, self._target,
+                goal_tolerance=self._require().options.near_tolerance,
+            )
+        except NoBodyRoute as exc:
+            if not touches_marks(self._costmap, self._footprint, exc.blocked_at):
+                raise
+            # What closes the body's way is the lidar's marks, not the building: a person's
+            # trail, a trolley. Take the disk's route; the controller stops if it must.
+            log.info("no route for the body past marks at (%.2f, %.2f): the grid route",
+                     exc.blocked_at.x, exc.blocked_at.y)
+            return exc.route
 
     def _replan_quietly(self, pose: Pose2D, now: float) -> None:
         """A periodic re-plan, with hysteresis: the current route stays unless it is blocked or

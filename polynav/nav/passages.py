@@ -31,7 +31,7 @@ from polynav.footprint import Footprint
 from polynav.footprint.kernels import overlapped_cells
 from polynav.geometry import Pose2D
 from polynav.maps import costs
-from polynav.maps.costmap import CostSnapshot
+from polynav.maps.costmap import Costmap, CostSnapshot
 from polynav.maps.interface import CostGrid
 
 log = logging.getLogger(__name__)
@@ -172,6 +172,16 @@ class ClosedPassages:
             mask[here[:, 1], here[:, 0]] = False
             grid[mask] = costs.LETHAL
         return CostSnapshot(info, grid)
+
+
+def touches_marks(costmap: Costmap, footprint: Footprint, pose: Pose2D) -> bool:
+    """Does the body at ``pose`` touch a LETHAL cell the map does not have (a lidar mark: a
+    person's trail, a trolley), rather than only the building?"""
+    cells = _touched_cells(footprint, costmap, pose.x, pose.y, pose.theta)
+    if cells.shape[0] == 0:
+        return False
+    centres = costmap.info.cells_to_world(cells)
+    return any(costmap.map_cost_at(float(x), float(y)) < costs.LETHAL for x, y in centres)
 
 
 def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 from polynav.errors import PolynavError
+from polynav.geometry import Pose2D
 from polynav.maps import costs
+from polynav.planning.path import Path
 
 
 class PlanningError(PolynavError):
@@ -24,6 +26,20 @@ class GoalOccupied(PlanningError):
 
 class NoPath(PlanningError):
     """Start and goal are valid but not connected through traversable cells."""
+
+
+class NoBodyRoute(NoPath):
+    """A polygon body fits no route, though a disk of its width would (the grid ``route``).
+
+    ``blocked_at`` is the first pose along that route where the body touches something: a
+    caller that knows which obstacles are the map's and which the lidar's marks (a person's
+    trail) may follow ``route`` and let the controller deal with a block that will pass.
+    """
+
+    def __init__(self, message: str, *, route: Path, blocked_at: Pose2D) -> None:
+        super().__init__(message)
+        self.route = route
+        self.blocked_at = blocked_at
 
 
 class PlanningCancelled(PlanningError):

@@ -11,9 +11,13 @@ when the check fails does the lattice search run, in a window 4 m round the rout
 and its shortened route is returned. A long route (over 30 m) is first repaired only round the
 stretch the body cannot drive, 5 m either side, and spliced. Windows are capped in states (the
 bound on memory); a route too long to search round keeps the grid route, as before this
-planner, and the controller and the closed passages deal with it. When no heading lets the
-body through in any window searched, the goal fails at once with :class:`NoPath`, never by
-trial.
+planner, and the controller and the closed passages deal with it. Where no route leaves that
+room, the search runs again for the body as it is; where the body fits the grid route facing
+along it but at no lattice cell and heading, the grid route is returned. When no heading lets
+the body through in any window searched, :class:`NoBodyRoute` (a :class:`NoPath`) carries the
+grid route and where the body first touches along it: the navigator fails the goal at once if
+that is the building, and follows the grid route if it is only the lidar's marks (a person's
+trail), which pass.
 
 The grid planner's rules (typed errors for start, goal and tolerance) apply unchanged: the grid
 plan comes first and decides the end point. A disk needs none of this, and keeps the grid
@@ -39,7 +43,7 @@ from polynav.maps import costs as cost_values
 from polynav.maps.interface import CostGrid
 from polynav.maps.map import MapInfo
 from polynav.planning import lattice, smoothing
-from polynav.planning.errors import NoPath, PlanningError
+from polynav.planning.errors import NoBodyRoute, PlanningError
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.planning.grid_search import step_multipliers
 from polynav.planning.path import Path
@@ -193,26 +197,33 @@ class FootprintPlanner:
         self.lattice_plans += 1
         route = _Polyline.of(path.points)
         cfg = self._lattice
-        if route.length > cfg.local_repair_over:
-            # A long route: search round the stretch the body cannot drive, then splice.
-            s0 = max(stretch[0] - cfg.repair_margin, 0.0)
-            s1 = min(stretch[1] + cfg.repair_margin, route.length)
-            if s1 < route.length:
-                local, _ = self._search(costmap, route, s0, s1, start, None)
-                if local is not None:
-                    return _spliced(route, s0, s1, local, path.cost)
-        whole, searched = self._search(costmap, route, 0.0, route.length, start,
-                                       end if reached_goal else None)
-        if whole is not None:
-            return whole
-        if not searched:
-            # Too far round to search for the body: the grid route it is, and the controller
-            # and the closed passages deal with the stretch (as before this planner).
-            log.warning("route of %.0f m not drivable by the body and too large to search "
-                        "round; keeping the grid route", route.length)
+        # With room to spare first; where nothing leaves that room, the body as it is.
+        for room in (self._padded, self._footprint):
+            if route.length > cfg.local_repair_over:
+                # A long route: search round the stretch the body cannot drive, then splice.
+                s0 = max(stretch[0] - cfg.repair_margin, 0.0)
+                s1 = min(stretch[1] + cfg.repair_margin, route.length)
+                if s1 < route.length:
+                    local, _ = self._search(costmap, route, s0, s1, start, None, room)
+                    if local is not None:
+                        return _spliced(route, s0, s1, local, path.cost)
+            whole, searched = self._search(costmap, route, 0.0, route.length, start,
+                                           end if reached_goal else None, room)
+            if whole is not None:
+                return whole
+            if not searched:
+                # Too far round to search for the body: the grid route it is, and the
+                # controller and the closed passages deal with the stretch.
+                log.warning("route of %.0f m not drivable by the body and too large to search "
+                            "round; keeping the grid route", route.length)
+                return path
+        blocked = _first_touch(path, self._footprint, costmap, start.theta)
+        if blocked is None:
+            # The body fits the grid route facing along it, just not at the lattice's cells
+            # and headings: the grid route it is.
             return path
-        raise NoPath("no route the body fits: every way is narrower than the body at the "
-                     "headings it can have there")
+        raise NoBodyRoute("no route the body fits: every way is narrower than the body at the "
+                          "headings it can have there", route=path, blocked_at=blocked)
 
     def reachable(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> bool:
         try:
@@ -229,6 +240,7 @@ class FootprintPlanner:
         s1: float,
         start: Pose2D,
         goal: tuple[float, float] | None,
+        room: Footprint,
     ) -> tuple[Path | None, bool]:
         """The lattice route from the route's point at ``s0`` [m] (the robot's own pose at 0)
         to its point at ``s1``, in windows round that stretch (``None`` if none holds one), and
@@ -262,25 +274,22 @@ class FootprintPlanner:
                 log.debug("lattice window of %d x %d cells too large", x1 - x0, y1 - y0)
                 break
             searched = True
-            _mark_near(near, grid, info.resolution, self._padded.circumscribed_radius,
+            _mark_near(near, grid, info.resolution, room.circumscribed_radius,
                        (x0, y0, x1, y1))
             h = lattice.cost_to_go(grid, mult, gx, gy, x0, y0, x1, y1)
             states, cost, expansions = lattice.search(
                 grid, mult, near, info.resolution, verts, rot_step, turn_cost, h, x0, y0,
                 sx, sy, sk, gx, gy, self._lattice.max_expansions, start_ignore,
-                self._padded_vertices(), self._exact_within(info),
+                np.ascontiguousarray(room.vertices, dtype=np.float64), self._exact_within(info),
             )
             log.debug("lattice search in [%d, %d) x [%d, %d): %d states expanded, %s", x0, x1,
                       y0, y1, expansions, "found" if states.shape[0] else "none")
             if states.shape[0]:
                 return self._route(info, grid, mult, near, verts, rot_step, states, cost, start,
-                                   (float(end[0]), float(end[1]))), True
+                                   (float(end[0]), float(end[1])), room), True
             if (x0, y0, x1, y1) == (0, 0, info.width, info.height):
                 break
         return None, searched
-
-    def _padded_vertices(self) -> npt.NDArray[np.float64]:
-        return np.ascontiguousarray(self._padded.vertices, dtype=np.float64)
 
     def _exact_within(self, info: MapInfo) -> float:
         return self._lattice.exact_near_start / info.resolution
@@ -297,10 +306,12 @@ class FootprintPlanner:
         cost: float,
         start: Pose2D,
         goal: tuple[float, float] | None,
+        room: Footprint,
     ) -> Path:
         span = max(int(self._lattice.max_leg / info.resolution), 1)
         kept = lattice.shorten(grid, mult, near, info.resolution, verts, rot_step, states,
-                               start.theta - info.origin.theta, span, self._padded_vertices(),
+                               start.theta - info.origin.theta, span,
+                               np.ascontiguousarray(room.vertices, dtype=np.float64),
                                self._exact_within(info))
         points = info.cells_to_world(states[kept, :2])
         points[0] = (start.x, start.y)
@@ -343,6 +354,18 @@ def _mark_near(
         return
     distance = ndimage.distance_transform_edt(~lethal) * resolution
     near[y0:y1, x0:x1] = (distance <= reach + resolution)[y0 - gy0:y1 - gy0, x0 - gx0:x1 - gx0]
+
+
+def _first_touch(
+    path: Path, footprint: Footprint, costmap: CostGrid, start_theta: float
+) -> Pose2D | None:
+    """The first pose along ``path`` where the body itself touches a LETHAL cell it does not
+    touch where it stands, or ``None``."""
+    poses = route_poses(path.points, footprint, costmap.info.resolution, start_theta)
+    if poses.shape[0] == 0:
+        return None
+    hit = body.first_collision(footprint, costmap, poses, ignore_start=True)
+    return None if hit is None else Pose2D(*(float(v) for v in poses[hit]))
 
 
 def _undrivable_stretch(

@@ -11,7 +11,7 @@ from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.planning import registry
-from polynav.planning.errors import NoPath
+from polynav.planning.errors import NoBodyRoute, NoPath
 from polynav.planning.footprint_planner import FootprintPlanner, drivable, route_poses
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from tests.helpers.rooms import room
@@ -67,10 +67,15 @@ def test_a_gap_reachable_only_turning_in_a_channel_is_routed_round() -> None:
     assert path.length > grid_path.length + 2.0
 
 
-def test_a_body_wider_than_every_way_gets_no_path() -> None:
+def test_a_body_wider_than_every_way_gets_no_path_with_the_disk_route_and_where_it_touches(
+) -> None:
     costmap = _costmap([*GAP_WALL, (4.0, 2.75, 4.1, 8.2)])
-    with pytest.raises(NoPath):
+    with pytest.raises(NoBodyRoute) as err:
         FootprintPlanner(BODY).plan(costmap, Pose2D(1.5, 2.45, 0.0), Pose2D(6.5, 2.45, 0.0))
+    assert isinstance(err.value, NoPath)
+    # The disk's route goes through the channel and the gap; the body first touches there.
+    assert err.value.route.points[-1] == pytest.approx([6.5, 2.45])
+    assert 3.3 < err.value.blocked_at.x < 4.2
 
 
 def test_route_poses_turn_in_place_at_corners_and_from_the_start_heading() -> None:
