@@ -364,3 +364,20 @@ class PoseInitialized(RuntimeEvent):
     kind: ClassVar[str] = "pose_initialized"
 
     pose: Pose2D
+
+
+@dataclass(frozen=True, slots=True)
+class TaskChanged(RuntimeEvent):
+    """A node of a task changed state (the root's ``node_id`` is the task's ``task_id``
+    node): ``state`` in the vendor spelling (``WORKING``, ``COMPLETE``, ``FAIL``...)."""
+
+    kind: ClassVar[str] = "task_changed"
+
+    task_id: str
+    task_name: str
+    owner: str
+    node_id: str
+    node_kind: str
+    state: str
+    root: bool
+    result: str = ""

@@ -91,6 +91,7 @@ from polynav.runtime.sim_placement import initial_point, place
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
+from polynav.runtime.task_commands import TaskCommands
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.worlds.world import World
 
@@ -123,6 +124,7 @@ class RobotRuntime(
         self.config = config or RuntimeConfig()
         self.store = store
         self.bus = EventBus()
+        self.tasks = TaskCommands(self)  # first: every event published is noted for tasks
         self._sim = sim
         self._robot = sim.robot
         self._clock = sim.clock
@@ -484,6 +486,7 @@ class RobotRuntime(
             lost = stack.estimate.state is LocalizationState.LOST
             self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
         self._check_battery(now)
+        self.tasks.tick(now)
         self.device.tick(now, commanded)
         self.peripherals.tick(now)
         self._refresh()
@@ -657,6 +660,7 @@ class RobotRuntime(
         return self._snapshot.pose
 
     def _publish(self, event: events.RuntimeEvent) -> None:
+        self.tasks.note(event)
         self.bus.publish(event)
 
 

@@ -1,0 +1,355 @@
+"""The task engine: every task of one robot, and the one that runs.
+
+A :class:`Task` is a tree (:mod:`.control`, :mod:`.action`) with a name and a blackboard. The
+engine keeps the robot's tasks, runs at most one at a time (starting a task pre-empts the
+running one: one robot does one thing at a time, galileo-tasks-bt-ws A-6) and ticks it from the
+runtime's control loop. All commands run between ticks (the runtime calls them on its loop);
+reads from other threads get :attr:`Task.snapshot`, the tree as JSON values rendered after the
+last change, under a lock, so polling a task in a tight loop never waits for the loop.
+
+When the running task ends, however it ends, the settings its ``change_setting_action``s
+asked to restore are restored, and the robot is left idle (nothing of the tree runs on).
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import uuid
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from polynav.errors import Conflict, InvalidRequest, NotFound, PolynavError
+from polynav.tasks.blackboard import Blackboard
+from polynav.tasks.control import Sequence
+from polynav.tasks.node import Node, Run
+from polynav.tasks.robot import TaskRobot
+from polynav.tasks.states import NodeState
+
+log = logging.getLogger(__name__)
+
+MAX_TASKS = 1000  # ended tasks beyond this are forgotten, oldest first
+
+#: ``on_change(task, node, state)``: a node of a task changed state.
+OnChange = Callable[["Task", Node, NodeState], None]
+
+
+@dataclass(eq=False)
+class Task:
+    """A tree to run, its blackboard's starting values, and who made it (``owner``: the
+    dialect or service, so each lists and controls its own kinds of task)."""
+
+    name: str
+    root: Node
+    blackboard: dict[str, Any] = field(default_factory=dict)
+    owner: str = "native"
+    kind: str = "task"
+    id: str = field(default_factory=lambda: str(uuid.uuid4()))
+    #: Not kept in the site store (Galileo's temporary "auto task", A-13).
+    temporary: bool = False
+    run: Run | None = None
+    snapshot: dict[str, Any] = field(default_factory=dict)
+    #: Why the task ended the way it did, when the tree does not say (cancelled by whom).
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        Blackboard(self.blackboard)  # the keys and values are checked when made
+
+    @property
+    def state(self) -> NodeState:
+        return self.root.state
+
+    def describe(self) -> dict[str, Any]:
+        return {"id": self.id, "name": self.name, "owner": self.owner, "kind": self.kind,
+                "state": self.state.value, "note": self.note, "temporary": self.temporary,
+                "blackboard": dict(self.blackboard) if self.run is None
+                else self.run.blackboard.values(),
+                "tree": self.root.describe()}
+
+
+class TaskEngine:
+    """The robot's tasks; commands and :meth:`tick` between the runtime's ticks."""
+
+    def __init__(self, robot: TaskRobot, *, on_change: OnChange | None = None,
+                 on_end: Callable[[Task], None] | None = None) -> None:
+        self._robot = robot
+        self._on_change = on_change
+        self._on_end = on_end
+        self._tasks: dict[str, Task] = {}
+        self._running: Task | None = None
+        self._seen: dict[str, NodeState] = {}
+        self._lock = threading.Lock()
+
+    # -- reading (any thread) ----------------------------------------------------------------
+
+    def get(self, task_id: str) -> dict[str, Any]:
+        """The task's snapshot.
+
+        Raises:
+            NotFound: no such task.
+        """
+        with self._lock:
+            task = self._tasks.get(task_id)
+            if task is None:
+                raise NotFound("task", task_id)
+            return task.snapshot
+
+    def find(self, task_id: str) -> Task:
+        """The task itself, for commands between ticks.
+
+        Raises:
+            NotFound: no such task.
+        """
+        with self._lock:
+            task = self._tasks.get(task_id)
+        if task is None:
+            raise NotFound("task", task_id)
+        return task
+
+    def tasks(self, owner: str | None = None, kind: str | None = None) -> list[Task]:
+        with self._lock:
+            return [t for t in self._tasks.values()
+                    if (owner is None or t.owner == owner) and (kind is None or t.kind == kind)]
+
+    def snapshots(self, owner: str | None = None, kind: str | None = None
+                  ) -> list[dict[str, Any]]:
+        return [t.snapshot for t in self.tasks(owner, kind)]
+
+    @property
+    def running(self) -> Task | None:
+        """The working or paused task."""
+        return self._running
+
+    def __iter__(self) -> Iterator[Task]:
+        return iter(self.tasks())
+
+    # -- commands (between ticks) -----------------------------------------------------------
+
+    def add(self, task: Task) -> Task:
+        """Keep ``task`` (``WAITTING``) without running it."""
+        with self._lock:
+            if task.id in self._tasks:
+                raise Conflict(f"task {task.id} exists")
+            self._tasks[task.id] = task
+            self._forget_old()
+        self._render(task)
+        return task
+
+    def replace(self, task_id: str, root: Node | None = None, *, name: str | None = None,
+                blackboard: Mapping[str, Any] | None = None) -> Task:
+        """Change a task that does not run (its tree, name, blackboard).
+
+        Raises:
+            NotFound: no such task.
+            Conflict: it runs (pause does not count as stopped).
+        """
+        task = self.find(task_id)
+        if task.state.active:
+            raise Conflict(f"task {task_id} is {task.state.value}: stop it first")
+        if blackboard is not None:
+            Blackboard(blackboard)
+            task.blackboard = dict(blackboard)
+        if root is not None:
+            task.root = root
+        if name is not None:
+            task.name = name
+        self._render(task)
+        return task
+
+    def start(self, task_id: str) -> Task:
+        """Run the task from its start (a task that ended runs again), pre-empting the one
+        that runs.
+
+        Raises:
+            NotFound: no such task.
+            Conflict: it runs already.
+        """
+        task = self.find(task_id)
+        if task.state.active:
+            raise Conflict(f"task {task_id} is {task.state.value} already")
+        if self._running is not None:
+            self._end_running("cancelled: another task started")
+        task.root.reset()
+        task.note = ""
+        task.run = Run(self._robot, Blackboard(task.blackboard), task.id, self._robot.now())
+        self._running = task
+        self._step(task)
+        return task
+
+    def pause(self, task_id: str, node_id: str | None = None) -> Task:
+        """Pause the task (or one node of it, with its subtree).
+
+        Raises:
+            NotFound: no such task or node.
+            Conflict: that node is not working.
+        """
+        task, node = self._node(task_id, node_id)
+        assert task.run is not None or not node.state.active
+        if task.run is None or not node.pause(task.run):
+            raise Conflict(f"{'task' if node_id is None else 'node'} "
+                           f"{node_id or task_id} is {node.state.value}, not WORKING")
+        self._render(task)
+        return task
+
+    def resume(self, task_id: str, node_id: str | None = None) -> Task:
+        """Resume the paused task (or node).
+
+        Raises:
+            NotFound: no such task or node.
+            Conflict: that node is not paused.
+        """
+        task, node = self._node(task_id, node_id)
+        if task.run is None or not node.resume(task.run):
+            raise Conflict(f"{'task' if node_id is None else 'node'} "
+                           f"{node_id or task_id} is {node.state.value}, not PAUSED")
+        self._step(task)
+        return task
+
+    def cancel(self, task_id: str, node_id: str | None = None) -> Task:
+        """Cancel the task (or one node of it: its parent takes that as a failed child).
+        A task that ended is left as it is.
+
+        Raises:
+            NotFound: no such task or node.
+        """
+        task, node = self._node(task_id, node_id)
+        if node is task.root:
+            if task is self._running:
+                self._end_running("cancelled")
+            elif not task.state.final:
+                node.cancel(self._run_of(task))
+                self._render(task)
+            return task
+        if node.cancel(self._run_of(task)) and task is self._running:
+            self._step(task)
+        return task
+
+    def cancel_all(self) -> list[Task]:
+        """Cancel the running task; the tasks cancelled."""
+        task = self._running
+        if task is None:
+            return []
+        self._end_running("cancelled")
+        return [task]
+
+    def set_loop(self, task_id: str, loop: bool, node_id: str | None = None) -> Task:
+        """Set ``loop_flag`` of the task's root (or of a sequence node).
+
+        Raises:
+            NotFound: no such task or node.
+            InvalidRequest: the node is not a sequence.
+        """
+        task, node = self._node(task_id, node_id)
+        if not isinstance(node, Sequence) or node.kind != "sequence":
+            raise InvalidRequest("loop_flag", f"{node.kind} nodes do not loop by flag")
+        node.loop_flag = loop
+        self._render(task)
+        return task
+
+    def delete(self, task_id: str) -> None:
+        """Forget a task that does not run.
+
+        Raises:
+            NotFound: no such task.
+            Conflict: it runs.
+        """
+        task = self.find(task_id)
+        if task.state.active:
+            raise Conflict(f"task {task_id} is {task.state.value}: stop it first")
+        with self._lock:
+            del self._tasks[task_id]
+
+    def trigger(self) -> int:
+        """Release every waiting ``wait_req_action`` of the running task; how many waited."""
+        task = self._running
+        if task is None or task.run is None:
+            return 0
+        waiting = sum(1 for n in task.root.walk()
+                      if getattr(n, "type", None) == "wait_req_action"
+                      and n.state is NodeState.WORKING)
+        task.run.triggers = waiting
+        self._step(task)
+        task.run.triggers = 0
+        return waiting
+
+    # -- the loop --------------------------------------------------------------------------
+
+    def tick(self, now: float) -> None:
+        """Advance the running task (from the runtime's control loop)."""
+        task = self._running
+        if task is None or task.state is NodeState.PAUSED:
+            return
+        self._step(task)
+
+    def _step(self, task: Task) -> None:
+        run = task.run
+        assert run is not None
+        run.now = self._robot.now()
+        try:
+            if task.root.state is not NodeState.PAUSED:
+                task.root.tick(run)
+        except PolynavError as exc:  # a node's own refusal ends the tree, never the loop
+            log.error("task %s: %s", task.id, exc)
+            task.root.end(run, NodeState.ERROR, str(exc))
+        if run.taken is not None and task.state.active:
+            self._end_running(run.taken)
+            return
+        if task.state.final and task is self._running:
+            self._finish(task)
+        self._render(task)
+
+    def _end_running(self, note: str) -> None:
+        task = self._running
+        assert task is not None and task.run is not None
+        task.root.cancel(task.run)
+        task.note = note
+        self._finish(task)
+        self._render(task)
+
+    def _finish(self, task: Task) -> None:
+        """The running task ended: restore what it changed, forget it as running."""
+        run = task.run
+        assert run is not None
+        self._running = None
+        for settings in reversed(run.restore):
+            try:
+                self._robot.change_settings(settings)
+            except PolynavError as exc:
+                log.error("task %s: settings not restored: %s", task.id, exc)
+        run.restore.clear()
+        if self._on_end is not None:
+            self._on_end(task)
+
+    def _run_of(self, task: Task) -> Run:
+        return task.run or Run(self._robot, Blackboard(task.blackboard), task.id,
+                               self._robot.now())
+
+    def _node(self, task_id: str, node_id: str | None) -> tuple[Task, Node]:
+        task = self.find(task_id)
+        if node_id is None:
+            return task, task.root
+        node = task.root.find(node_id)
+        if node is None:
+            raise NotFound("node", node_id)
+        return task, node
+
+    def _render(self, task: Task) -> None:
+        snapshot = task.describe()
+        with self._lock:
+            task.snapshot = snapshot
+        if self._on_change is None:
+            return
+        for node in task.root.walk():
+            if self._seen.get(node.id) is not node.state:
+                self._seen[node.id] = node.state
+                self._on_change(task, node, node.state)
+        if len(self._seen) > 100_000:
+            self._seen.clear()
+
+    def _forget_old(self) -> None:
+        while len(self._tasks) > MAX_TASKS:
+            oldest = next((k for k, t in self._tasks.items() if t.state.final), None)
+            if oldest is None:
+                return
+            del self._tasks[oldest]
