@@ -94,8 +94,9 @@ class GoalCommands(RuntimeParts):
         def run() -> int:
             goal = pose if pose is None or frame is None else self._in_navigation_frame(
                 pose, frame, map_name)
-            self._patrols.end()
-            self._patrols.forget()  # the last task is this goal now
+            self.tasks.engine.give_way("cancelled: a goal was sent")
+            if not self.tasks.engine.acting:
+                self._patrols.forget()  # the last task is this goal now
             return self._start_goal(point, goal, map_name, options)
 
         return self._call(run)
@@ -150,13 +151,14 @@ class GoalCommands(RuntimeParts):
         self._call(run)
 
     def cancel(self) -> None:
-        """Cancel the running or paused goal, or a local move. Raises Conflict if neither."""
+        """Cancel the running task (with what it drives), else the running or paused goal, or
+        a local move. Raises Conflict if none runs."""
 
         def run() -> None:
+            if self.tasks.engine.give_way("cancelled"):
+                return  # the task's goal or local move with it
             if self._motion.local_move_active:
                 self._motion.end_local_move()
-                return
-            if self._patrols.end():
                 return
             if not self._cancel_goal():
                 raise Conflict("no goal or local move to cancel")

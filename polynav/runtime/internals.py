@@ -26,9 +26,10 @@ from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
-from polynav.runtime.patrols import PatrolRunner
+from polynav.runtime.patrols import Patrols
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of
+from polynav.runtime.task_commands import TaskCommands
 from polynav.runtime.watchers import EStopWatcher
 
 T = TypeVar("T")
@@ -61,7 +62,8 @@ class RuntimeParts(abc.ABC):
     _estop: EStopWatcher
     _motion: DirectMotion
     _attempts: AttemptBook
-    _patrols: PatrolRunner
+    _patrols: Patrols
+    tasks: TaskCommands
     _mapping: MappingSession | None
     _exploration: Exploration | None
 

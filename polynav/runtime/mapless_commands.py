@@ -58,7 +58,7 @@ class MaplessCommands(RuntimeParts):
             raise Conflict("mapping is running: stop it before navigating")
         if self._mode is Mode.BUSY:
             raise Conflict("the robot is busy")
-        self._patrols.end()
+        self.tasks.engine.give_way("cancelled: mapless navigation was started")
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)

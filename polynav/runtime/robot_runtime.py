@@ -84,7 +84,7 @@ from polynav.runtime.mapping_commands import MappingCommands
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_events import AttemptBook, translate
-from polynav.runtime.patrols import PatrolRunner
+from polynav.runtime.patrols import Patrols
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import initial_point, place
@@ -177,12 +177,7 @@ class RobotRuntime(
         self._timers: list[tuple[float, int, Callable[[], None]]] = []
         self._timer_seq = itertools.count()
         # The current or last patrol (a task over several goals), if any.
-        self._patrols = PatrolRunner(
-            lambda point, options: self._start_goal(point, None, None, options),
-            self._cancel_goal,
-            self._publish,
-            self.now,
-        )
+        self._patrols = Patrols(self.tasks.engine, self._publish, self.now)
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
@@ -465,7 +460,6 @@ class RobotRuntime(
             stack.software_estop = self._software_estop
             stack.tick(now)
             self._attempts.follow(stack.navigator.attempt)
-            self._patrols.follow(stack.navigator.attempt)
             self._route_tick(now)
             stack = self._stack  # a lift ride switches maps: a new stack
         explored = self._map_tick(now, estop)
@@ -555,7 +549,7 @@ class RobotRuntime(
                     "point", f"map {name!r} has no initial point: give the initial point or pose"
                 )
         place(self._sim, floor, initial)  # may raise before anything changed
-        self._patrols.end()
+        self.tasks.engine.give_way("cancelled: navigation was started")
         self._cancel_goal()
         self._halt_motion()
         self._set_mode(Mode.BUSY)
@@ -579,7 +573,7 @@ class RobotRuntime(
         if self._mode is Mode.FREE:
             return
         self._set_mode(Mode.BUSY)
-        self._patrols.end()
+        self.tasks.engine.give_way("cancelled: navigation was stopped")
         self._cancel_goal()
         self._halt_motion()
         self._stack = None

@@ -13,6 +13,7 @@ asked to restore are restored, and the robot is left idle (nothing of the tree r
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 import uuid
@@ -75,7 +76,8 @@ class TaskEngine:
                  on_end: Callable[[Task], None] | None = None) -> None:
         self._robot = robot
         self._on_change = on_change
-        self._on_end = on_end
+        self._on_end: list[Callable[[Task], None]] = [] if on_end is None else [on_end]
+        self._acting = False
         self._tasks: dict[str, Task] = {}
         self._running: Task | None = None
         self._seen: dict[str, NodeState] = {}
@@ -120,6 +122,25 @@ class TaskEngine:
     def running(self) -> Task | None:
         """The working or paused task."""
         return self._running
+
+    @property
+    def acting(self) -> bool:
+        """Whether a task is being stepped now: a runtime command made by one of its nodes
+        belongs to the task and must not pre-empt it."""
+        return self._acting
+
+    def when_ended(self, fn: Callable[[Task], None]) -> None:
+        """Call ``fn(task)`` whenever the running task ends, however it ends."""
+        self._on_end.append(fn)
+
+    def give_way(self, note: str) -> Task | None:
+        """A command from outside the tasks takes the robot: cancel the running task (unless
+        the command comes from the task itself); the task cancelled, if any."""
+        task = self._running
+        if task is None or self._acting:
+            return None
+        self._end_running(note)
+        return task
 
     def __iter__(self) -> Iterator[Task]:
         return iter(self.tasks())
@@ -186,7 +207,9 @@ class TaskEngine:
         """
         task, node = self._node(task_id, node_id)
         assert task.run is not None or not node.state.active
-        if task.run is None or not node.pause(task.run):
+        with self._as_task():
+            paused = task.run is not None and node.pause(task.run)
+        if not paused:
             raise Conflict(f"{'task' if node_id is None else 'node'} "
                            f"{node_id or task_id} is {node.state.value}, not WORKING")
         self._render(task)
@@ -200,7 +223,9 @@ class TaskEngine:
             Conflict: that node is not paused.
         """
         task, node = self._node(task_id, node_id)
-        if task.run is None or not node.resume(task.run):
+        with self._as_task():
+            resumed = task.run is not None and node.resume(task.run)
+        if not resumed:
             raise Conflict(f"{'task' if node_id is None else 'node'} "
                            f"{node_id or task_id} is {node.state.value}, not PAUSED")
         self._step(task)
@@ -221,7 +246,9 @@ class TaskEngine:
                 node.cancel(self._run_of(task))
                 self._render(task)
             return task
-        if node.cancel(self._run_of(task)) and task is self._running:
+        with self._as_task():
+            cancelled = node.cancel(self._run_of(task))
+        if cancelled and task is self._running:
             self._step(task)
         return task
 
@@ -286,12 +313,13 @@ class TaskEngine:
         run = task.run
         assert run is not None
         run.now = self._robot.now()
-        try:
-            if task.root.state is not NodeState.PAUSED:
-                task.root.tick(run)
-        except PolynavError as exc:  # a node's own refusal ends the tree, never the loop
-            log.error("task %s: %s", task.id, exc)
-            task.root.end(run, NodeState.ERROR, str(exc))
+        with self._as_task():
+            try:
+                if task.root.state is not NodeState.PAUSED:
+                    task.root.tick(run)
+            except PolynavError as exc:  # a node's own refusal ends the tree, never the loop
+                log.error("task %s: %s", task.id, exc)
+                task.root.end(run, NodeState.ERROR, str(exc))
         if run.taken is not None and task.state.active:
             self._end_running(run.taken)
             return
@@ -302,7 +330,8 @@ class TaskEngine:
     def _end_running(self, note: str) -> None:
         task = self._running
         assert task is not None and task.run is not None
-        task.root.cancel(task.run)
+        with self._as_task():
+            task.root.cancel(task.run)
         task.note = note
         self._finish(task)
         self._render(task)
@@ -318,8 +347,18 @@ class TaskEngine:
             except PolynavError as exc:
                 log.error("task %s: settings not restored: %s", task.id, exc)
         run.restore.clear()
-        if self._on_end is not None:
-            self._on_end(task)
+        for fn in self._on_end:
+            fn(task)
+
+    @contextlib.contextmanager
+    def _as_task(self) -> Iterator[None]:
+        """What runs inside is the task's own doing (see :attr:`acting`)."""
+        outer = self._acting
+        self._acting = True
+        try:
+            yield
+        finally:
+            self._acting = outer
 
     def _run_of(self, task: Task) -> Run:
         return task.run or Run(self._robot, Blackboard(task.blackboard), task.id,

@@ -1,20 +1,25 @@
-"""A patrol: rounds over named points, one navigation leg per point (a Yunji cruise).
+"""A patrol: rounds over named points (a Yunji cruise), as a task tree for the engine.
 
-The patrol only decides what comes next; the runtime starts each leg as a navigation goal and
-reports how it ended. A failed leg is skipped: the robot goes on to the next point (vendors'
-cruises do the same), and the patrol as a whole fails only when its very last leg fails.
-``count`` rounds of every point, or ``FOREVER`` until canceled.
+A failed leg is skipped: the robot goes on to the next point (vendors' cruises do the same),
+and the patrol as a whole fails only when its very last leg fails. ``count`` rounds of every
+point, or ``FOREVER`` until cancelled. Each leg passes its point within ``tolerance`` and heads
+on (a ``none_stop_nav_action``; a charger point is docked onto).
+
+The tree: every leg but the very last one under ``force_success``; the rounds before the last
+one in a ``loop``; the last round a sequence whose last leg decides the patrol.
 """
 
 from __future__ import annotations
 
 import enum
-import logging
 from dataclasses import dataclass
 
 from polynav.errors import InvalidRequest
-
-log = logging.getLogger(__name__)
+from polynav.nav.attempt import GoalOptions
+from polynav.tasks.actions.navigation import NoneStopNavAction
+from polynav.tasks.control import ForceSuccess, Loop, Sequence
+from polynav.tasks.node import Node
+from polynav.tasks.states import NodeState
 
 FOREVER = -1
 
@@ -24,6 +29,15 @@ class PatrolState(enum.Enum):
     SUCCEEDED = "succeeded"
     FAILED = "failed"
     CANCELED = "canceled"
+
+    @classmethod
+    def of(cls, state: NodeState) -> PatrolState:
+        """The patrol's state for its task's."""
+        if state.active or state is NodeState.WAITTING:
+            return cls.RUNNING
+        if state is NodeState.COMPLETE:
+            return cls.SUCCEEDED
+        return cls.CANCELED if state is NodeState.CANCELLED else cls.FAILED
 
 
 @dataclass(frozen=True, slots=True)
@@ -44,46 +58,22 @@ class PatrolPlan:
             raise InvalidRequest("tolerance", f"must be > 0, got {self.tolerance}")
 
 
-class Patrol:
-    """The progress of one patrol: which round, which point, and how it ended."""
+def patrol_tree(plan: PatrolPlan, options: GoalOptions | None = None) -> Node:
+    """The task tree of ``plan``; ``options`` apply to every leg (retries)."""
 
-    def __init__(self, patrol_id: int, plan: PatrolPlan) -> None:
-        self.patrol_id = patrol_id
-        self.plan = plan
-        self.round = 1
-        self.index = 0
-        self.state = PatrolState.RUNNING
+    def legs(last_round: bool) -> list[Node]:
+        out: list[Node] = []
+        for i, point in enumerate(plan.points):
+            leg = NoneStopNavAction({"point": point, "radius": plan.tolerance}, options=options,
+                                    name=point)
+            decides = last_round and i == len(plan.points) - 1
+            out.append(leg if decides else ForceSuccess([leg], name=point))
+        return out
 
-    @property
-    def point(self) -> str:
-        """The point of the current leg."""
-        return self.plan.points[self.index]
-
-    @property
-    def running(self) -> bool:
-        return self.state is PatrolState.RUNNING
-
-    def leg_ended(self, succeeded: bool) -> str | None:
-        """The current leg ended; returns the next leg's point, or ``None`` when the patrol is
-        over (``state`` says how)."""
-        if not self.running:
-            return None
-        if not succeeded:
-            log.warning("patrol %d: leg to %r failed, going on", self.patrol_id, self.point)
-        last_round = self.plan.count != FOREVER and self.round >= self.plan.count
-        if self.index + 1 < len(self.plan.points):
-            self.index += 1
-            return self.point
-        if last_round:
-            self.state = PatrolState.SUCCEEDED if succeeded else PatrolState.FAILED
-            return None
-        self.round += 1
-        self.index = 0
-        return self.point
-
-    def cancel(self) -> bool:
-        """End a running patrol as canceled; ``False`` if it was not running."""
-        if not self.running:
-            return False
-        self.state = PatrolState.CANCELED
-        return True
+    if plan.count == FOREVER:
+        return Loop(legs(False), target_loop_count=0, name="patrol")
+    last = Sequence(legs(True), name="patrol" if plan.count == 1 else "last round")
+    if plan.count == 1:
+        return last
+    rounds = Loop(legs(False), target_loop_count=plan.count - 1, name="rounds")
+    return Sequence([rounds, last], name="patrol")

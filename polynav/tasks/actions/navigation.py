@@ -13,6 +13,7 @@ Blackboard: on arrival ``nav.x``, ``nav.y``, ``nav.theta`` (the pose reached, ma
 from __future__ import annotations
 
 import builtins
+from dataclasses import replace
 from typing import Any, ClassVar
 
 from pydantic import Field, model_validator
@@ -57,13 +58,17 @@ class _Goal(Action):
     schema: ClassVar[builtins.type[Params]] = GoalParams
     writes = ("nav.x", "nav.y", "nav.theta")
 
-    def __init__(self, params: dict[str, Any], **kwargs: Any) -> None:
+    def __init__(self, params: dict[str, Any], *, options: GoalOptions | None = None,
+                 **kwargs: Any) -> None:
         super().__init__(params, **kwargs)
         self.attempt_id: int | None = None
         self._total: float | None = None
+        self._options = options
 
     def options(self) -> GoalOptions | None:
-        return None
+        """The goal's options: those the node was made with (a service's retries), and the
+        type's own."""
+        return self._options
 
     def goal(self) -> tuple[str | None, Pose2D | None]:
         p = self.p
@@ -150,7 +155,7 @@ class NoneStopNavAction(_Goal):
 
     def options(self) -> GoalOptions:
         assert isinstance(self.p, PassParams)
-        return GoalOptions(pass_tolerance=self.p.radius)
+        return replace(self._options or GoalOptions(), pass_tolerance=self.p.radius)
 
 
 @action_type
@@ -161,7 +166,7 @@ class ChargeAction(_Goal):
     type = "charge_action"
 
     def options(self) -> GoalOptions:
-        return GoalOptions(dock=True)
+        return replace(self._options or GoalOptions(), dock=True)
 
 
 class SwitchParams(Params):
