@@ -381,3 +381,27 @@ class TaskChanged(RuntimeEvent):
     state: str
     root: bool
     result: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class AutoChargeStarted(RuntimeEvent):
+    """The battery fell below the low threshold: the robot heads for ``charger`` (the running
+    task, if any, waits paused)."""
+
+    kind: ClassVar[str] = "auto_charge_started"
+
+    percent: float
+    charger: str
+    task_id: str | None
+
+
+@dataclass(frozen=True, slots=True)
+class AutoChargeEnded(RuntimeEvent):
+    """Auto-charge ended: ``charged`` to the full threshold (the waiting task goes on), or
+    not (``reason``; the waiting task is cancelled)."""
+
+    kind: ClassVar[str] = "auto_charge_ended"
+
+    charged: bool
+    percent: float
+    reason: str = ""

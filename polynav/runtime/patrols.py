@@ -57,7 +57,9 @@ class Patrols:
 
     def _ended(self, task: Task) -> None:
         if task.id not in self._ids:
-            self._last = None  # another kind of task ran after the patrol
+            last = self._last
+            if last is not None and last not in (self._engine.running, self._engine.suspended):
+                self._last = None  # another task ran after the patrol
             return
         state = PatrolState.of(task.state)
         kind = {PatrolState.SUCCEEDED: events.PatrolFinished,

@@ -70,6 +70,7 @@ from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.devices import simulated_devices
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
+from polynav.runtime.auto_charge import AutoCharge
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
@@ -178,6 +179,7 @@ class RobotRuntime(
         self._timer_seq = itertools.count()
         # The current or last patrol (a task over several goals), if any.
         self._patrols = Patrols(self.tasks.engine, self._publish, self.now)
+        self._auto_charge = AutoCharge(self)
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
@@ -480,6 +482,7 @@ class RobotRuntime(
             lost = stack.estimate.state is LocalizationState.LOST
             self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
         self._check_battery(now)
+        self._auto_charge.tick(now)
         self.tasks.tick(now)
         self.device.tick(now, commanded)
         self.peripherals.tick(now)

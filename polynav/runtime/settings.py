@@ -23,6 +23,9 @@ obstacle_slowdown_distance  0.2 .. 5.0   1.5 m
 obstacle_stop_distance      0.05 .. 2.0  0.35 m (at most obstacle_slowdown_distance)
 low_battery_percent         1 .. 90      20 %
 critical_battery_percent    0 .. 50      10 % (at most low_battery_percent)
+full_battery_percent        50 .. 100    95 % (auto-charge charges to it; above low_battery)
+auto_charge                 0 .. 1       1 (1: below low_battery_percent the robot docks,
+                                         charges to full_battery_percent and goes on)
 led_luminance               0 .. 100     100 % (the light strip's brightness)
 led_red, led_green, led_blue  0 .. 100   0, 100, 0 % (its colour; not all 0)
 social_distance             0.3 .. 3.0   0.8 m (kept from people where there is room)
@@ -75,6 +78,8 @@ SETTING_RANGES: dict[str, tuple[float, float]] = {
     "obstacle_stop_distance": (0.05, 2.0),
     "low_battery_percent": (1.0, 90.0),
     "critical_battery_percent": (0.0, 50.0),
+    "full_battery_percent": (50.0, 100.0),
+    "auto_charge": (0.0, 1.0),
     "led_luminance": (0.0, 100.0),
     "led_red": (0.0, 100.0),
     "led_green": (0.0, 100.0),
@@ -100,6 +105,8 @@ class RobotSettings:
     obstacle_stop_distance: float = 0.35
     low_battery_percent: float = 20.0
     critical_battery_percent: float = 10.0
+    full_battery_percent: float = 95.0
+    auto_charge: float = 1.0
     led_luminance: float = 100.0
     led_red: float = 0.0
     led_green: float = 100.0
@@ -277,6 +284,15 @@ def _validate(settings: RobotSettings) -> None:
         raise InvalidRequest(
             "critical_battery_percent",
             f"must be <= low_battery_percent ({settings.low_battery_percent:g})",
+        )
+    if settings.full_battery_percent <= settings.low_battery_percent:
+        raise InvalidRequest(
+            "full_battery_percent",
+            f"must be above low_battery_percent ({settings.low_battery_percent:g})",
+        )
+    if settings.auto_charge not in (0.0, 1.0):
+        raise InvalidRequest(
+            "auto_charge", f"must be 0 (off) or 1 (on), got {settings.auto_charge:g}"
         )
     if settings.led_red == settings.led_green == settings.led_blue == 0.0:
         raise InvalidRequest("led", "red, green and blue all 0 would be no colour")

@@ -55,7 +55,10 @@ class RuntimeTaskRobot:
         return self._runtime.map_name
 
     def battery_percent(self) -> float:
-        return float(self._runtime.status().battery_percent)
+        return float(self._runtime.robot.read_battery().percent)
+
+    def charging(self) -> bool:
+        return bool(self._runtime.robot.read_battery().charging)
 
     # -- navigation ----------------------------------------------------------------------------
 

@@ -80,6 +80,11 @@ class TaskEngine:
         self._acting = False
         self._tasks: dict[str, Task] = {}
         self._running: Task | None = None
+        # A detour (auto-charge) runs while ``_suspended`` waits paused; ``_resume_after``:
+        # whether it was working (a task paused by its user stays paused).
+        self._detour: Task | None = None
+        self._suspended: Task | None = None
+        self._resume_after = False
         self._seen: dict[str, NodeState] = {}
         self._lock = threading.Lock()
 
@@ -139,6 +144,7 @@ class TaskEngine:
         task = self._running
         if task is None or self._acting:
             return None
+        self._drop_suspended(note)
         self._end_running(note)
         return task
 
@@ -191,12 +197,43 @@ class TaskEngine:
             raise Conflict(f"task {task_id} is {task.state.value} already")
         if self._running is not None:
             self._end_running("cancelled: another task started")
+        self._drop_suspended("cancelled: another task started")
         task.root.reset()
         task.note = ""
         task.run = Run(self._robot, Blackboard(task.blackboard), task.id, self._robot.now())
         self._running = task
         self._step(task)
         return task
+
+    def interrupt(self, task: Task) -> Task:
+        """Run ``task`` as a detour: the running task is paused until it ends, then resumed
+        if it completed (the robot charged), cancelled if not. Nothing runs: ``task`` simply
+        runs.
+
+        Raises:
+            Conflict: a detour runs already.
+        """
+        if self._detour is not None:
+            raise Conflict(f"a detour ({self._detour.name}) runs already")
+        running = self._running
+        self.add(task)
+        if running is not None and running.run is not None:
+            with self._as_task():
+                self._resume_after = running.root.pause(running.run)
+            self._suspended = running
+            self._running = None
+            self._render(running)
+        self._detour = task
+        task.root.reset()
+        task.run = Run(self._robot, Blackboard(task.blackboard), task.id, self._robot.now())
+        self._running = task
+        self._step(task)
+        return task
+
+    @property
+    def suspended(self) -> Task | None:
+        """The task waiting for a detour to end."""
+        return self._suspended
 
     def pause(self, task_id: str, node_id: str | None = None) -> Task:
         """Pause the task (or one node of it, with its subtree).
@@ -242,6 +279,8 @@ class TaskEngine:
         if node is task.root:
             if task is self._running:
                 self._end_running("cancelled")
+            elif task is self._suspended:
+                self._drop_suspended("cancelled")
             elif not task.state.final:
                 node.cancel(self._run_of(task))
                 self._render(task)
@@ -337,10 +376,43 @@ class TaskEngine:
         self._render(task)
 
     def _finish(self, task: Task) -> None:
-        """The running task ended: restore what it changed, forget it as running."""
+        """The running task ended: settle it, forget it as running, end a detour."""
+        self._running = None
+        self._settle(task)
+        if task is self._detour:
+            self._detour = None
+            self._after_detour(task)
+
+    def _after_detour(self, detour: Task) -> None:
+        task = self._suspended
+        if task is None or task.run is None:
+            return
+        self._suspended = None
+        self._running = task
+        if detour.state is not NodeState.COMPLETE:
+            self._end_running(f"cancelled: {detour.name} ended {detour.state.value}"
+                              f"{': ' + detour.note if detour.note else ''}")
+            return
+        if self._resume_after:
+            with self._as_task():
+                task.root.resume(task.run)
+        self._step(task)
+
+    def _drop_suspended(self, note: str) -> None:
+        task = self._suspended
+        if task is None or task.run is None:
+            return
+        self._suspended = None
+        with self._as_task():
+            task.root.cancel(task.run)
+        task.note = note
+        self._settle(task)
+        self._render(task)
+
+    def _settle(self, task: Task) -> None:
+        """A task ended: restore the settings it changed, tell who listens."""
         run = task.run
         assert run is not None
-        self._running = None
         for settings in reversed(run.restore):
             try:
                 self._robot.change_settings(settings)

@@ -51,6 +51,10 @@ class TaskRobot(Protocol):
 
     def battery_percent(self) -> float: ...
 
+    def charging(self) -> bool:
+        """Whether the robot stands on a charger that charges it."""
+        ...
+
     # -- navigation ----------------------------------------------------------------------------
 
     def navigate(self, *, point: str | None = None, pose: Pose2D | None = None,

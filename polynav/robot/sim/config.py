@@ -54,8 +54,10 @@ class SimConfig:
         battery_drain_per_metre: extra drain per metre of wheel travel [%/m].
         battery_charge_rate: gain while docked on a charger [%/h].
         battery_start_percent: charge at the start [%].
-        battery_empty_voltage: pack voltage at 0 % [V].
-        battery_full_voltage: pack voltage at 100 % [V].
+        battery_empty_voltage: pack voltage at 0 % [V] (at rest).
+        battery_full_voltage: pack voltage at 100 % [V] (at rest; the charger holds it).
+        battery_internal_resistance: the pack's resistance [ohm]: the voltage sags under load
+            and the charge current tapers near full.
         dock_distance_tolerance: the base touches a charger's contacts when it stands this close
             to a charger point's position [m] ...
         dock_heading_tolerance: ... facing that point's heading within this angle [rad].
@@ -101,6 +103,7 @@ class SimConfig:
     battery_start_percent: float = 80.0
     battery_empty_voltage: float = 22.0
     battery_full_voltage: float = 29.4
+    battery_internal_resistance: float = 0.1
     dock_distance_tolerance: float = 0.1
     dock_heading_tolerance: float = 0.3
     person_pause: float = 2.0
@@ -120,7 +123,8 @@ class SimConfig:
             "odom_rotation_noise", "odom_translation_additive", "odom_rotation_additive",
             "imu_yaw_rate_noise", "imu_yaw_rate_bias", "imu_acceleration_noise",
             "battery_idle_drain", "battery_drain_per_metre", "battery_charge_rate",
-            "battery_empty_voltage", "dock_distance_tolerance", "dock_heading_tolerance",
+            "battery_empty_voltage", "battery_internal_resistance", "dock_distance_tolerance",
+            "dock_heading_tolerance",
             "person_pause", "person_stop_distance", "person_patience",
         )
         for f in fields(self):

@@ -122,8 +122,19 @@ class _Goal(Action):
             run.robot.pause_goal(self.attempt_id)
 
     def carry_on(self, run: Run) -> None:
-        if self.attempt_id is not None:
+        if self.attempt_id is None:
+            return
+        outcome = run.robot.goal_outcome(self.attempt_id)
+        if outcome is None:
             run.robot.resume_goal(self.attempt_id)
+            return
+        if outcome.end is not GoalEnd.CANCELED:
+            return  # it ended on its own just before the pause: poll takes it
+        # Cancelled while paused (a detour to the charger drove elsewhere): go again.
+        try:
+            self.begin(run)
+        except PolynavError as exc:
+            self.end(run, self.refused(exc), str(exc))
 
     def halt(self, run: Run) -> None:
         if self.attempt_id is not None:
