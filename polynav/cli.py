@@ -114,7 +114,8 @@ def _run(args: argparse.Namespace) -> int:
         runtime = RobotRuntime.simulated(
             store,
             world,
-            config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+            config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
+                                 automations=args.automations),
             profile=profile,
         )
         if args.mapless:
@@ -298,6 +299,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--automations", action="store_true",
+                     help="let automation tasks (user programs) run, each in its own limited "
+                          "process (default: off)")
     run.add_argument("--mapless", action="store_true",
                      help="navigate without a map from the start: goals are poses in the odometry "
                           "frame (POST /api/navigation/goal with x, y, theta)")

@@ -73,7 +73,8 @@ def run(args: argparse.Namespace) -> int:
         try:
             building = Building(
                 store, world, robots=args.robots,
-                config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+                config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
+                                     automations=args.automations),
                 profile=profile,
             )
         except PolynavError as exc:

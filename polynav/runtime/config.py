@@ -5,9 +5,10 @@ from __future__ import annotations
 import enum
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
+from polynav.automation.runner import AutomationLimits
 from polynav.errors import ConfigError
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
@@ -37,6 +38,9 @@ class RuntimeConfig:
         max_lag: when the loop falls behind its pace by more than this [s of wall time] (a
             slow machine, a speed beyond what it can compute, a debugger), it gives up catching
             up rather than race; simulated time then runs as fast as it can.
+        automations: whether automation tasks (user programs, Galileo's Blockly tasks) may
+            run; off by default, since a program is code sent over the network. Each runs in
+            its own process within ``automation_limits``.
     """
 
     control_rate: float = 20.0
@@ -46,6 +50,8 @@ class RuntimeConfig:
     seed: int = 0
     people: bool = True
     max_lag: float = 0.5
+    automations: bool = False
+    automation_limits: AutomationLimits = field(default_factory=AutomationLimits)
 
     def __post_init__(self) -> None:
         for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):

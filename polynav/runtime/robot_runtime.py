@@ -49,8 +49,10 @@ import logging
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import replace
+from pathlib import Path
 from typing import TypeVar
 
+from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
 from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, Twist
@@ -187,6 +189,10 @@ class RobotRuntime(
             self, simulated_devices(sim, seed=self.config.seed), getattr(store, "data_dir", None)
         )
         self.queries = SiteQueries(self)
+        data_dir = getattr(store, "data_dir", None)
+        self.automations = AutomationRunner(
+            self.tasks, None if data_dir is None else Path(data_dir) / "automations",
+            enabled=self.config.automations, limits=self.config.automation_limits)
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -412,6 +418,7 @@ class RobotRuntime(
 
     def stop(self) -> None:
         """Stop the loop thread and wait for it; queued commands still run. Idempotent."""
+        self.automations.close()
         if self._loop.stop():
             log.info("runtime stopped at t=%.2f", self.now())
 
