@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import enum
+import ipaddress
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol
@@ -22,6 +24,17 @@ class Mode(enum.Enum):
     BUSY = "busy"
 
 
+_HOST_NAME = re.compile(r"[A-Za-z0-9]([A-Za-z0-9-]{0,62})(\.[A-Za-z0-9]([A-Za-z0-9-]{0,62}))*")
+
+
+def _is_network(text: str) -> bool:
+    try:
+        ipaddress.ip_network(text, strict=False)
+    except ValueError:
+        return False
+    return True
+
+
 @dataclass(frozen=True, slots=True)
 class RuntimeConfig:
     """How the runtime runs.
@@ -37,6 +50,11 @@ class RuntimeConfig:
         max_lag: when the loop falls behind its pace by more than this [s of wall time] (a
             slow machine, a speed beyond what it can compute, a debugger), it gives up catching
             up rather than race; simulated time then runs as fast as it can.
+        task_callback_hosts: hosts a task's ``callback_action`` may call beside the loopback
+            ones (``localhost``, 127.0.0.0/8, ::1), each a host name (matched exactly,
+            case-insensitive) or an IP network (``10.0.0.0/8``, ``192.0.2.7``). Empty by
+            default: a task given by any client must not make the robot a proxy into the
+            site's network.
     """
 
     control_rate: float = 20.0
@@ -46,8 +64,13 @@ class RuntimeConfig:
     seed: int = 0
     people: bool = True
     max_lag: float = 0.5
+    task_callback_hosts: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        for host in self.task_callback_hosts:
+            if not (isinstance(host, str) and (_HOST_NAME.fullmatch(host) or _is_network(host))):
+                raise ConfigError("runtime.task_callback_hosts",
+                                  f"each must be a host name or an IP network, got {host!r}")
         for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0.0):

@@ -1,6 +1,17 @@
 """The action types, registered by wire name in :data:`polynav.tasks.action.ACTIONS` on
 import."""
 
-from polynav.tasks.actions import devices, motion, navigation, waiting
+from polynav.tasks.actions import (
+    axes,
+    callback,
+    devices,
+    launch,
+    lifts,
+    media,
+    motion,
+    navigation,
+    waiting,
+)
 
-__all__ = ["devices", "motion", "navigation", "waiting"]
+__all__ = ["axes", "callback", "devices", "launch", "lifts", "media", "motion", "navigation",
+           "waiting"]
