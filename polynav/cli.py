@@ -107,6 +107,13 @@ def _run(args: argparse.Namespace) -> int:
         # A bad profile or world is the user's to fix: one line naming the field, exit 2.
         print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    try:
+        runtime_config = RuntimeConfig(speed=args.speed, seed=args.seed,
+                                       people=not args.no_people,
+                                       task_callback_hosts=tuple(args.task_callback_host))
+    except PolynavError as exc:
+        print(f"polynav run: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     store = SiteStore.open(args.data, seed_world=world)
     try:
         for warning in site_mismatches(store, world):
@@ -114,7 +121,7 @@ def _run(args: argparse.Namespace) -> int:
         runtime = RobotRuntime.simulated(
             store,
             world,
-            config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people),
+            config=runtime_config,
             profile=profile,
         )
         if args.mapless:
@@ -298,6 +305,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--task-callback-host", action="append", default=[], metavar="HOST",
+                     help="a host name or IP network a task's callback_action may call beside "
+                          "loopback (repeat for more; default: loopback only)")
     run.add_argument("--mapless", action="store_true",
                      help="navigate without a map from the start: goals are poses in the odometry "
                           "frame (POST /api/navigation/goal with x, y, theta)")
