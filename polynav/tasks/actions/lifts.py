@@ -104,14 +104,10 @@ class _LiftCall(Action):
             run.blackboard.write("lift.floor", call.floor)
             return NodeState.COMPLETE
         if run.now > self.deadline:
+            assert isinstance(self.p, _CarParams)
             return self._give_up(run, f"lift {call.car} did not come within "
-                                      f"{self.deadline - self._started(run):g} s")
+                                      f"{self.p.timeout:g} s")
         return None
-
-    def _started(self, run: Run) -> float:
-        p = self.p
-        assert isinstance(p, _CarParams)
-        return self.deadline - p.timeout
 
     def _give_up(self, run: Run, why: str) -> NodeState:
         """Give the car back (others may use it while this robot backs off) and fail."""
