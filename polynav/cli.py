@@ -107,6 +107,14 @@ def _run(args: argparse.Namespace) -> int:
         # A bad profile or world is the user's to fix: one line naming the field, exit 2.
         print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    try:
+        runtime_config = RuntimeConfig(speed=args.speed, seed=args.seed,
+                                       people=not args.no_people,
+                                       automations=args.automations,
+                                       task_callback_hosts=tuple(args.task_callback_host))
+    except PolynavError as exc:
+        print(f"polynav run: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     store = SiteStore.open(args.data, seed_world=world)
     try:
         for warning in site_mismatches(store, world):
@@ -114,8 +122,7 @@ def _run(args: argparse.Namespace) -> int:
         runtime = RobotRuntime.simulated(
             store,
             world,
-            config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
-                                 automations=args.automations),
+            config=runtime_config,
             profile=profile,
         )
         if args.mapless:
@@ -302,6 +309,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--automations", action="store_true",
                      help="let automation tasks (user programs) run, each in its own limited "
                           "process (default: off)")
+    run.add_argument("--task-callback-host", action="append", default=[], metavar="HOST",
+                     help="a host name or IP network a task's callback_action may call beside "
+                          "loopback (repeat for more; default: loopback only)")
     run.add_argument("--mapless", action="store_true",
                      help="navigate without a map from the start: goals are poses in the odometry "
                           "frame (POST /api/navigation/goal with x, y, theta)")

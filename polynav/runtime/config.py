@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import enum
+import ipaddress
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -21,6 +23,17 @@ class Mode(enum.Enum):
     MAPPING = "mapping"
     NAVIGATING = "navigating"
     BUSY = "busy"
+
+
+_HOST_NAME = re.compile(r"[A-Za-z0-9]([A-Za-z0-9-]{0,62})(\.[A-Za-z0-9]([A-Za-z0-9-]{0,62}))*")
+
+
+def _is_network(text: str) -> bool:
+    try:
+        ipaddress.ip_network(text, strict=False)
+    except ValueError:
+        return False
+    return True
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,6 +54,11 @@ class RuntimeConfig:
         automations: whether automation tasks (user programs, Galileo's Blockly tasks) may
             run; off by default, since a program is code sent over the network. Each runs in
             its own process within ``automation_limits``.
+        task_callback_hosts: hosts a task's ``callback_action`` may call beside the loopback
+            ones (``localhost``, 127.0.0.0/8, ::1), each a host name (matched exactly,
+            case-insensitive) or an IP network (``10.0.0.0/8``, ``192.0.2.7``). Empty by
+            default: a task given by any client must not make the robot a proxy into the
+            site's network.
     """
 
     control_rate: float = 20.0
@@ -52,8 +70,13 @@ class RuntimeConfig:
     max_lag: float = 0.5
     automations: bool = False
     automation_limits: AutomationLimits = field(default_factory=AutomationLimits)
+    task_callback_hosts: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        for host in self.task_callback_hosts:
+            if not (isinstance(host, str) and (_HOST_NAME.fullmatch(host) or _is_network(host))):
+                raise ConfigError("runtime.task_callback_hosts",
+                                  f"each must be a host name or an IP network, got {host!r}")
         for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0.0):

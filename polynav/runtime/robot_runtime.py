@@ -80,6 +80,7 @@ from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
+from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.runtime.lift_commands import LiftCommands
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.mapless_commands import MaplessCommands
@@ -160,6 +161,7 @@ class RobotRuntime(
         self._router = None
         self._path_costs = None
         self._lift_sessions = None
+        self._lift_hold = None
         self.lift_waits = []
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
@@ -193,6 +195,8 @@ class RobotRuntime(
         self.automations = AutomationRunner(
             self.tasks, None if data_dir is None else Path(data_dir) / "automations",
             enabled=self.config.automations, limits=self.config.automation_limits)
+        # A task's HTTP callbacks, sent from worker threads (never on the loop).
+        self.callbacks = HttpCallbacks(self.config.task_callback_hosts)
         self._snapshot = self._build_snapshot(self._clock.now())
 
     @classmethod
@@ -471,6 +475,7 @@ class RobotRuntime(
             self._attempts.follow(stack.navigator.attempt)
             self._route_tick(now)
             stack = self._stack  # a lift ride switches maps: a new stack
+        self._hold_tick(now)
         explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()

@@ -15,6 +15,7 @@ from typing import Any, Protocol
 
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import GoalOptions
+from polynav.robot.devices import AxisMode, DeviceJob, PtzPose
 
 
 class GoalEnd(enum.Enum):
@@ -32,6 +33,41 @@ class GoalOutcome:
 
     end: GoalEnd
     reason: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class CameraLogin:
+    """Where a network (ONVIF) camera is and how to log in; ``ip`` empty: the first camera
+    found."""
+
+    ip: str
+    port: int
+    username: str
+    password: str
+
+
+@dataclass(frozen=True, slots=True)
+class CallbackAnswer:
+    """How an HTTP callback ended: ``status`` (0: no answer), the answer's text, or
+    ``error`` (a network error, a timeout)."""
+
+    status: int
+    body: str = ""
+    error: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class LiftCall:
+    """A car held for the task and asked to ``floor``: ``placed`` once the car took the call,
+    ``ready`` while it stands there with its doors open, ``full`` with no room for another
+    rider, ``refused`` why the car turned the call down (occupied, out of service)."""
+
+    car: str
+    floor: str
+    placed: bool
+    ready: bool
+    full: bool
+    refused: str = ""
 
 
 class TaskRobot(Protocol):
@@ -109,4 +145,70 @@ class TaskRobot(Protocol):
 
     def change_settings(self, changes: Mapping[str, Any]) -> dict[str, Any]:
         """Apply setting changes; the values they replaced."""
+        ...
+
+    # -- camera, media, axes -------------------------------------------------------------------
+
+    def take_photo(self, view: str, name: str | None) -> str:
+        """Save a photo of camera ``view`` (``front``, ``back``); its file name."""
+        ...
+
+    def start_video(self, view: str, duration: float, name: str | None, *,
+                    task_id: str) -> str:
+        """Record ``duration`` [s] of camera ``view``, stopped early when task ``task_id``
+        ends; the video's file name."""
+        ...
+
+    def move_axis(self, axis: str, mode: AxisMode, *, target: float = 0.0, speed: float = 0.0,
+                  duration: float = 0.0) -> str:
+        """Start a move of ``slide``, ``jacking`` or ``jacking_rotation``; its job id."""
+        ...
+
+    def axis_job(self, job_id: str) -> DeviceJob | None: ...
+
+    def axis_position(self, axis: str) -> float:
+        """Where the axis stands [m or rad from zero]."""
+        ...
+
+    def stop_axis(self, axis: str) -> None: ...
+
+    def ptz_move(self, camera: CameraLogin, pose: PtzPose) -> None:
+        """Move the network camera to an absolute pan, tilt and zoom."""
+        ...
+
+    def ptz_pose(self) -> PtzPose: ...
+
+    def ptz_stop(self) -> None: ...
+
+    def ptz_snapshot(self, camera: CameraLogin) -> str:
+        """Save a snapshot of the network camera; its file name."""
+        ...
+
+    # -- callbacks -----------------------------------------------------------------------------
+
+    def start_callback(self, url: str, method: str, data: Mapping[str, Any],
+                       timeout: float) -> int:
+        """Send an HTTP request off the loop (hosts as the runtime allows); its id."""
+        ...
+
+    def callback_answer(self, call_id: int) -> CallbackAnswer | None:
+        """How the callback ended; ``None`` while it waits."""
+        ...
+
+    def drop_callback(self, call_id: int) -> None: ...
+
+    # -- lifts ---------------------------------------------------------------------------------
+
+    def call_lift(self, *, car: str | None, level: int | None, task_id: str) -> LiftCall:
+        """Hold a car (``car``, else the one held, else the nearest) and ask it to the floor
+        at ``level`` (``None``: the robot's) with its doors open; given back when task
+        ``task_id`` ends, or by :meth:`release_lift`."""
+        ...
+
+    def lift_call(self) -> LiftCall | None:
+        """The car held and how its call stands; ``None`` when none is held."""
+        ...
+
+    def release_lift(self) -> None:
+        """End the held car's session (nothing when none is held)."""
         ...
