@@ -96,7 +96,9 @@ def put_task(ctx: Context, params: Params) -> Reply:
         spec = {"name": name if name is not None else snapshot["name"], **body}
         if snapshot["kind"] == objects.TREE:
             spec.setdefault("control_type", root_kind)
-        if loop is None and "loop_flag" in snapshot["tree"]:
+        if loop is not None:
+            spec["loop_flag"] = loop
+        elif "loop_flag" in snapshot["tree"]:
             spec["loop_flag"] = snapshot["tree"]["loop_flag"]
         spec = objects.tree_spec(ctx, spec)
         root_kind = spec.get("control_type", "sequence")
