@@ -1,8 +1,8 @@
 """Charging endpoints (galileo-http-b E28, E29, E35, E36).
 
 The charge pile of a map is its first charger point (the same point the native API and the
-Yunji adapter show). ``go_charge`` runs a task with one ``charge_action``: the runtime's goal to
-a charger point navigates to its approach and docks, so GalileoStatus goes ``chargeStatus`` 3
+Yunji adapter show). ``go_charge`` runs a task with one ``charge_action`` at the pile's pose: the
+runtime's docking goal navigates to its approach and docks, so GalileoStatus goes ``chargeStatus`` 3
 (finding) -> 4 (docking) -> 1 (charging) -> 2 (charged), or 5 (error). ``stop_charge`` cancels
 that task; a robot already docked stays on the pile (it backs off at its next goal).
 ``POST charge_pose`` stores the robot's pose as the pile (normally while it sits on it).
@@ -15,11 +15,10 @@ import logging
 from polynav.errors import NotFound
 from polynav.geometry import Pose2D
 from polynav.protocols.galileo import session as sessions
-from polynav.protocols.galileo.actions import ChargeAction
-from polynav.protocols.galileo.context import Context, Target
+from polynav.protocols.galileo import task_objects as objects
+from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
-from polynav.protocols.galileo.tasks import book
 from polynav.site import Point, PointKind
 
 log = logging.getLogger(__name__)
@@ -63,13 +62,11 @@ def go_charge(ctx: Context, params: Params) -> Reply:
     map_name = sessions.current_map(ctx)
     pile = sessions.charge_pile(ctx, map_name)
     sessions.require_goals_allowed(ctx)
-    target = Target(sessions.CHARGE_PILE, map_name)
-    action = ChargeAction(pose=pile.pose, point=pile.name, map_name=map_name,
-                          on_attempt=lambda a: ctx.remember_target(a, target))
-    return book(ctx).run(CHARGE_TASK, [action], kind="charge")
+    action = {"type": "charge_action", **_pose(pile.pose), "map": map_name}
+    return objects.run(ctx, CHARGE_TASK, [action], kind=objects.CHARGE)
 
 
 @ROUTES.get("/navigation/stop_charge")
 def stop_charge(ctx: Context, params: Params) -> Reply:
     """E29: ``{"status": "ok", "task": <the cancelled charge task or null>}``."""
-    return {"status": "ok", "task": book(ctx).cancel(kind="charge")}
+    return {"status": "ok", "task": objects.cancel_running(ctx, objects.CHARGE)}

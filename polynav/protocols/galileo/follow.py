@@ -4,11 +4,11 @@ The vendor's setting ``astar_path_changeability`` ("whether to detour", galileo-
 kept by the system-config module in ``<data>/galileo/system_config.json``; when it is ``false``
 and the path in use has a drawn path file, a goal on that map is reached along the drawn path:
 :mod:`polynav.planning.route_graph` finds the way along it (anchored at the path's target
-points), thinned to waypoints about :data:`SPACING` apart, each passed within
-:data:`PASS_TOLERANCE` (no stop, no turn), then the goal as usual. Each leg is still planned on
-the costmap, so the robot keeps clear of obstacles between waypoints. When the robot or the goal
-is more than :data:`MAX_OFFSET` from the drawn path, or the path does not join them, the goal
-is planned directly.
+points), thinned to waypoints about :data:`SPACING` apart, each a ``none_stop_nav_action``
+passed within :data:`PASS_TOLERANCE` (no stop, no turn), then the goal as usual. Each leg is
+still planned on the costmap, so the robot keeps clear of obstacles between waypoints. When the
+robot or the goal is more than :data:`MAX_OFFSET` from the drawn path, or the path does not
+join them, the goal is planned directly.
 """
 
 from __future__ import annotations
@@ -16,13 +16,12 @@ from __future__ import annotations
 import json
 import logging
 import math
+from typing import Any
 
 from polynav.geometry import Pose2D
-from polynav.nav.attempt import GoalOptions
 from polynav.planning import route_graph
 from polynav.protocols.galileo import session as sessions
-from polynav.protocols.galileo.actions import Action, NavAction
-from polynav.protocols.galileo.context import TARGET_WITHOUT_ID, Context, Target
+from polynav.protocols.galileo.context import Context
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +41,8 @@ def follows_drawn_paths(ctx: Context) -> bool:
     return isinstance(values, dict) and values.get(SETTING) is False
 
 
-def waypoint_actions(ctx: Context, map_name: str, path: str, goal: Pose2D) -> list[Action]:
+def waypoint_actions(ctx: Context, map_name: str, path: str, goal: Pose2D
+                     ) -> list[dict[str, Any]]:
     """The pass-through legs along the drawn path towards ``goal`` ([] when not following)."""
     if not follows_drawn_paths(ctx):
         return []
@@ -64,14 +64,12 @@ def waypoint_actions(ctx: Context, map_name: str, path: str, goal: Pose2D) -> li
                  map_name, path)
         return []
     points = route_graph.waypoints(way, SPACING)
-    target = Target(TARGET_WITHOUT_ID)
-    options = GoalOptions(pass_tolerance=PASS_TOLERANCE)
-    actions: list[Action] = []
+    actions: list[dict[str, Any]] = []
     for here, nxt in zip(points, [*points[1:], (goal.x, goal.y)], strict=True):
         if math.dist(here, (goal.x, goal.y)) < PASS_TOLERANCE or math.dist(here, start) < 0.2:
             continue
         heading = math.atan2(nxt[1] - here[1], nxt[0] - here[0])
-        actions.append(NavAction(pose=Pose2D(here[0], here[1], heading), map_name=map_name,
-                                 options=options,
-                                 on_attempt=lambda a: ctx.remember_target(a, target)))
+        actions.append({"type": "none_stop_nav_action", "x": float(here[0]),
+                        "y": float(here[1]), "theta": heading, "radius": PASS_TOLERANCE,
+                        "map": map_name})
     return actions

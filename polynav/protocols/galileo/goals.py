@@ -1,23 +1,25 @@
-"""Navigation tasks to a pose or a target point (galileo-http-b E27, E30, E31).
+"""Navigation tasks to a pose or a target point (galileo-http-b E27, E30, E31, E57).
 
-Each endpoint builds a task of ``nav_action``s (:mod:`.actions`) and runs it at once; the task
-is returned (``WORKING``) and can be polled with ``GET /api/v1/task?id=``. A goal on another map
-than the one in use goes through the site's connections (:mod:`.crossing`).
+Each endpoint builds a task of ``nav_action``s and runs it at once on the task engine
+(:mod:`.task_objects`); the task is returned (``WORKING``) and can be polled with
+``GET /api/v1/task?id=``. A goal on another map than the one in use is one ``nav_action`` with
+its ``map``: the runtime's router takes the robot across the site's direct connections and
+lifts, or refuses the goal with its reason (``NoRoute``, a 409).
 """
 
 from __future__ import annotations
 
 import logging
+from typing import Any
 
-from polynav.errors import Conflict, InvalidRequest
+from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, wrap_angle
-from polynav.protocols.galileo import crossing, follow
+from polynav.protocols.galileo import follow
 from polynav.protocols.galileo import session as sessions
-from polynav.protocols.galileo.actions import Action, NavAction
-from polynav.protocols.galileo.context import TARGET_WITHOUT_ID, Context, Target
+from polynav.protocols.galileo import task_objects as objects
+from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
-from polynav.protocols.galileo.tasks import book
 
 log = logging.getLogger(__name__)
 
@@ -27,37 +29,34 @@ NAVIGATION_TASK = "navigation task"
 MULTI_MAP_TASK = "multi map navigation task"
 
 
-def nav_to_target(ctx: Context, map_name: str, path: str, index: int) -> NavAction:
-    """A ``nav_action`` to target ``index`` of (map, path); ``galileo_status`` shows its index."""
-    point = sessions.target_point(ctx, map_name, path, index)
-    target = Target(index, map_name, path)
-    return NavAction(pose=point.pose, point=point.name, map_name=map_name, path=path,
-                     index=index, on_attempt=lambda a: ctx.remember_target(a, target))
+def nav_to_target(ctx: Context, map_name: str, path: str, index: int) -> dict[str, Any]:
+    """A ``nav_action`` to target ``index`` of (map, path), at the point's pose; GalileoStatus
+    shows its index while it runs.
+
+    Raises:
+        NotFound: unknown map, path or index.
+        InvalidRequest: a bad index.
+    """
+    pose = sessions.target_point(ctx, map_name, path, index).pose
+    return {"type": "nav_action", "x": float(pose.x), "y": float(pose.y),
+            "theta": float(pose.theta), "map": map_name, "path": path, "index": index}
 
 
-def nav_to_pose(ctx: Context, pose: Pose2D, map_name: str | None = None) -> NavAction:
-    target = Target(TARGET_WITHOUT_ID)
-    return NavAction(pose=pose, map_name=map_name,
-                     on_attempt=lambda a: ctx.remember_target(a, target))
+def nav_to_pose(pose: Pose2D, map_name: str) -> dict[str, Any]:
+    return {"type": "nav_action", "x": float(pose.x), "y": float(pose.y),
+            "theta": float(pose.theta), "map": map_name}
 
 
-def plan_actions(ctx: Context, map_name: str, final: NavAction, path: str | None = None
-                 ) -> list[Action]:
-    """``final`` on the current map (after the legs along the drawn path, when the robot
-    follows drawn paths); on another map, the crossing of the site's direct connections that
-    leads to it, else ``final`` alone for the runtime's multi-map router to route (through
-    lifts), which refuses a map it cannot reach."""
+def plan_actions(ctx: Context, map_name: str, final: dict[str, Any], path: str | None = None
+                 ) -> list[dict[str, Any]]:
+    """``final`` after the legs along the drawn path when the robot follows drawn paths on the
+    map in use; on another map ``final`` alone, for the runtime's router."""
     here = sessions.current_map(ctx)
-    if map_name == here:
-        legs = follow.waypoint_actions(ctx, map_name, path or sessions.current_path(ctx, here),
-                                       final.pose)
-        return [*legs, final]
-    try:
-        return [*crossing.actions_between(ctx, here, map_name), final]
-    except Conflict:
-        log.info("galileo: no direct connections from %s to %s: the runtime routes", here,
-                 map_name)
+    if map_name != here:
         return [final]
+    goal = Pose2D(final["x"], final["y"], final["theta"])
+    legs = follow.waypoint_actions(ctx, map_name, path or sessions.current_path(ctx, here), goal)
+    return [*legs, final]
 
 
 @ROUTES.post("/navigation/start_nav_task")
@@ -70,8 +69,8 @@ def start_nav_task(ctx: Context, params: Params) -> Reply:
     ctx.store.map_record(map_name)
     if path is not None:
         sessions.routes(ctx).route(map_name, path)
-    actions = plan_actions(ctx, map_name, nav_to_pose(ctx, pose, map_name), path)
-    return book(ctx).run(NAVIGATION_TASK, actions)
+    actions = plan_actions(ctx, map_name, nav_to_pose(pose, map_name), path)
+    return objects.run(ctx, NAVIGATION_TASK, actions, kind=objects.NAVIGATION)
 
 
 @ROUTES.get("/navigation/move_to_index")
@@ -81,13 +80,13 @@ def move_to_index(ctx: Context, params: Params) -> Reply:
     level = params.integer("level", None)
     map_name = params.text("map", None)
     if map_name is None and level is not None:
-        map_name = crossing.map_of_level(ctx, level)
+        map_name = sessions.map_of_level(ctx, level)
     map_name = map_name or sessions.current_map(ctx)
     path = params.text("path", None) or sessions.current_path(ctx, map_name)
     final = nav_to_target(ctx, map_name, path, index)  # NotFound / InvalidRequest first
     sessions.require_goals_allowed(ctx)
     actions = plan_actions(ctx, map_name, final, path)
-    return book(ctx).run(NAVIGATION_TASK, actions)
+    return objects.run(ctx, NAVIGATION_TASK, actions, kind=objects.NAVIGATION)
 
 
 def _end(params: Params, name: str) -> tuple[str | None, str | None, int, int | None]:
@@ -103,25 +102,21 @@ def _end(params: Params, name: str) -> tuple[str | None, str | None, int, int | 
 @ROUTES.get("/navigation/multi_map_task")
 def multi_map_task(ctx: Context, params: Params) -> Reply:
     """E57 (POST; GET with the objects as JSON text too, A-12): the task from ``from`` to
-    ``to`` across maps, built and not run (``WAITTING``)."""
+    ``to``, built and not run (``WAITTING``): a goal at each end, the second on its own map
+    (the runtime's router crosses to it when the task runs)."""
     ends = []
     for name in ("from", "to"):
         map_name, path, index, level = _end(params, name)
         if map_name is None and level is not None:
-            map_name = crossing.map_of_level(ctx, level)
+            map_name = sessions.map_of_level(ctx, level)
         map_name = map_name or sessions.current_map(ctx)
         path = path or sessions.current_path(ctx, map_name)
         ends.append(nav_to_target(ctx, map_name, path, index))
-    start, goal = ends
-    assert start.map_name is not None and goal.map_name is not None
-    actions: list[Action] = [start]
-    if start.map_name != goal.map_name:
-        actions.extend(crossing.actions_between(ctx, start.map_name, goal.map_name))
-    actions.append(goal)
-    return book(ctx).build(MULTI_MAP_TASK, actions, kind="navigation")
+    spec = {"name": MULTI_MAP_TASK, "sub_tasks": ends}
+    return objects.render(objects.create(ctx, spec, kind=objects.NAVIGATION))
 
 
 @ROUTES.get("/navigation/stop_nav_task")
 def stop_nav_task(ctx: Context, params: Params) -> Reply:
     """E31: cancel the running navigation task; the task, ``null`` when there was none."""
-    return book(ctx).cancel(kind="navigation")
+    return objects.cancel_running(ctx, objects.NAVIGATION)

@@ -10,9 +10,11 @@
   archive back under ``map_name`` (A-14), replacing a map of that name. Only those three member
   names are read, each at most :data:`MAX_MEMBER` bytes, so an archive cannot write outside a
   temporary folder or fill the disk.
-* ``upload_map``/``download_map`` exchange maps with a Lagrange dispatch server; polynav has no
-  dispatch connection, so the task they return is in ``ERROR`` at once, with the reason in the
-  action's ``result``.
+* ``upload_map``/``download_map`` exchange maps with a Lagrange dispatch server: a task of one
+  ``upload_map_action``/``download_map_action`` (:mod:`polynav.tasks.actions.transfer`). polynav
+  has no dispatch connection, so the task is in ``ERROR`` at once, with the reason in the
+  action's ``result``. The robot runs one task at a time, so a transfer asked while a task runs
+  is refused (409) rather than stopping that task for an exchange that cannot happen.
 """
 
 from __future__ import annotations
@@ -33,14 +35,12 @@ from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.maps import ros_map
 from polynav.protocols.galileo import convert
 from polynav.protocols.galileo import session as sessions
-from polynav.protocols.galileo.actions import Action
+from polynav.protocols.galileo import task_objects as objects
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.map_meta import MapMeta, check_meta
 from polynav.protocols.galileo.mapping import metas
 from polynav.protocols.galileo.params import Params
-from polynav.protocols.galileo.tasks import book
-from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.route_stops import StopInput
 
 log = logging.getLogger(__name__)
@@ -50,7 +50,6 @@ ROUTES = RouteList()
 MAX_MEMBER = 64 * 1024 * 1024  # [bytes] per archive member
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.196
-NO_DISPATCH = "polynav has no Lagrange dispatch server connection"
 
 
 def md5sum(ctx: Context, name: str) -> str:
@@ -134,36 +133,28 @@ def current_map(ctx: Context, params: Params) -> Reply:
     return {"name": name, "md5sum": md5sum(ctx, name)}
 
 
-class DispatchAction(Action):
-    """Map exchange with a dispatch server: cannot start on polynav (no such connection)."""
-
-    def __init__(self, kind: str, fields: dict[str, str]) -> None:
-        super().__init__()
-        self.type = kind
-        self._fields = fields
-
-    def params(self, runtime: RobotRuntime) -> dict[str, Any]:
-        return dict(self._fields)
-
-    def start(self, runtime: RobotRuntime) -> None:
-        raise Conflict(NO_DISPATCH)
+def _transfer(ctx: Context, name: str, action: dict[str, Any]) -> Reply:
+    """Run the transfer task ``name`` of ``action``; the task (``ERROR``: no dispatch)."""
+    busy = ctx.runtime.tasks.running()
+    if busy is not None:
+        raise Conflict(f"task {busy['name']!r} is {busy['state']}: a map transfer runs alone")
+    return objects.render(objects.create(ctx, {"name": name, "sub_tasks": [action]},
+                                         kind=objects.TRANSFER, start=True))
 
 
 @ROUTES.get("/navigation/upload_map")
 def upload_map(ctx: Context, params: Params) -> Reply:
     """E23: the ``upload_map`` task (``ERROR``: no dispatch server)."""
-    action = DispatchAction("upload_map_action", {"server_id": params.text("server_id")})
-    return book(ctx).run("upload_map", [action], kind="transfer", raise_errors=False,
-                           preempt=False)
+    return _transfer(ctx, "upload_map", {"type": "upload_map_action",
+                                         "server_id": params.text("server_id")})
 
 
 @ROUTES.get("/navigation/download_map")
 def download_map(ctx: Context, params: Params) -> Reply:
     """E24: the ``download_map`` task (``ERROR``: no dispatch server)."""
-    action = DispatchAction("download_map_action", {"server_id": params.text("server_id"),
-                                                    "map_id": params.text("map_id")})
-    return book(ctx).run("download_map", [action], kind="transfer", raise_errors=False,
-                           preempt=False)
+    return _transfer(ctx, "download_map", {"type": "download_map_action",
+                                           "server_id": params.text("server_id"),
+                                           "map_id": params.text("map_id")})
 
 
 def archive(ctx: Context, name: str) -> bytes:

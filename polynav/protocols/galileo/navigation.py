@@ -24,12 +24,10 @@ import math
 
 from polynav.errors import Conflict, InvalidRequest
 from polynav.geometry import Pose2D, wrap_angle
-from polynav.protocols.galileo import crossing
 from polynav.protocols.galileo import session as sessions
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.params import Params
-from polynav.protocols.galileo.tasks import book
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +40,7 @@ def start(ctx: Context, params: Params) -> dict[str, object]:
     level = params.integer("level", None)
     map_name = params.text("map", None)
     if map_name is None and level is not None:
-        map_name = crossing.map_of_level(ctx, level)
+        map_name = sessions.map_of_level(ctx, level)
     map_name = map_name or sessions.current_map(ctx)
     ctx.store.map_record(map_name)  # NotFound before anything changes
     path = params.text("path", None) or sessions.current_path(ctx, map_name)
@@ -50,7 +48,7 @@ def start(ctx: Context, params: Params) -> dict[str, object]:
     start_index, point = sessions.start_point(ctx, params, map_name, path)
     if ctx.runtime.status().mode == "mapping":
         raise Conflict("the robot is mapping: stop mapping first")
-    book(ctx).cancel()
+    ctx.runtime.tasks.cancel_running()
     ctx.runtime.start_navigation(map_name, point=point)
     with s.lock:
         s.map_name = map_name
@@ -73,7 +71,7 @@ def navigation_start(ctx: Context, params: Params) -> Reply:
 def navigation_stop(ctx: Context, params: Params) -> Reply:
     """E13: cancels every task, unloads the map; ``result: true`` also when not navigating."""
     snap = ctx.runtime.status()
-    book(ctx).cancel()
+    ctx.runtime.tasks.cancel_running()
     if snap.mode == "mapping":
         raise Conflict("the robot is mapping, not navigating: use /api/v1/map/stop")
     if snap.mode != "navigating":
@@ -157,7 +155,7 @@ def reload(ctx: Context, params: Params) -> Reply:
     if ctx.runtime.status().mode != "navigating":
         raise Conflict("navigation is not started: reload switches the map while navigating")
     s = sessions.session(ctx)
-    book(ctx).cancel()
+    ctx.runtime.tasks.cancel_running()
     ctx.runtime.start_navigation(map_name)
     with s.lock:
         s.map_name = map_name

@@ -78,6 +78,18 @@ def current_map(ctx: Context) -> str:
     return maps[0].name
 
 
+def map_of_level(ctx: Context, level: int) -> str:
+    """The map of the floor at ``level`` (Galileo's ``level`` parameters name floors).
+
+    Raises:
+        NotFound: no floor has that level.
+    """
+    for floor in ctx.store.floors():
+        if floor.level == level:
+            return floor.map_name
+    raise NotFound("floor of level", str(level))
+
+
 def current_path(ctx: Context, map_name: str | None = None) -> str:
     """The path in use on ``map_name`` (default: the current map)."""
     name = map_name or current_map(ctx)

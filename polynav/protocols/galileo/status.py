@@ -28,6 +28,7 @@ import math
 from typing import Any
 
 from polynav.errors import PolynavError
+from polynav.protocols.galileo import task_objects as objects
 from polynav.protocols.galileo.context import TARGET_WITHOUT_ID, Context, Target
 from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.messages import (
@@ -42,7 +43,6 @@ from polynav.protocols.galileo.messages import (
     VisualStatus,
 )
 from polynav.protocols.galileo.params import Params
-from polynav.protocols.galileo.tasks import book
 from polynav.runtime.status import StatusSnapshot
 
 log = logging.getLogger(__name__)
@@ -139,6 +139,7 @@ def target_fields(snapshot: StatusSnapshot, target: Target | None) -> dict[str, 
 def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict[str, Any]:
     """The GalileoStatus object (galileo-http-a §1.6), fields in the document's order."""
     snap = snapshot if snapshot is not None else ctx.runtime.status()
+    objects.targets(ctx).update()
     target = ctx.target_of(snap.attempt_id)
     stamp = max(0.0, snap.stamp)
     secs = int(stamp)
@@ -176,7 +177,7 @@ def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict
 
 def looping(ctx: Context) -> bool:
     """Whether a Galileo loop task runs."""
-    return book(ctx).running("loop") is not None
+    return objects.running(ctx, objects.LOOP) is not None
 
 
 def pack_voltage(ctx: Context) -> float:

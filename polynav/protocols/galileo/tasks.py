@@ -1,292 +1,296 @@
-"""Galileo task objects created by the navigation endpoints, run on the runtime's clock, and
-``GET /api/v1/task`` to read them.
+"""The task and action endpoints (galileo-tasks-bt-ws §4, §5): Galileo's tasks, behavior trees
+and actions, on the robot's task engine (``runtime.tasks``, :mod:`.task_objects` translates).
 
-A task is an ordered list of actions (:mod:`polynav.protocols.galileo.actions`), run one after
-the other (galileo-tasks-bt-ws §3): the task is ``WORKING`` while they run, ``COMPLETE`` when
-the last one completes (a ``loop_flag`` task starts over and counts ``loop_count``), ``ERROR``
-when one errs, ``CANCELLED`` when stopped, or when its navigation attempt is canceled by
-anyone (another task, another dialect). The robot does one thing at a time, so starting a task
-cancels the task that was running (A-6: pre-empt).
+Decisions where the document is silent (§3.2, §11):
 
-The book advances on the runtime's clock: a timer (:meth:`RobotRuntime.schedule`) polls the
-running task every :data:`POLL_PERIOD` simulated seconds, between ticks. Reading a task
-(``GET /task?id=``, polled in a tight loop by real scripts) only copies what the last poll
-left, under a lock: no runtime call.
+* One task runs at a time; starting one pre-empts the running one (A-6). ``start`` of a task
+  that runs (or is paused) is refused; a task that ended runs again from its start.
+* ``pause`` only a working task, ``resume`` only a paused one; otherwise refused (409).
+* ``PUT /task`` and every change of a task's actions are refused while it runs or is paused;
+  ``sub_tasks`` replace the old ones when given (A-7). A behavior tree keeps its
+  ``control_type`` unless one is given; a plain task stays plain.
+* ``POST /action`` without ``task_id`` makes a temporary ``"auto task"`` (A-13): ``WAITTING``,
+  not listed by ``GET /task``, started by id. With ``task_id`` the action is appended.
+* Without ``id``, ``GET /task`` and ``GET /action`` answer arrays, and ``/task/stop`` cancels
+  the running task and answers the array of the tasks cancelled (A-5).
+* ``update_wait_req`` releases every waiting ``wait_req_action`` and answers
+  ``{"status": "OK"}`` (A-11, A-14).
+* A task keeps at least one action (the engine's control nodes take one child or more):
+  a task is made with its ``sub_tasks``, and deleting its last action is refused.
+
+Device jobs shown as tasks (slide, jacking, video: :mod:`.system_tasks`) answer ``GET /task?id=``
+and ``/task/stop?id=`` under their own ids.
 """
 
 from __future__ import annotations
 
 import logging
-import threading
-import uuid
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
 from typing import Any
 
-from polynav.errors import Conflict, NotFound, PolynavError
+from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.protocols.galileo import system_tasks
-from polynav.protocols.galileo.actions import FINAL, Action, Outcomes
+from polynav.protocols.galileo import task_objects as objects
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Reply, RouteList
-from polynav.protocols.galileo.messages import TaskState
 from polynav.protocols.galileo.params import Params
-from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.tasks import tree
+from polynav.tasks.action import ACTIONS
+from polynav.tasks.control import Control
+from polynav.tasks.engine import Task
+from polynav.tasks.node import Node
 
 log = logging.getLogger(__name__)
 
 ROUTES = RouteList()
 
-POLL_PERIOD = 0.1  # [s] of the runtime's clock between polls of the running task
-MAX_TASKS = 1000  # finished tasks beyond this are forgotten, oldest first
+AUTO_TASK_NAME = "auto task"
 
 
-@dataclass
-class Task:
-    """A task: its actions and where it is."""
-
-    name: str
-    actions: list[Action]
-    loop_flag: bool = False
-    kind: str = "navigation"
-    id: str = field(default_factory=lambda: str(uuid.uuid4()))
-    state: TaskState = TaskState.WAITTING
-    index: int = 0
-    loop_count: int = 0
-    snapshot: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def current(self) -> Action | None:
-        if self.state in (TaskState.WORKING, TaskState.PAUSED) and self.index < len(
-            self.actions
-        ):
-            return self.actions[self.index]
-        return None
-
-    def render(self, runtime: RobotRuntime) -> dict[str, Any]:
-        subs = [a.to_dict(runtime) for a in self.actions]
-        current: dict[str, Any] | None = None
-        if self.state is not TaskState.WAITTING and self.index < len(subs):
-            current = subs[self.index]
-        done = sum(1 for a in self.actions if a.state is TaskState.COMPLETE)
-        progress = round(done / len(self.actions), 3) if self.actions else 0
-        return {"id": self.id, "name": self.name, "loop_flag": self.loop_flag,
-                "state": self.state.value, "sub_tasks": subs, "progress": progress,
-                "current_task": current, "loop_count": self.loop_count}
+def _listed(ctx: Context) -> list[dict[str, Any]]:
+    """The snapshots of the Galileo tasks ``GET /task`` lists (temporary ones are not)."""
+    return [s for s in ctx.runtime.tasks.list(owner=objects.OWNER) if not s["temporary"]]
 
 
-class TaskBook:
-    """Every task this adapter created, and the runner of the one that is running."""
-
-    def __init__(self, runtime: RobotRuntime) -> None:
-        self._runtime = runtime
-        self._tasks: dict[str, Task] = {}
-        self._lock = threading.Lock()
-        self._outcomes = Outcomes(runtime)
-        self._polling = False
-
-    def close(self) -> None:
-        self._outcomes.close()
-
-    # -- reading (any thread, cheap) ------------------------------------------------------------
-
-    def get(self, task_id: str) -> dict[str, Any]:
-        """The task's last rendered state.
-
-        Raises:
-            NotFound: no such task.
-        """
-        with self._lock:
-            task = self._tasks.get(task_id)
-            if task is None:
-                raise NotFound("task", task_id)
-            return task.snapshot
-
-    def all(self) -> list[dict[str, Any]]:
-        with self._lock:
-            return [t.snapshot for t in self._tasks.values()]
-
-    def running(self, kind: str | None = None) -> Task | None:
-        """The working or paused task (of ``kind``), if any."""
-        with self._lock:  # the running task is nearly always the newest: no copy, no full scan
-            for task in reversed(self._tasks.values()):
-                if task.state in (TaskState.WORKING, TaskState.PAUSED) and (
-                    kind is None or task.kind == kind
-                ):
-                    return task
-        return None
-
-    def last(self, kind: str) -> Task | None:
-        with self._lock:
-            for task in reversed(self._tasks.values()):
-                if task.kind == kind:
-                    return task
-        return None
-
-    # -- commands (handler threads) ---------------------------------------------------------------
-
-    def run(self, name: str, actions: Sequence[Action], *, loop_flag: bool = False,
-            kind: str = "navigation", raise_errors: bool = True, preempt: bool = True
-            ) -> dict[str, Any]:
-        """Create a task and start it, cancelling the running one; its rendered state.
-
-        Raises:
-            Conflict: the first action could not start (the task is kept, in ``ERROR``), unless
-                ``raise_errors`` is off: the task in ``ERROR`` is returned then.
-
-        ``preempt`` off leaves the running task alone (a task that does not move the robot).
-        """
-        task = Task(name, list(actions), loop_flag=loop_flag, kind=kind)
-        if not task.actions:
-            raise Conflict("a task needs at least one action")
-
-        def begin() -> None:
-            if preempt:
-                self._cancel_running()
-            with self._lock:
-                self._tasks[task.id] = task
-                self._forget_old()
-            task.state = TaskState.WORKING
-            self._start_action(task)
-            self._render(task)
-            self._ensure_polling()
-
-        self._runtime.run_between_ticks(begin)
-        if task.state is TaskState.ERROR and raise_errors:
-            current = task.actions[task.index]
-            raise Conflict(current.result or "the task could not start")
-        return task.snapshot
-
-    def build(self, name: str, actions: Sequence[Action], *, kind: str) -> dict[str, Any]:
-        """Create a task without running it (``WAITTING``)."""
-        task = Task(name, list(actions), kind=kind)
-        with self._lock:
-            self._tasks[task.id] = task
-            self._forget_old()
-        self._render(task)
-        return task.snapshot
-
-    def cancel(self, task_id: str | None = None, *, kind: str | None = None
-               ) -> dict[str, Any] | None:
-        """Cancel a task (by id, else the running one of ``kind``); its state, ``None`` when
-        there was none."""
-
-        def stop() -> Task | None:
-            if task_id is not None:
-                with self._lock:
-                    task = self._tasks.get(task_id)
-                if task is None:
-                    raise NotFound("task", task_id)
-            else:
-                task = self.running(kind)
-            if task is None:
-                return None
-            self._cancel(task)
-            return task
-
-        task = self._runtime.run_between_ticks(stop)
-        return None if task is None else task.snapshot
-
-    # -- on the loop -------------------------------------------------------------------------------
-
-    def _cancel_running(self) -> None:
-        task = self.running()
-        if task is not None:
-            self._cancel(task)
-
-    def _cancel(self, task: Task) -> None:
-        if task.state in FINAL:
-            return
-        current = task.current
-        if current is not None and current.state in (TaskState.WORKING, TaskState.PAUSED):
-            try:
-                current.cancel(self._runtime)
-            except PolynavError as exc:
-                log.info("galileo: task %s: cancel: %s", task.id, exc)
-        for action in task.actions[task.index:]:
-            if action.state not in FINAL:
-                action.state = TaskState.CANCELLED
-        task.state = TaskState.CANCELLED
-        self._render(task)
-
-    def _start_action(self, task: Task) -> None:
-        action = task.actions[task.index]
-        action.state = TaskState.WORKING
-        try:
-            action.start(self._runtime)
-        except PolynavError as exc:
-            log.info("galileo: task %s: %s failed to start: %s", task.id, action.type, exc)
-            action.state = TaskState.ERROR
-            action.result = str(exc)
-            task.state = TaskState.ERROR
-
-    def _ensure_polling(self) -> None:
-        if not self._polling:
-            self._polling = True
-            self._runtime.schedule(POLL_PERIOD, self._poll)
-
-    def _poll(self) -> None:
-        task = self.running()
-        if task is None:
-            self._polling = False
-            return
-        if task.state is TaskState.WORKING:
-            self._advance(task)
-        self._render(task)
-        self._runtime.schedule(POLL_PERIOD, self._poll)
-
-    def _advance(self, task: Task) -> None:
-        action = task.actions[task.index]
-        ended = action.poll(self._runtime, self._outcomes)
-        if ended is None:
-            return
-        action.state = ended
-        if ended is TaskState.CANCELLED:
-            self._cancel(task)
-            return
-        if ended is TaskState.ERROR:
-            task.state = TaskState.ERROR
-            return
-        task.index += 1
-        if task.index >= len(task.actions):
-            if not task.loop_flag:
-                task.state = TaskState.COMPLETE
-                return
-            task.loop_count += 1
-            task.index = 0
-            for a in task.actions:
-                a.reset()
-        self._start_action(task)
-
-    def _render(self, task: Task) -> None:
-        snapshot = task.render(self._runtime)
-        with self._lock:
-            task.snapshot = snapshot
-
-    def _forget_old(self) -> None:
-        while len(self._tasks) > MAX_TASKS:
-            oldest = next(iter(self._tasks))
-            if self._tasks[oldest].state not in FINAL:
-                break
-            del self._tasks[oldest]
-
-
-def book(ctx: Context) -> TaskBook:
-    """The context's task book."""
-    return ctx.state("tasks", lambda: TaskBook(ctx.runtime))
+# -- tasks ---------------------------------------------------------------------------------
 
 
 @ROUTES.get("/task", inline=True)
 def get_task(ctx: Context, params: Params) -> Reply:
-    """``GET /api/v1/task[?id=]`` (galileo-tasks-bt-ws §4.1) for the tasks this adapter made:
-    one task object, or all of them in an array."""
-    tasks = book(ctx)
+    """§4.1: one task object, or every task in an array."""
     task_id = params.text("id", None)
     if task_id is None:
-        return tasks.all()
+        return [objects.render(s) for s in _listed(ctx)]
     try:
-        return tasks.get(task_id)
+        return objects.render(ctx.runtime.tasks.get(task_id))
     except NotFound:
         device = system_tasks.device_task(ctx, task_id)  # a slide, jacking or video task
         if device is None:
             raise
         return device
+
+
+@ROUTES.post("/task")
+def post_task(ctx: Context, params: Params) -> Reply:
+    """§4.2, §7.2: a task, or a behavior tree with ``control_type``, made ``WAITTING``."""
+    params.text("name")
+    body = objects.body_of(params)
+    kind = objects.TREE if "control_type" in body else objects.TASK
+    return objects.render(objects.create(ctx, objects.tree_spec(ctx, body), kind=kind))
+
+
+@ROUTES.put("/task")
+def put_task(ctx: Context, params: Params) -> Reply:
+    """§4.3: change the name, ``loop_flag`` and ``sub_tasks`` of a task that does not run."""
+    task_id = params.text("id")
+    name = params.text("name", None)
+    loop = params.boolean("loop_flag", None)
+    snapshot = ctx.runtime.tasks.get(task_id)
+    root_kind = snapshot["tree"]["kind"]
+    body = {k: v for k, v in objects.body_of(params).items() if k != "id"}
+    spec: dict[str, Any] | None = None
+    if "sub_tasks" in body:
+        if "control_type" in body and snapshot["kind"] != objects.TREE:
+            raise InvalidRequest("control_type", "a plain task stays plain: make a behavior "
+                                                 "tree with POST /api/v1/task")
+        spec = {"name": name if name is not None else snapshot["name"], **body}
+        if snapshot["kind"] == objects.TREE:
+            spec.setdefault("control_type", root_kind)
+        if loop is not None:
+            spec["loop_flag"] = loop
+        elif "loop_flag" in snapshot["tree"]:
+            spec["loop_flag"] = snapshot["tree"]["loop_flag"]
+        spec = objects.tree_spec(ctx, spec)
+        root_kind = spec.get("control_type", "sequence")
+    if loop is not None and root_kind != "sequence":
+        raise InvalidRequest("loop_flag", f"a {root_kind} node does not loop by flag")
+    changed = ctx.runtime.tasks.replace(task_id, spec, name=name)  # refused while it runs
+    if loop is not None and spec is None:
+        changed = ctx.runtime.tasks.set_loop(task_id, loop)
+    return objects.render(changed)
+
+
+@ROUTES.delete("/task")
+def delete_task(ctx: Context, params: Params) -> Reply:
+    """§4.4: forget a task that does not run."""
+    ctx.runtime.tasks.delete(params.text("id"))
+    return {"status": "ok"}
+
+
+@ROUTES.get("/task/start")
+def start_task(ctx: Context, params: Params) -> Reply:
+    """§4.5: run the task from its start (pre-empting the running one); the task after."""
+    return objects.render(ctx.runtime.tasks.start(params.text("id")))
+
+
+@ROUTES.get("/task/pause")
+def pause_task(ctx: Context, params: Params) -> Reply:
+    """§4.6."""
+    return objects.render(ctx.runtime.tasks.pause(params.text("id")))
+
+
+@ROUTES.get("/task/resume")
+def resume_task(ctx: Context, params: Params) -> Reply:
+    """§4.7."""
+    return objects.render(ctx.runtime.tasks.resume(params.text("id")))
+
+
+@ROUTES.get("/task/stop")
+def stop_task(ctx: Context, params: Params) -> Reply:
+    """§4.8: cancel the task (a device task too); without ``id`` the running task, answered
+    as an array of the tasks cancelled."""
+    task_id = params.text("id", None)
+    if task_id is None:
+        cancelled = ctx.runtime.tasks.cancel_running()
+        return [] if cancelled is None else [objects.render(cancelled)]
+    try:
+        return objects.render(ctx.runtime.tasks.cancel(task_id))
+    except NotFound:
+        device = system_tasks.stop_device_task(ctx, task_id)
+        if device is None:
+            raise
+        return device
+
+
+@ROUTES.get("/task/loop")
+def loop_task(ctx: Context, params: Params) -> Reply:
+    """§4.9: set ``loop_flag`` (A-8: true/false, 1/0 in any case); the task after."""
+    loop = params.boolean("loop_flag")
+    return objects.render(ctx.runtime.tasks.set_loop(params.text("id"), loop))
+
+
+# -- actions ---------------------------------------------------------------------------------
+
+
+def _find_action(ctx: Context, action_id: str) -> tuple[dict[str, Any], Mapping[str, Any]]:
+    """(the snapshot of the Galileo task holding action ``action_id``, the action's node).
+
+    Raises:
+        NotFound: no Galileo task holds it.
+    """
+    for snapshot in ctx.runtime.tasks.list(owner=objects.OWNER):
+        for node in objects.leaves(snapshot):
+            if node["id"] == action_id:
+                return snapshot, node
+    raise NotFound("action", action_id)
+
+
+def _edit(ctx: Context, task_id: str, change: Callable[[Node], None]) -> dict[str, Any]:
+    """Change the tree of a Galileo task that does not run, between ticks; its snapshot.
+
+    Raises:
+        NotFound: no such Galileo task.
+        Conflict: it runs or is paused.
+        InvalidRequest: ``change`` refused (it checks before it changes anything).
+    """
+    engine = ctx.runtime.tasks.engine
+
+    def apply() -> Task:
+        task = engine.find(task_id)
+        if task.owner != objects.OWNER:
+            raise NotFound("task", task_id)
+        if task.state.active:
+            raise Conflict(f"task {task_id} is {task.state.value}: stop it first")
+        change(task.root)
+        return engine.replace(task_id, task.root)  # shows the change
+
+    return ctx.runtime.run_between_ticks(apply).snapshot
+
+
+def _parent(root: Node, node_id: str) -> tuple[Control, int]:
+    for node in root.walk():
+        for i, child in enumerate(node.children):
+            if child.id == node_id:
+                assert isinstance(node, Control)
+                return node, i
+    raise NotFound("action", node_id)
+
+
+def _children_fit(node: Node, count: int) -> None:
+    """Refuse leaving ``node`` with ``count`` children when its kind takes another number."""
+    if not isinstance(node, Control):
+        raise InvalidRequest("task_id", f"a {node.kind} node has no children")
+    least, most = node.arity
+    if count < least or (most is not None and count > most):
+        wanted = f"exactly {least}" if least == most else f"at least {least}"
+        raise InvalidRequest("sub_tasks", f"a {node.kind} node takes {wanted} "
+                                          f"child{'ren' if least != 1 else ''}")
+
+
+@ROUTES.get("/action", inline=True)
+def get_action(ctx: Context, params: Params) -> Reply:
+    """§5.1: one action, or every action of the tasks ``GET /task`` lists, in an array."""
+    action_id = params.text("id", None)
+    if action_id is None:
+        return [objects.render_node(node, tree=s["kind"] == objects.TREE)
+                for s in _listed(ctx) for node in objects.leaves(s)]
+    snapshot, node = _find_action(ctx, action_id)
+    return objects.render_node(node, tree=snapshot["kind"] == objects.TREE)
+
+
+@ROUTES.post("/action")
+def post_action(ctx: Context, params: Params) -> Reply:
+    """§5.2: an action appended to task ``task_id``, else in a new temporary ``"auto task"``;
+    the task that holds it."""
+    params.text("type")
+    task_id = params.text("task_id", None)
+    body = {k: v for k, v in objects.body_of(params).items() if k != "task_id"}
+    spec = objects.action_spec(ctx, body)
+    if task_id is None:
+        return objects.render(objects.create(
+            ctx, {"name": AUTO_TASK_NAME, "sub_tasks": [spec]}, kind=objects.AUTO,
+            temporary=True))
+    action = tree.build(spec)
+
+    def append(root: Node) -> None:
+        _children_fit(root, len(root.children) + 1)
+        root.children.append(action)
+
+    return objects.render(_edit(ctx, task_id, append))
+
+
+@ROUTES.put("/action")
+def put_action(ctx: Context, params: Params) -> Reply:
+    """§5.4: change parameters of an action whose task does not run; the action after."""
+    action_id = params.text("id")
+    snapshot, node = _find_action(ctx, action_id)
+    body = {k: v for k, v in objects.body_of(params).items() if k != "id"}
+    if body.get("type", node["type"]) != node["type"]:
+        raise InvalidRequest("type", "an action keeps its type: delete it and add another")
+    spec = objects.action_spec(ctx, {**node["params"], **body, "type": node["type"]})
+    try:
+        action = ACTIONS[node["type"]](spec, name=node["name"], node_id=action_id)
+    except InvalidRequest as exc:
+        raise InvalidRequest(f"{node['type']}.{exc.field}", exc.reason) from None
+
+    def swap(root: Node) -> None:
+        parent, i = _parent(root, action_id)
+        parent.children[i] = action
+
+    changed = _edit(ctx, snapshot["id"], swap)
+    tree_kind = changed["kind"] == objects.TREE
+    return next(objects.render_node(n, tree=tree_kind) for n in objects.leaves(changed)
+                if n["id"] == action_id)
+
+
+@ROUTES.delete("/action")
+def delete_action(ctx: Context, params: Params) -> Reply:
+    """§5.5: remove an action from a task that does not run."""
+    action_id = params.text("id")
+    snapshot, _node = _find_action(ctx, action_id)
+
+    def remove(root: Node) -> None:
+        parent, i = _parent(root, action_id)
+        _children_fit(parent, len(parent.children) - 1)
+        del parent.children[i]
+
+    _edit(ctx, snapshot["id"], remove)
+    return {"status": "ok"}
+
+
+@ROUTES.get("/action/update_wait_req")
+def update_wait_req(ctx: Context, params: Params) -> Reply:
+    """§5.6: release every waiting ``wait_req_action`` of the running task."""
+    released = ctx.runtime.tasks.trigger_waits()
+    log.info("galileo: update_wait_req released %d waiting action(s)", released)
+    return {"status": "OK"}

@@ -11,8 +11,9 @@ from polynav.tasks.actions import (
     media,
     motion,
     navigation,
+    transfer,
     waiting,
 )
 
 __all__ = ["axes", "callback", "charging", "devices", "launch", "lifts", "media", "motion",
-           "navigation", "waiting"]
+           "navigation", "transfer", "waiting"]

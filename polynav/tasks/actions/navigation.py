@@ -64,6 +64,9 @@ class _Goal(Action):
         self.attempt_id: int | None = None
         self._total: float | None = None
         self._options = options
+        #: Where the robot was and how far it had to go at the last poll (shown while it runs).
+        self.location: Pose2D | None = None
+        self.left: float | None = None
 
     def options(self) -> GoalOptions | None:
         """The goal's options: those the node was made with (a service's retries), and the
@@ -107,7 +110,9 @@ class _Goal(Action):
 
     def _track(self, run: Run) -> None:
         assert self.attempt_id is not None
+        self.location = run.robot.pose()
         left = run.robot.distance_remaining(self.attempt_id)
+        self.left = left
         if left is None:
             return
         if self._total is None or left > self._total:
@@ -115,7 +120,14 @@ class _Goal(Action):
         self.fraction = max(0.0, min(0.99, 1.0 - left / self._total))
 
     def live(self) -> dict[str, Any]:
-        return {"attempt_id": self.attempt_id}
+        """The attempt, and while it runs the robot's pose (map frame) and the path length
+        left [m] at the last poll (``None`` when not known)."""
+        where = None
+        if self.state.active and self.location is not None:
+            where = {"x": float(self.location.x), "y": float(self.location.y),
+                     "theta": float(self.location.theta)}
+        return {"attempt_id": self.attempt_id, "location": where,
+                "distance_left": self.left if self.state.active else None}
 
     def hold(self, run: Run) -> None:
         if self.attempt_id is not None:
@@ -143,6 +155,8 @@ class _Goal(Action):
     def reset(self) -> None:
         super().reset()
         self.attempt_id = None
+        self.location = None
+        self.left = None
 
 
 @action_type

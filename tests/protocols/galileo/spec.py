@@ -43,8 +43,7 @@ def keyed(entries: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
 
 HTTP_A = keyed(_load(SPEC_FILES["galileo-http-a"]))
 HTTP_B = keyed(_load(SPEC_FILES["galileo-http-b"]))
-#: Only the WebSocket entries of the tasks spec are this dialect's (the rest is the tasks issue).
 WS = keyed([e for e in _load(SPEC_FILES["galileo-tasks-bt-ws"]) if e["group"] == "ws"])
-ALL = {**HTTP_A, **HTTP_B, **WS}
-#: The task endpoints (the tasks issue's); polynav serves ``GET /task`` for its own tasks.
+#: The task, action and automation-task endpoints (the tasks issue's).
 TASKS = keyed([e for e in _load(SPEC_FILES["galileo-tasks-bt-ws"]) if e["group"] != "ws"])
+ALL = {**HTTP_A, **HTTP_B, **WS, **TASKS}

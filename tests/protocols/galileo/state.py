@@ -2,7 +2,7 @@
 change, taken before and after a refused request and compared.
 
 The digest holds the robot (mode, navigation state and attempt, map, IO outputs), the site store
-(maps, floors, points, keepouts and routes of every map, connections, settings), the adapter's
+(maps, floors, points, keepouts and routes of every map, connections, settings), the robot's
 tasks, and the data directory's files with their sizes (uploads, voice records, photos, config
 files; the store's database files are read through the store instead, as SQLite writes them on
 reads too).
@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import Any
 
 from polynav.protocols.galileo.server import GalileoServer
-from polynav.protocols.galileo.tasks import book
 from polynav.runtime.robot_runtime import RobotRuntime
 
 #: Files of the data directory that change without any request (the store's database).
@@ -49,6 +48,6 @@ def digest(runtime: RobotRuntime, server: GalileoServer) -> dict[str, Any]:
         "routes": {name: store.routes(name) for name in maps},
         "connections": store.connections(),
         "settings": store.settings(),
-        "tasks": book(server.ctx).all(),
+        "tasks": runtime.tasks.list(),
         "files": files(server.ctx.data_dir),
     }

@@ -33,7 +33,7 @@ def test_goal_follows_the_drawn_path_through_waypoints(galileo: Harness) -> None
     _prepare(galileo)
     task = galileo.ok("GET", "/navigation/move_to_index", params={"index": 1})
     legs = task["sub_tasks"][:-1]
-    assert len(legs) >= 5 and all(a["type"] == "nav_action" for a in legs)
+    assert len(legs) >= 5 and all(a["type"] == "none_stop_nav_action" for a in legs)
     assert all(abs(a["y"] - 12.5) < 1e-6 for a in legs)  # every waypoint on the stroke
     closest = [math.inf] * len(legs)  # how near the robot came to each waypoint
     state: dict[str, str] = {}
