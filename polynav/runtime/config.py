@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime as dt
 import enum
 import math
 from collections.abc import Mapping, Sequence
@@ -12,7 +13,7 @@ from polynav.errors import ConfigError
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.site import Point
-from polynav.store.records import ConnectionRecord
+from polynav.store.records import ConnectionRecord, ScheduleRecord, TaskRecord
 
 
 class Mode(enum.Enum):
@@ -37,6 +38,10 @@ class RuntimeConfig:
         max_lag: when the loop falls behind its pace by more than this [s of wall time] (a
             slow machine, a speed beyond what it can compute, a debugger), it gives up catching
             up rather than race; simulated time then runs as fast as it can.
+        calendar_epoch: the local calendar date-time (naive) that the runtime clock's 0
+            stands for; schedules run on ``calendar_epoch + clock`` (docs/decisions.md, "Task
+            schedules"). ``None``: the wall clock when the runtime is made. Simulated runs
+            from tests pass a fixed one.
     """
 
     control_rate: float = 20.0
@@ -46,8 +51,12 @@ class RuntimeConfig:
     seed: int = 0
     people: bool = True
     max_lag: float = 0.5
+    calendar_epoch: dt.datetime | None = None
 
     def __post_init__(self) -> None:
+        epoch = self.calendar_epoch
+        if epoch is not None and epoch.tzinfo is not None:
+            raise ConfigError("runtime.calendar_epoch", "a local date-time without a time zone")
         for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0.0):
@@ -89,3 +98,17 @@ class SiteData(Protocol):
     def update_settings(self, changes: Mapping[str, object]) -> dict[str, object]: ...
 
     def save_map(self, name: str, grid: Map, *, floor: str | None = None) -> object: ...
+
+    def tasks(self) -> Sequence[TaskRecord]: ...
+
+    def put_task(self, record: TaskRecord) -> None: ...
+
+    def set_task_state(self, task_id: str, state: str, note: str, updated: str) -> None: ...
+
+    def delete_task(self, task_id: str) -> None: ...
+
+    def schedules(self, task_id: str | None = None) -> Sequence[ScheduleRecord]: ...
+
+    def put_schedule(self, record: ScheduleRecord) -> None: ...
+
+    def delete_schedule(self, schedule_id: str) -> None: ...
