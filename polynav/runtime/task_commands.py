@@ -22,7 +22,7 @@ import logging
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from polynav.errors import PolynavError, StorageError
+from polynav.errors import Conflict, PolynavError, StorageError
 from polynav.runtime import events
 from polynav.runtime.task_robot import RuntimeTaskRobot
 from polynav.runtime.task_schedules import TaskSchedules
@@ -193,9 +193,22 @@ class TaskCommands:
 
         self._call(run)
 
-    def trigger_waits(self) -> int:
-        """Release the running task's waiting ``wait_req_action``s; how many waited."""
-        return self._call(self.engine.trigger)
+    def trigger_waits(self, task_id: str | None = None) -> int:
+        """Release the running task's waiting ``wait_req_action``s; how many waited.
+
+        Raises:
+            NotFound: no task ``task_id``. Conflict: ``task_id`` is not the running task.
+        """
+
+        def run() -> int:
+            if task_id is not None:
+                task = self.engine.find(task_id)
+                if task is not self.engine.running:
+                    raise Conflict(f"task {task_id} is {task.state.value}, not running: "
+                                   "only the running task's waits can be triggered")
+            return self.engine.trigger()
+
+        return self._call(run)
 
     # -- the loop --------------------------------------------------------------------------
 
