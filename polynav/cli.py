@@ -7,6 +7,7 @@ thin front that loads ``benchmarks/AREA.py`` and calls its ``main(argv)``.
 from __future__ import annotations
 
 import argparse
+import datetime
 import importlib.util
 import logging
 import math
@@ -68,6 +69,16 @@ def _positive_speed(text: str) -> float:
     return value
 
 
+def _calendar_epoch(text: str) -> datetime.datetime:
+    try:
+        when = datetime.datetime.fromisoformat(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"not a date-time: {exc}") from None
+    if when.tzinfo is not None:
+        raise argparse.ArgumentTypeError("a local date-time, without a time zone")
+    return when
+
+
 def _run(args: argparse.Namespace) -> int:
     """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
     if args.robots is not None:  # a building of N robots: polynav/fleet/serve.py
@@ -111,7 +122,8 @@ def _run(args: argparse.Namespace) -> int:
         runtime_config = RuntimeConfig(speed=args.speed, seed=args.seed,
                                        people=not args.no_people,
                                        automations=args.automations,
-                                       task_callback_hosts=tuple(args.task_callback_host))
+                                       task_callback_hosts=tuple(args.task_callback_host),
+                                       calendar_epoch=args.calendar_epoch)
     except PolynavError as exc:
         print(f"polynav run: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -305,6 +317,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--speed", type=_positive_speed, default=1.0,
                      help="simulated time factor (default: %(default)s)")
     run.add_argument("--seed", type=int, default=0, help="seed of every simulated noise source")
+    run.add_argument("--calendar-epoch", type=_calendar_epoch, default=None,
+                     help="the local date-time (YYYY-MM-DDTHH:MM[:SS]) that simulated time 0 "
+                     "stands for, for schedules; default: now")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
     run.add_argument("--automations", action="store_true",
                      help="let automation tasks (user programs) run, each in its own limited "

@@ -20,8 +20,10 @@ from polynav.api.routes import (
     navigation,
     points,
     robot,
+    schedules,
     settings,
     status,
+    tasks,
     ws,
 )
 from polynav.api.routes.fleet import FleetListing
@@ -32,7 +34,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, lifts, ws,
+    fleet, lifts, tasks, schedules, ws,
 )
 
 
@@ -64,7 +66,7 @@ def create_app(
         title="polynav native API",
         version=__version__,
         description="Drive a polynav robot: status, maps, points, navigation, control, "
-        "settings, and a WebSocket of status and events.",
+        "settings, tasks and their schedules, and a WebSocket of status and events.",
         generate_unique_id_function=_operation_id,
         responses=FAULT,
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime as dt
 import enum
 import ipaddress
 import math
@@ -15,7 +16,7 @@ from polynav.errors import ConfigError
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.site import Point
-from polynav.store.records import ConnectionRecord
+from polynav.store.records import ConnectionRecord, ScheduleRecord, TaskRecord
 
 
 class Mode(enum.Enum):
@@ -59,6 +60,10 @@ class RuntimeConfig:
             case-insensitive) or an IP network (``10.0.0.0/8``, ``192.0.2.7``). Empty by
             default: a task given by any client must not make the robot a proxy into the
             site's network.
+        calendar_epoch: the local calendar date-time (naive) that the runtime clock's 0
+            stands for; schedules run on ``calendar_epoch + clock`` (docs/decisions.md, "Task
+            schedules"). ``None``: the wall clock when the runtime is made. Simulated runs
+            from tests pass a fixed one.
     """
 
     control_rate: float = 20.0
@@ -71,8 +76,12 @@ class RuntimeConfig:
     automations: bool = False
     automation_limits: AutomationLimits = field(default_factory=AutomationLimits)
     task_callback_hosts: tuple[str, ...] = ()
+    calendar_epoch: dt.datetime | None = None
 
     def __post_init__(self) -> None:
+        epoch = self.calendar_epoch
+        if epoch is not None and epoch.tzinfo is not None:
+            raise ConfigError("runtime.calendar_epoch", "a local date-time without a time zone")
         for host in self.task_callback_hosts:
             if not (isinstance(host, str) and (_HOST_NAME.fullmatch(host) or _is_network(host))):
                 raise ConfigError("runtime.task_callback_hosts",
@@ -118,3 +127,17 @@ class SiteData(Protocol):
     def update_settings(self, changes: Mapping[str, object]) -> dict[str, object]: ...
 
     def save_map(self, name: str, grid: Map, *, floor: str | None = None) -> object: ...
+
+    def tasks(self) -> Sequence[TaskRecord]: ...
+
+    def put_task(self, record: TaskRecord) -> None: ...
+
+    def set_task_state(self, task_id: str, state: str, note: str, updated: str) -> None: ...
+
+    def delete_task(self, task_id: str) -> None: ...
+
+    def schedules(self, task_id: str | None = None) -> Sequence[ScheduleRecord]: ...
+
+    def put_schedule(self, record: ScheduleRecord) -> None: ...
+
+    def delete_schedule(self, schedule_id: str) -> None: ...

@@ -405,3 +405,29 @@ class AutoChargeEnded(RuntimeEvent):
     charged: bool
     percent: float
     reason: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ScheduleFired(RuntimeEvent):
+    """Schedule ``schedule_id`` started task ``task_id`` for its start due at ``due`` (ISO
+    date-time on the robot's calendar); ``starts`` counts its starts so far."""
+
+    kind: ClassVar[str] = "schedule_fired"
+
+    schedule_id: str
+    task_id: str
+    due: str
+    starts: int
+
+
+@dataclass(frozen=True, slots=True)
+class ScheduleSkipped(RuntimeEvent):
+    """Schedule ``schedule_id`` did not start task ``task_id`` for its start due at ``due``:
+    ``reason`` says why (the robot was off then, stayed busy, the task could not start)."""
+
+    kind: ClassVar[str] = "schedule_skipped"
+
+    schedule_id: str
+    task_id: str
+    due: str
+    reason: str

@@ -12,6 +12,7 @@ and :meth:`stop_mapping` saves before it stops, as the vendors document.
 
 from __future__ import annotations
 
+import abc
 import logging
 
 from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized
@@ -59,6 +60,7 @@ class MappingCommands(RuntimeParts):
         )
 
     def _start_new_map(self) -> None:
+        self._refuse_if_shutting_down("mapping")
         if self._mode is Mode.MAPPING:
             raise Conflict("already mapping: stop or cancel it first")
         if self._mode is not Mode.FREE:
@@ -70,6 +72,7 @@ class MappingCommands(RuntimeParts):
         log.info("mapping started on floor %s", self._mapping.floor)
 
     def _start_update(self, name: str, floor: str, grid: Map, initial: Pose2D | None) -> None:
+        self._refuse_if_shutting_down("mapping")
         if self._mode is Mode.MAPPING:
             raise Conflict("already mapping: stop or cancel it first")
         navigating_here = self._mode is Mode.NAVIGATING and self._map_name == name
@@ -211,6 +214,10 @@ class MappingCommands(RuntimeParts):
         record = self.store.save_map(name, grid, floor=floor)
         log.info("map %r saved (%d x %d cells)", name, grid.info.width, grid.info.height)
         return record
+
+    @abc.abstractmethod
+    def _refuse_if_shutting_down(self, what: str) -> None:
+        """Conflict while a shutdown is announced (the runtime's power cycle)."""
 
     def _end_mapping(self) -> None:
         self._halt_motion()

@@ -43,6 +43,7 @@ parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, 
 
 from __future__ import annotations
 
+import datetime as dt
 import heapq
 import itertools
 import logging
@@ -197,7 +198,12 @@ class RobotRuntime(
             enabled=self.config.automations, limits=self.config.automation_limits)
         # A task's HTTP callbacks, sent from worker threads (never on the loop).
         self.callbacks = HttpCallbacks(self.config.task_callback_hosts)
+        # The calendar schedules run on (docs/decisions.md, "Task schedules"): the runtime is
+        # the layer that may read the wall clock, once, when no epoch is given.
+        self.calendar_epoch = self.config.calendar_epoch or dt.datetime.now().replace(
+            microsecond=0)
         self._snapshot = self._build_snapshot(self._clock.now())
+        self.tasks.load()
 
     @classmethod
     def simulated(
@@ -241,6 +247,14 @@ class RobotRuntime(
     def now(self) -> float:
         """The runtime's clock [s] (simulated time on the simulator)."""
         return self._clock.now()
+
+    def calendar_now(self) -> dt.datetime:
+        """The robot's calendar date-time now: ``calendar_epoch`` + the clock (local, naive)."""
+        return self.calendar_epoch + dt.timedelta(seconds=self._clock.now())
+
+    def calendar_iso(self) -> str:
+        """:meth:`calendar_now` as ISO text to the second, as the store keeps it."""
+        return self.calendar_now().isoformat(timespec="seconds")
 
     @property
     def robot(self) -> Robot:
@@ -582,6 +596,22 @@ class RobotRuntime(
         self._publish(events.PoseInitialized(now, initial))
         self._set_mode(Mode.NAVIGATING)
 
+    def _end_activities(self, note: str) -> None:
+        """End whatever the robot does (a power cut): the running task (with ``note``), a map
+        being built (dropped: a cut cannot save), a goal or patrol (a docking included),
+        teleop and local moves; then unload navigation. Between ticks; never raises, as its
+        callers are timers."""
+        try:
+            self.tasks.engine.give_way(note)
+        except PolynavError:
+            log.error("the running task did not end", exc_info=True)
+        if self._mode is Mode.MAPPING:
+            log.error("mapping was running at the power cut: the map being built is dropped")
+            self._end_mapping()
+        self._cancel_goal()
+        self._halt_motion()
+        self._stop_navigation()
+
     def _stop_navigation(self) -> None:
         if self._mode is Mode.MAPPING:
             raise Conflict("mapping is running: stop mapping instead")
@@ -664,6 +694,9 @@ class RobotRuntime(
 
     def _floor_now(self) -> str | None:
         return self._sim.floor
+
+    def _refuse_if_shutting_down(self, what: str) -> None:
+        self.device.power.refuse_if_pending(what)
 
     def _status_pose(self) -> Pose2D:
         return self._snapshot.pose

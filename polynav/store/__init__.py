@@ -7,7 +7,16 @@ a crash at any moment leaves the previous state or the new one. Open it with
 
 from __future__ import annotations
 
-from polynav.store.records import ConnectionRecord, FloorRecord, MapRecord, RouteRecord
+from polynav.store.records import (
+    AutomationRecord,
+    ConnectionRecord,
+    FloorRecord,
+    MapRecord,
+    RouteRecord,
+    ScheduleRecord,
+    TaskRecord,
+)
 from polynav.store.site_store import SiteStore
 
-__all__ = ["ConnectionRecord", "FloorRecord", "MapRecord", "RouteRecord", "SiteStore"]
+__all__ = ["AutomationRecord", "ConnectionRecord", "FloorRecord", "MapRecord", "RouteRecord",
+           "ScheduleRecord", "SiteStore", "TaskRecord"]

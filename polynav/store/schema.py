@@ -90,6 +90,47 @@ MIGRATIONS: tuple[Migration, ...] = (
         "points: the site's own type number of custom points",
         ("ALTER TABLE points ADD COLUMN custom_type INTEGER",),
     ),
+    Migration(
+        3,
+        "tasks, their schedules, automation tasks",
+        (
+            # spec: the tree's JSON form as given (polynav.tasks.tree), rebuilt on start-up;
+            # blackboard: JSON; state: the root's last state (WAITTING ... FAIL); updated: ISO
+            # date-time on the robot's calendar.
+            "CREATE TABLE tasks ("
+            " id TEXT PRIMARY KEY,"
+            " name TEXT NOT NULL,"
+            " owner TEXT NOT NULL,"
+            " kind TEXT NOT NULL,"
+            " spec TEXT NOT NULL,"
+            " blackboard TEXT NOT NULL,"
+            " state TEXT NOT NULL,"
+            " note TEXT NOT NULL,"
+            " updated TEXT NOT NULL)",
+            # spec: the schedule's JSON (mode, at, times, weekdays, days, loop); next_fire: ISO
+            # date-time of the next due start, NULL once it has none; a schedule goes with its
+            # task.
+            "CREATE TABLE schedules ("
+            " id TEXT PRIMARY KEY,"
+            " task_id TEXT NOT NULL REFERENCES tasks(id) ON DELETE CASCADE,"
+            " spec TEXT NOT NULL,"
+            " enabled INTEGER NOT NULL,"
+            " starts INTEGER NOT NULL,"
+            " next_fire TEXT,"
+            " updated TEXT NOT NULL)",
+            "CREATE INDEX schedules_by_task ON schedules (task_id)",
+            # Galileo's blockly_task: a Python program and the Blockly XML it was made from.
+            "CREATE TABLE automations ("
+            " id TEXT PRIMARY KEY,"
+            " title TEXT NOT NULL,"
+            " description TEXT NOT NULL,"
+            " py TEXT NOT NULL,"
+            " blocklyxml TEXT NOT NULL,"
+            " is_enabled INTEGER NOT NULL,"
+            " api_key TEXT,"
+            " created REAL NOT NULL)",
+        ),
+    ),
 )
 
 SCHEMA_VERSION = MIGRATIONS[-1].version

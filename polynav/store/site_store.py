@@ -2,7 +2,8 @@
 
 Layout of ``data_dir``::
 
-    site.db            SQLite: floors, maps, points, keepouts, routes, connections, settings
+    site.db            SQLite: floors, maps, points, keepouts, routes, connections, settings,
+                       tasks, schedules, automation tasks
     site.db-wal, -shm  SQLite's write-ahead log (WAL mode)
     maps/<slug>-<n>.yaml + .png   one ROS map per map row, named by a serial that never repeats
 
@@ -58,6 +59,7 @@ from polynav.store.rows import (
     point_columns,
     to_json,
 )
+from polynav.store.task_tables import TaskTables
 
 log = logging.getLogger(__name__)
 
@@ -65,15 +67,17 @@ DB_FILE = "site.db"
 _SEEDED_KEY = "seeded_from"
 
 
-class SiteStore(MapTables, PointTables):
-    """Floors, maps, points, keepouts, routes, connections and settings of one site.
+class SiteStore(MapTables, PointTables, TaskTables):
+    """Floors, maps, points, keepouts, routes, connections, settings, tasks, schedules and
+    automation tasks of one site.
 
     Build it with :meth:`open`. Every method either completes or changes nothing, and raises
     :class:`~polynav.errors.NotFound` (unknown map, floor, point),
     :class:`~polynav.errors.InvalidRequest` (a malformed value),
     :class:`~polynav.errors.Conflict` (a name already taken, an ambiguous name, a map in use)
     or :class:`~polynav.errors.StorageError` (the disk or database failed). Its tables live by
-    subject in :mod:`~polynav.store.map_tables` and :mod:`~polynav.store.point_tables`, over
+    subject in :mod:`~polynav.store.map_tables`, :mod:`~polynav.store.point_tables` and
+    :mod:`~polynav.store.task_tables`, over
     :mod:`~polynav.store.database`.
     """
 

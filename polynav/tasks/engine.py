@@ -53,6 +53,9 @@ class Task:
     snapshot: dict[str, Any] = field(default_factory=dict)
     #: Why the task ended the way it did, when the tree does not say (cancelled by whom).
     note: str = ""
+    #: The tree's JSON form as given (:mod:`.tree`), kept so that the task can be stored and
+    #: rebuilt after a restart; ``None`` for a tree a dialect built itself (not stored).
+    spec: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         Blackboard(self.blackboard)  # the keys and values are checked when made
@@ -444,6 +447,10 @@ class TaskEngine:
         if node is None:
             raise NotFound("node", node_id)
         return task, node
+
+    def refresh(self, task: Task) -> None:
+        """Render ``task``'s snapshot again after a change outside the tree (its note)."""
+        self._render(task)
 
     def _render(self, task: Task) -> None:
         snapshot = task.describe()

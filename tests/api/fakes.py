@@ -7,8 +7,10 @@ black-box tests use the real runtime.
 
 from __future__ import annotations
 
+import datetime as dt
 import threading
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -23,10 +25,42 @@ from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.goal_commands import GoalFrame
+from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.status import StatusSnapshot
+from polynav.runtime.task_commands import TaskCommands
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
+
+T = TypeVar("T")
+EPOCH = dt.datetime(2030, 1, 7, 9, 0)
+
+
+class _TaskHost:
+    """The fake as the real task commands see a runtime (its clock is a method there)."""
+
+    def __init__(self, fake: FakeRuntime) -> None:
+        self._fake = fake
+        self.store = fake.store
+        self.calendar_epoch = EPOCH
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._fake, name)
+
+    def now(self) -> float:
+        return self._fake.now
+
+    def run_between_ticks(self, fn: Callable[[], T]) -> T:
+        return fn()
+
+    def publish(self, event: events.RuntimeEvent) -> None:
+        self._fake._publish(event)
+
+    def calendar_now(self) -> dt.datetime:
+        return EPOCH + dt.timedelta(seconds=self._fake.now)
+
+    def calendar_iso(self) -> str:
+        return self.calendar_now().isoformat(timespec="seconds")
 
 
 class FakeRuntime:
@@ -53,6 +87,8 @@ class FakeRuntime:
         levels = {f.name: f.level for f in world.floors}
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
                      for car in world.lifts}
+        self.tasks = TaskCommands(cast(RobotRuntime, _TaskHost(self)))
+        self.tasks.load()
 
     # -- lifts (real simulated cars, stepped by advance)
     @property

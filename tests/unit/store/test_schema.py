@@ -12,7 +12,8 @@ from polynav.store import SiteStore
 from polynav.store.schema import MIGRATIONS, SCHEMA_VERSION, Migration, migrate, schema_version
 from tests.unit.store.grids import small_map
 
-TABLES = ["connections", "floors", "keepouts", "maps", "meta", "points", "routes", "settings"]
+TABLES = ["automations", "connections", "floors", "keepouts", "maps", "meta", "points", "routes",
+          "schedules", "settings", "tasks"]
 
 
 def _connect(path: Path) -> sqlite3.Connection:
@@ -26,7 +27,7 @@ def _tables(conn: sqlite3.Connection) -> list[str]:
 
 def test_migrations_are_numbered_from_one() -> None:
     assert [m.version for m in MIGRATIONS] == list(range(1, len(MIGRATIONS) + 1))
-    assert SCHEMA_VERSION == len(MIGRATIONS) == 2
+    assert SCHEMA_VERSION == len(MIGRATIONS) == 3
 
 
 def test_open_records_the_schema_version_and_creates_the_tables(tmp_path: Path) -> None:
@@ -77,7 +78,7 @@ def test_migration_2_keeps_version_1_points_without_a_custom_type(tmp_path: Path
         assert migrate(conn, MIGRATIONS[:1]) == 1
         conn.execute("INSERT INTO maps VALUES ('lab', NULL, 0.05, 1, 1, 0, 0, 0, 'lab.yaml')")
         conn.execute("INSERT INTO points VALUES ('lab', 'p', 1.0, 2.0, 0.5, 'custom', 7)")
-        assert migrate(conn) == 2
+        assert migrate(conn, MIGRATIONS[:2]) == 2
         rows = conn.execute("SELECT name, kind, number, custom_type FROM points").fetchall()
         assert rows == [("p", "custom", 7, None)]
     finally:
@@ -102,7 +103,7 @@ def test_migrate_from_the_current_version_keeps_the_data(tmp_path: Path) -> None
 
 def test_failed_migration_is_rolled_back_entirely(tmp_path: Path) -> None:
     broken = Migration(
-        SCHEMA_VERSION + 1, "half a step", ("CREATE TABLE tasks (id INTEGER)", "NOT SQL")
+        SCHEMA_VERSION + 1, "half a step", ("CREATE TABLE later (id INTEGER)", "NOT SQL")
     )
     conn = _connect(tmp_path / "site.db")
     try:
@@ -110,7 +111,7 @@ def test_failed_migration_is_rolled_back_entirely(tmp_path: Path) -> None:
         with pytest.raises(StorageError, match="schema migration failed"):
             migrate(conn, (*MIGRATIONS, broken))
         assert schema_version(conn) == SCHEMA_VERSION
-        assert "tasks" not in _tables(conn)
+        assert "later" not in _tables(conn)
     finally:
         conn.close()
 
