@@ -74,7 +74,9 @@ def run(args: argparse.Namespace) -> int:
             building = Building(
                 store, world, robots=args.robots,
                 config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
-                                     automations=args.automations),
+                                     automations=args.automations,
+                                     task_callback_hosts=tuple(args.task_callback_host),
+                                     calendar_epoch=args.calendar_epoch),
                 profile=profile,
             )
         except PolynavError as exc:

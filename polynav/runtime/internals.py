@@ -1,7 +1,8 @@
 """The seam between the runtime's parts by subject.
 
 :class:`~polynav.runtime.robot_runtime.RobotRuntime` is one class to its callers, written in a
-few modules (:mod:`~polynav.runtime.goal_commands`, :mod:`~polynav.runtime.motion_commands`) so
+few modules (:mod:`~polynav.runtime.navigation_commands`, :mod:`~polynav.runtime.goal_commands`,
+:mod:`~polynav.runtime.motion_commands`, ...) so
 that no file carries every subject. :class:`RuntimeParts` is their common base: it declares the
 state they share and the runtime's own methods they call, so that the type checker holds each
 part to what it may touch; :class:`RobotRuntime` supplies them.
@@ -16,17 +17,21 @@ from typing import TypeVar
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
+from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav.attempt import GoalOptions, NavigationState
-from polynav.nav.stack import NavigationStack
+from polynav.nav.events import NavigationEvent
+from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.robot.interface import Robot
 from polynav.robot.sim.simulation import Simulation
-from polynav.runtime.config import Mode, SiteData
+from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.direct_motion import DirectMotion
+from polynav.runtime.events import RuntimeEvent
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import Patrols
+from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.sim_placement import floor_of
 from polynav.runtime.task_commands import TaskCommands
@@ -51,11 +56,17 @@ class RuntimeParts(abc.ABC):
     """State and methods the parts share (set and defined by the runtime)."""
 
     store: SiteData
+    config: RuntimeConfig
     _robot: Robot
     _sim: Simulation
     _mode: Mode
     _stack: NavigationStack | None
     _map_name: str | None
+    _grid: Map | None
+    _keepouts: tuple[Keepout, ...]
+    _mapless: bool
+    _base_stack_config: StackConfig
+    _recovery: LostRecovery
     _settings: RobotSettings
     _settings_dirty: bool
     _software_estop: bool
@@ -85,6 +96,26 @@ class RuntimeParts(abc.ABC):
     @abc.abstractmethod
     def now(self) -> float:
         """The runtime's clock [s]."""
+
+    @abc.abstractmethod
+    def _publish(self, event: RuntimeEvent) -> None:
+        """Publish a runtime event."""
+
+    @abc.abstractmethod
+    def _check_localization(self, now: float) -> None:
+        """Publish a localization change."""
+
+    @abc.abstractmethod
+    def _end_mapping(self) -> None:
+        """Drop the mapping session (mapping commands)."""
+
+    @abc.abstractmethod
+    def _new_mapless_stack(self, config: StackConfig) -> NavigationStack:
+        """A navigation stack without a map (mapless commands)."""
+
+    @abc.abstractmethod
+    def _on_nav_event(self, event: NavigationEvent) -> None:
+        """Report a navigator event as the runtime's."""
 
     @abc.abstractmethod
     def _call(self, fn: Callable[[], T]) -> T:

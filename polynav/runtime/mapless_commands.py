@@ -15,8 +15,6 @@ import abc
 import logging
 
 from polynav.errors import Conflict
-from polynav.maps.keepout import Keepout
-from polynav.maps.map import Map
 from polynav.nav.events import NavigationEvent
 from polynav.nav.mapless import MaplessStack
 from polynav.nav.stack import NavigationStack, StackConfig
@@ -31,14 +29,6 @@ MAPLESS_FRAME = "odom"
 
 
 class MaplessCommands(RuntimeParts):
-    _grid: Map | None
-    _keepouts: tuple[Keepout, ...]
-    _mapless: bool
-
-    @abc.abstractmethod
-    def _publish(self, event: events.RuntimeEvent) -> None:
-        """Publish a runtime event."""
-
     @property
     def mapless(self) -> bool:
         """Whether navigation runs without a map (goals in the odometry frame)."""
