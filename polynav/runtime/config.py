@@ -16,7 +16,7 @@ from polynav.errors import ConfigError
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.site import Point
-from polynav.store.records import ConnectionRecord, ScheduleRecord, TaskRecord
+from polynav.store.records import AutomationRecord, ConnectionRecord, ScheduleRecord, TaskRecord
 
 
 class Mode(enum.Enum):
@@ -141,3 +141,11 @@ class SiteData(Protocol):
     def put_schedule(self, record: ScheduleRecord) -> None: ...
 
     def delete_schedule(self, schedule_id: str) -> None: ...
+
+    def automations(self) -> Sequence[AutomationRecord]: ...
+
+    def automation(self, automation_id: str) -> AutomationRecord: ...
+
+    def put_automation(self, record: AutomationRecord) -> AutomationRecord: ...
+
+    def delete_automation(self, automation_id: str) -> None: ...

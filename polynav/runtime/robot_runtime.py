@@ -72,6 +72,7 @@ from polynav.robot.sim.devices import simulated_devices
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
 from polynav.runtime.auto_charge import AutoCharge
+from polynav.runtime.automation_tasks import AutomationTasks
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
@@ -192,9 +193,9 @@ class RobotRuntime(
         )
         self.queries = SiteQueries(self)
         data_dir = getattr(store, "data_dir", None)
-        self.automations = AutomationRunner(
+        self.automations = AutomationTasks(self, AutomationRunner(
             self.tasks, None if data_dir is None else Path(data_dir) / "automations",
-            enabled=self.config.automations, limits=self.config.automation_limits)
+            enabled=self.config.automations, limits=self.config.automation_limits))
         # A task's HTTP callbacks, sent from worker threads (never on the loop).
         self.callbacks = HttpCallbacks(self.config.task_callback_hosts)
         # The calendar schedules run on (docs/decisions.md, "Task schedules"): the runtime is

@@ -256,3 +256,6 @@ class RuntimeTaskRobot:
                 fn()
             except PolynavError:  # the task is over either way; say what was left running
                 log.error("task %s: not cleaned up after", task_id, exc_info=True)
+
+    def trigger_automation(self, key: str) -> str:
+        return str(self._runtime.automations.trigger(key)["id"])

@@ -212,3 +212,8 @@ class TaskRobot(Protocol):
     def release_lift(self) -> None:
         """End the held car's session (nothing when none is held)."""
         ...
+
+    def trigger_automation(self, key: str) -> str:
+        """Run the enabled automation task that ``key`` triggers; the run's id. Raises
+        NotFound when none has it, Conflict when automations are off."""
+        ...

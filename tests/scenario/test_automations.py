@@ -48,11 +48,11 @@ def runtime(world: World, data: Path) -> Iterator[RobotRuntime]:
 def _wait(rt: RobotRuntime, run_id: str, timeout: float = 60.0) -> dict:
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        run = rt.automations.run(run_id)
+        run = rt.automations.runner.run(run_id)
         if run["state"] != "WORKING":
             return run
         time.sleep(0.05)
-    raise AssertionError(f"run still working: {rt.automations.run(run_id)}")
+    raise AssertionError(f"run still working: {rt.automations.runner.run(run_id)}")
 
 
 def test_a_program_drives_the_robot_through_actions(runtime: RobotRuntime) -> None:
@@ -62,7 +62,7 @@ def test_a_program_drives_the_robot_through_actions(runtime: RobotRuntime) -> No
         "robot.say('at x %.1f' % r['blackboard']['nav.x'])\n"
         "open('notes.txt', 'w').write('done')\n"
     )
-    run = _wait(runtime, runtime.automations.start("a1", program)["id"])
+    run = _wait(runtime, runtime.automations.runner.start("a1", program)["id"])
     assert run["state"] == "COMPLETE", run
     assert "arrived COMPLETE" in run["log"]
     assert run["actions"] == 2
@@ -74,14 +74,14 @@ def test_a_program_drives_the_robot_through_actions(runtime: RobotRuntime) -> No
 def test_a_program_that_loops_for_ever_is_killed_at_its_cpu_limit(world: World,
                                                                   data: Path) -> None:
     for rt in _runtime(world, data, _config(wall_seconds=30.0, cpu_seconds=1)):
-        run = _wait(rt, rt.automations.start("spin", "while True:\n    pass\n")["id"])
+        run = _wait(rt, rt.automations.runner.start("spin", "while True:\n    pass\n")["id"])
         assert run["state"] == "ERROR" and "CPU time limit" in run["reason"]
 
 
 def test_a_program_that_waits_for_ever_is_killed_at_its_wall_limit(world: World,
                                                                    data: Path) -> None:
     for rt in _runtime(world, data, _config(wall_seconds=1.0, cpu_seconds=5)):
-        run = _wait(rt, rt.automations.start("nap", "import time\ntime.sleep(3600)\n")["id"])
+        run = _wait(rt, rt.automations.runner.start("nap", "import time\ntime.sleep(3600)\n")["id"])
         assert run["state"] == "ERROR" and "wall time limit" in run["reason"]
 
 
@@ -97,7 +97,7 @@ def test_a_program_that_waits_for_ever_is_killed_at_its_wall_limit(world: World,
 ])
 def test_a_program_that_reaches_outside_fails(runtime: RobotRuntime, data: Path,
                                               program: str, message: str) -> None:
-    run = _wait(runtime, runtime.automations.start("bad", program)["id"])
+    run = _wait(runtime, runtime.automations.runner.start("bad", program)["id"])
     assert run["state"] == "ERROR" and message in run["reason"], run
     assert not Path("/tmp/outside-polynav-automation.txt").exists()
     assert not (data / "automations" / "escape.txt").exists()
@@ -110,7 +110,7 @@ def test_a_bad_action_is_an_error_the_program_can_catch(runtime: RobotRuntime) -
         "except RobotError as exc:\n"
         "    print('refused:', exc)\n"
     )
-    run = _wait(runtime, runtime.automations.start("c", program)["id"])
+    run = _wait(runtime, runtime.automations.runner.start("c", program)["id"])
     assert run["state"] == "COMPLETE"
     assert any("unknown action type" in line for line in run["log"])
 
@@ -118,4 +118,4 @@ def test_a_bad_action_is_an_error_the_program_can_catch(runtime: RobotRuntime) -
 def test_automations_are_off_by_default(world: World, data: Path) -> None:
     for rt in _runtime(world, data, RuntimeConfig(people=False, speed=20.0)):
         with pytest.raises(Conflict, match="off"):
-            rt.automations.start("a", "pass\n")
+            rt.automations.runner.start("a", "pass\n")

@@ -13,6 +13,7 @@ from types import ModuleType
 from polynav.protocols.galileo import (
     areas,
     auth,
+    automations,
     charge,
     connections,
     coverage,
@@ -43,6 +44,7 @@ MODULES: tuple[ModuleType, ...] = (
     auth,
     status,
     tasks,
+    automations,
     navigation,
     goals,
     paths,

@@ -2,6 +2,7 @@
 import."""
 
 from polynav.tasks.actions import (
+    automation,
     axes,
     callback,
     charging,
@@ -15,5 +16,5 @@ from polynav.tasks.actions import (
     waiting,
 )
 
-__all__ = ["axes", "callback", "charging", "devices", "launch", "lifts", "media", "motion",
-           "navigation", "transfer", "waiting"]
+__all__ = ["automation", "axes", "callback", "charging", "devices", "launch", "lifts", "media",
+           "motion", "navigation", "transfer", "waiting"]

@@ -29,13 +29,8 @@ TODO_HTTP_B: set[str] = set()
 # WebSocket entries without a test yet (owner: galileo): none left.
 TODO_WS: set[str] = set()
 
-# Task entries without a test yet (issue 32): the automation (Blockly) tasks.
-TODO_TASKS: set[str] = {
-    "GET /api/v1/blockly_task",
-    "POST /api/v1/blockly_task",
-    "PUT /api/v1/blockly_task",
-    "DELETE /api/v1/blockly_task",
-}
+# Task entries without a test yet (issue 32): none left.
+TODO_TASKS: set[str] = set()
 
 TODO = TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS
 
