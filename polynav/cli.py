@@ -79,6 +79,13 @@ def _calendar_epoch(text: str) -> datetime.datetime:
     return when
 
 
+def _dispatch_server(text: str) -> tuple[str, str]:
+    server_id, sep, url = text.partition("=")
+    if not (sep and server_id.strip() and url.strip()):
+        raise argparse.ArgumentTypeError(f"give ID=URL, got {text!r}")
+    return server_id.strip(), url.strip()
+
+
 def _run(args: argparse.Namespace) -> int:
     """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
     if args.robots is not None:  # a building of N robots: polynav/fleet/serve.py
@@ -123,6 +130,7 @@ def _run(args: argparse.Namespace) -> int:
                                        people=not args.no_people,
                                        automations=args.automations,
                                        task_callback_hosts=tuple(args.task_callback_host),
+                                       dispatch_servers=tuple(args.dispatch_server),
                                        calendar_epoch=args.calendar_epoch)
     except PolynavError as exc:
         print(f"polynav run: {exc}", file=sys.stderr)
@@ -327,6 +335,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--task-callback-host", action="append", default=[], metavar="HOST",
                      help="a host name or IP network a task's callback_action may call beside "
                           "loopback (repeat for more; default: loopback only)")
+    run.add_argument("--dispatch-server", action="append", default=[], metavar="ID=URL",
+                     type=_dispatch_server,
+                     help="a dispatch server tasks exchange maps with (upload_map_action, "
+                          "download_map_action), on a host a callback may reach (repeat)")
     run.add_argument("--mapless", action="store_true",
                      help="navigate without a map from the start: goals are poses in the odometry "
                           "frame (POST /api/navigation/goal with x, y, theta)")

@@ -76,6 +76,7 @@ def run(args: argparse.Namespace) -> int:
                 config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
                                      automations=args.automations,
                                      task_callback_hosts=tuple(args.task_callback_host),
+                                     dispatch_servers=tuple(args.dispatch_server),
                                      calendar_epoch=args.calendar_epoch),
                 profile=profile,
             )

@@ -12,9 +12,10 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from polynav.automation.runner import AutomationLimits
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, InvalidRequest
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
+from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.site import Point
 from polynav.store.records import AutomationRecord, ConnectionRecord, ScheduleRecord, TaskRecord
 
@@ -60,6 +61,9 @@ class RuntimeConfig:
             case-insensitive) or an IP network (``10.0.0.0/8``, ``192.0.2.7``). Empty by
             default: a task given by any client must not make the robot a proxy into the
             site's network.
+        dispatch_servers: (id, base URL) of the dispatch servers maps are exchanged with
+            (``upload_map_action``, ``download_map_action``; :mod:`~polynav.runtime.map_exchange`),
+            each on a host a callback may reach. None by default.
         calendar_epoch: the local calendar date-time (naive) that the runtime clock's 0
             stands for; schedules run on ``calendar_epoch + clock`` (docs/decisions.md, "Task
             schedules"). ``None``: the wall clock when the runtime is made. Simulated runs
@@ -76,6 +80,7 @@ class RuntimeConfig:
     automations: bool = False
     automation_limits: AutomationLimits = field(default_factory=AutomationLimits)
     task_callback_hosts: tuple[str, ...] = ()
+    dispatch_servers: tuple[tuple[str, str], ...] = ()
     calendar_epoch: dt.datetime | None = None
 
     def __post_init__(self) -> None:
@@ -86,6 +91,15 @@ class RuntimeConfig:
             if not (isinstance(host, str) and (_HOST_NAME.fullmatch(host) or _is_network(host))):
                 raise ConfigError("runtime.task_callback_hosts",
                                   f"each must be a host name or an IP network, got {host!r}")
+        hosts = HttpCallbacks(self.task_callback_hosts)
+        for entry in self.dispatch_servers:
+            if not (isinstance(entry, tuple) and len(entry) == 2 and entry[0]):
+                raise ConfigError("runtime.dispatch_servers", f"each is (id, url), got {entry!r}")
+            try:
+                hosts.check(entry[1])
+            except InvalidRequest as exc:
+                raise ConfigError("runtime.dispatch_servers", f"{entry[0]}: {exc.reason}"
+                                  ) from None
         for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0.0):

@@ -83,6 +83,7 @@ from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.runtime.lift_commands import LiftCommands
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.map_exchange import MapExchange
 from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
 from polynav.runtime.mapping_session import MappingSession
@@ -198,6 +199,8 @@ class RobotRuntime(
             enabled=self.config.automations, limits=self.config.automation_limits))
         # A task's HTTP callbacks, sent from worker threads (never on the loop).
         self.callbacks = HttpCallbacks(self.config.task_callback_hosts)
+        # Maps sent to and fetched from dispatch servers, on worker threads too.
+        self.map_exchange = MapExchange(dict(self.config.dispatch_servers), self.callbacks)
         # The calendar schedules run on (docs/decisions.md, "Task schedules"): the runtime is
         # the layer that may read the wall clock, once, when no epoch is given.
         self.calendar_epoch = self.config.calendar_epoch or dt.datetime.now().replace(

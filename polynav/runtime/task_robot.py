@@ -18,7 +18,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any
 
-from polynav.errors import PolynavError
+from polynav.errors import Conflict, PolynavError
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import GoalOptions
 from polynav.robot.devices import AxisMode, DeviceJob, JobState, PtzPose
@@ -29,6 +29,7 @@ from polynav.tasks.robot import (
     GoalEnd,
     GoalOutcome,
     LiftCall,
+    TransferOutcome,
 )
 
 if TYPE_CHECKING:
@@ -259,3 +260,26 @@ class RuntimeTaskRobot:
 
     def trigger_automation(self, key: str) -> str:
         return str(self._runtime.automations.trigger(key)["id"])
+
+    # -- maps ------------------------------------------------------------------------------
+
+    def upload_map(self, server_id: str) -> int:
+        self._runtime.map_exchange.url(server_id)  # an unknown server first: it names why
+        name = self._runtime.map_name
+        if name is None or self._runtime.mapless:
+            raise Conflict("no map in use to upload: start navigation on a map first")
+        return self._runtime.map_exchange.upload(server_id, name,
+                                                 self._runtime.store.load_map(name))
+
+    def download_map(self, server_id: str, map_id: str) -> int:
+        store = self._runtime.store
+        return self._runtime.map_exchange.download(
+            server_id, map_id, lambda grid: store.save_map(map_id, grid))
+
+    def transfer(self, transfer_id: int) -> TransferOutcome | None:
+        exchange = self._runtime.map_exchange
+        result = exchange.result(transfer_id)
+        if result is None:
+            return None
+        exchange.forget(transfer_id)
+        return TransferOutcome(result.ok, result.error)

@@ -70,6 +70,14 @@ class LiftCall:
     refused: str = ""
 
 
+@dataclass(frozen=True, slots=True)
+class TransferOutcome:
+    """A map transfer's end: ``ok``, or why not."""
+
+    ok: bool
+    reason: str = ""
+
+
 class TaskRobot(Protocol):
     """The robot, for the task engine; every call between ticks."""
 
@@ -216,4 +224,19 @@ class TaskRobot(Protocol):
     def trigger_automation(self, key: str) -> str:
         """Run the enabled automation task that ``key`` triggers; the run's id. Raises
         NotFound when none has it, Conflict when automations are off."""
+        ...
+
+    # -- maps ------------------------------------------------------------------------------
+
+    def upload_map(self, server_id: str) -> int:
+        """Send the map in use to dispatch server ``server_id``; the transfer's id. Raises
+        NotFound (no such server), Conflict (no map in use)."""
+        ...
+
+    def download_map(self, server_id: str, map_id: str) -> int:
+        """Fetch map ``map_id`` from ``server_id`` into the site; the transfer's id."""
+        ...
+
+    def transfer(self, transfer_id: int) -> TransferOutcome | None:
+        """How a map transfer ended; ``None`` while it runs."""
         ...

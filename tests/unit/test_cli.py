@@ -34,6 +34,23 @@ def test_run_rejects_a_non_positive_speed(capsys: pytest.CaptureFixture[str]) ->
     assert "--speed" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("value", ["lagrange", "=http://127.0.0.1:9", "lagrange="])
+def test_run_rejects_a_dispatch_server_that_is_not_id_url(
+        value: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exit_:
+        main(["run", "--dispatch-server", value])
+    assert exit_.value.code == 2
+    assert "ID=URL" in capsys.readouterr().err
+
+
+def test_run_refuses_a_dispatch_server_off_loopback(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["run", "--data", str(tmp_path / "d"), "--dispatch-server",
+                 "far=http://203.0.113.5/api", "--port", "0"])
+    assert code == 2
+    assert "dispatch_servers" in capsys.readouterr().err
+
+
 def test_points_add_list_rm_on_a_data_dir(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

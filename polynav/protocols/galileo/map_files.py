@@ -11,10 +11,11 @@
   names are read, each at most :data:`MAX_MEMBER` bytes, so an archive cannot write outside a
   temporary folder or fill the disk.
 * ``upload_map``/``download_map`` exchange maps with a Lagrange dispatch server: a task of one
-  ``upload_map_action``/``download_map_action`` (:mod:`polynav.tasks.actions.transfer`). polynav
-  has no dispatch connection, so the task is in ``ERROR`` at once, with the reason in the
-  action's ``result``. The robot runs one task at a time, so a transfer asked while a task runs
-  is refused (409) rather than stopping that task for an exchange that cannot happen.
+  ``upload_map_action``/``download_map_action`` (:mod:`polynav.tasks.actions.transfer`) on the
+  dispatch servers polynav is configured with (``--dispatch-server ID=URL``); a server id it
+  does not know ends the task in ``ERROR`` at once, with the reason in the action's ``result``.
+  The robot runs one task at a time, so a transfer asked while a task runs is refused (409)
+  rather than stopping that task.
 """
 
 from __future__ import annotations
@@ -134,7 +135,7 @@ def current_map(ctx: Context, params: Params) -> Reply:
 
 
 def _transfer(ctx: Context, name: str, action: dict[str, Any]) -> Reply:
-    """Run the transfer task ``name`` of ``action``; the task (``ERROR``: no dispatch)."""
+    """Run the transfer task ``name`` of ``action``; the task."""
     busy = ctx.runtime.tasks.running()
     if busy is not None:
         raise Conflict(f"task {busy['name']!r} is {busy['state']}: a map transfer runs alone")
@@ -144,14 +145,14 @@ def _transfer(ctx: Context, name: str, action: dict[str, Any]) -> Reply:
 
 @ROUTES.get("/navigation/upload_map")
 def upload_map(ctx: Context, params: Params) -> Reply:
-    """E23: the ``upload_map`` task (``ERROR``: no dispatch server)."""
+    """E23: the ``upload_map`` task: the map in use sent to ``server_id``."""
     return _transfer(ctx, "upload_map", {"type": "upload_map_action",
                                          "server_id": params.text("server_id")})
 
 
 @ROUTES.get("/navigation/download_map")
 def download_map(ctx: Context, params: Params) -> Reply:
-    """E24: the ``download_map`` task (``ERROR``: no dispatch server)."""
+    """E24: the ``download_map`` task: map ``map_id`` fetched from ``server_id``."""
     return _transfer(ctx, "download_map", {"type": "download_map_action",
                                            "server_id": params.text("server_id"),
                                            "map_id": params.text("map_id")})
