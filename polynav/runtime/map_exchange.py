@@ -48,8 +48,9 @@ class TransferResult:
     error: str = ""
 
 
-def map_archive(grid: Map) -> bytes:
-    """``grid`` as the exchange's zip: ``map.yaml`` and ``map.png``."""
+def map_archive(grid: Map, extra: Mapping[str, str] | None = None) -> bytes:
+    """``grid`` as a zip of ROS map files, ``map.yaml`` and ``map.png`` (the exchange's, and
+    the core of Galileo's map archive), with ``extra`` text members beside them."""
     buffer = io.BytesIO()
     with tempfile.TemporaryDirectory() as folder:
         yaml_path = Path(folder) / "map.yaml"
@@ -57,6 +58,8 @@ def map_archive(grid: Map) -> bytes:
         with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as zf:
             zf.write(yaml_path, "map.yaml")
             zf.write(Path(folder) / "map.png", "map.png")
+            for name, text in (extra or {}).items():
+                zf.writestr(name, text)
     return buffer.getvalue()
 
 

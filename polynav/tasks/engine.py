@@ -245,13 +245,7 @@ class TaskEngine:
             NotFound: no such task or node.
             Conflict: that node is not working.
         """
-        task, node = self._node(task_id, node_id)
-        assert task.run is not None or not node.state.active
-        with self._as_task():
-            paused = task.run is not None and node.pause(task.run)
-        if not paused:
-            raise Conflict(f"{'task' if node_id is None else 'node'} "
-                           f"{node_id or task_id} is {node.state.value}, not WORKING")
+        task = self._switch(task_id, node_id, Node.pause, NodeState.WORKING)
         self._render(task)
         return task
 
@@ -262,13 +256,19 @@ class TaskEngine:
             NotFound: no such task or node.
             Conflict: that node is not paused.
         """
+        task = self._switch(task_id, node_id, Node.resume, NodeState.PAUSED)
+        self._step(task)
+        return task
+
+    def _switch(self, task_id: str, node_id: str | None, switch: Callable[[Node, Run], bool],
+                needed: NodeState) -> Task:
+        """Pause or resume a node as the task's own doing; Conflict if it is not ``needed``."""
         task, node = self._node(task_id, node_id)
         with self._as_task():
-            resumed = task.run is not None and node.resume(task.run)
-        if not resumed:
+            done = task.run is not None and switch(node, task.run)
+        if not done:
             raise Conflict(f"{'task' if node_id is None else 'node'} "
-                           f"{node_id or task_id} is {node.state.value}, not PAUSED")
-        self._step(task)
+                           f"{node_id or task_id} is {node.state.value}, not {needed.value}")
         return task
 
     def cancel(self, task_id: str, node_id: str | None = None) -> Task:

@@ -42,6 +42,7 @@ from polynav.protocols.galileo.endpoint import Reply, RouteList
 from polynav.protocols.galileo.map_meta import MapMeta, check_meta
 from polynav.protocols.galileo.mapping import metas
 from polynav.protocols.galileo.params import Params
+from polynav.runtime.map_exchange import map_archive
 from polynav.store.route_stops import StopInput
 
 log = logging.getLogger(__name__)
@@ -182,15 +183,7 @@ def archive(ctx: Context, name: str) -> bytes:
         })
     galileo = {"map_name": name, "map_type": meta.map_type, "levels": list(meta.levels),
                "track": [list(p) for p in meta.track], "paths": paths}
-    buffer = io.BytesIO()
-    with tempfile.TemporaryDirectory() as folder:
-        yaml_path = Path(folder) / "map.yaml"
-        ros_map.save_map(grid, yaml_path, image_format="png")
-        with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as zf:
-            zf.write(yaml_path, "map.yaml")
-            zf.write(Path(folder) / "map.png", "map.png")
-            zf.writestr("galileo.json", json.dumps(galileo, ensure_ascii=False))
-    return buffer.getvalue()
+    return map_archive(grid, {"galileo.json": json.dumps(galileo, ensure_ascii=False)})
 
 
 @ROUTES.get("/navigation/download_map_from_robot")
