@@ -136,7 +136,8 @@ class Navigator(ChargerPhases, PlanFailures):
             cfg.max_retries, radius=cfg.progress_reset_distance, min_time=cfg.retry_min_time
         )
         self._clear = ClearCostmap(costmap)
-        self._passages = ClosedPassages(self._footprint, limit=cfg.passage_limit)
+        self._passages = ClosedPassages(self._footprint, cfg.passage_time_budget,
+                                        limit=cfg.passage_limit)
         self._trail = Trail(cfg.recovery_backout_distance + 1.0)
         self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
                                  max_distance=cfg.recovery_backout_distance,

@@ -24,7 +24,10 @@ class NavigatorConfig:
     (:mod:`~polynav.nav.replanning`). A goal occupied by something not on the map (a robot
     standing there, a trolley) is waited for ``goal_wait`` [s], planning again every
     ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
-    ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), and a robot
+    ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), none later
+    than ``passage_time_budget`` [s] after the first (a robot that has gone round that long
+    without getting through is left to the retry budget, as any robot failing at a place), and a
+    robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
     neither backs out nor backs up.
@@ -58,6 +61,7 @@ class NavigatorConfig:
     goal_wait: float = 120.0
     goal_wait_period: float = 1.0
     passage_limit: int = 12
+    passage_time_budget: float = 60.0
     recovery_backout_distance: float = 3.0
     reverse_allowed: bool = True
 
@@ -76,7 +80,8 @@ class NavigatorConfig:
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
-                    "full_replan_period", "people_detour_watch", "goal_wait"):
+                    "full_replan_period", "people_detour_watch", "goal_wait",
+                    "passage_time_budget"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

@@ -37,7 +37,6 @@ from scipy import ndimage
 from polynav import footprint as body
 from polynav.errors import ConfigError
 from polynav.footprint import Footprint
-from polynav.footprint.kernels import overlapped_cells
 from polynav.geometry import Pose2D
 from polynav.maps import costs as cost_values
 from polynav.maps.interface import CostGrid
@@ -263,7 +262,7 @@ class FootprintPlanner:
         verts = np.ascontiguousarray(fp.vertices, dtype=np.float64)
         rot_step = fp.rotation_step(info.resolution)
         turn_cost = self._lattice.turn_cost / info.resolution
-        start_ignore = _overlapped(fp, grid, info, start)
+        start_ignore = body.overlapped_cells(fp, costmap, start)
         stretch = route.points[(route.cumulative >= s0) & (route.cumulative <= s1)]
         stretch = np.vstack([[start.x, start.y], stretch, [end]])
         near = np.zeros(grid.shape, dtype=np.bool_)
@@ -321,18 +320,6 @@ class FootprintPlanner:
         if self._grid.config.point_spacing > 0.0:
             points = smoothing.densify(points, self._grid.config.point_spacing)
         return Path(points=points, cost=cost * info.resolution)
-
-
-def _overlapped(
-    footprint: Footprint, grid: npt.NDArray[np.uint8], info: MapInfo, pose: Pose2D
-) -> npt.NDArray[np.int64]:
-    """The LETHAL cells (K, 2) the body overlaps at ``pose``."""
-    o = info.origin
-    c, s = math.cos(o.theta), math.sin(o.theta)
-    local = np.array([c * (pose.x - o.x) + s * (pose.y - o.y),
-                      -s * (pose.x - o.x) + c * (pose.y - o.y), pose.theta - o.theta])
-    return np.asarray(overlapped_cells(grid, info.resolution, footprint.vertices,
-                                       footprint.radius, local, False))
 
 
 def _mark_near(

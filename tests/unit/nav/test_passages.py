@@ -28,7 +28,7 @@ def _route() -> TrackedPath:
 
 
 def test_a_block_closes_the_place_the_body_first_touches_along_the_route() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     passage = passages.close(0.0)
     assert passage is not None
@@ -41,14 +41,14 @@ def test_a_block_closes_the_place_the_body_first_touches_along_the_route() -> No
 
 
 def test_a_block_with_nothing_on_the_route_closes_nothing() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     empty = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
     passages.note_block(empty, _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(0.0) is None
 
 
 def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     passage = passages.close(0.0)
     assert passage is not None
@@ -61,7 +61,7 @@ def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> Non
 
 
 def test_a_closure_is_forgotten_only_after_its_cells_stay_free() -> None:
-    passages = ClosedPassages(BODY, reopen_after=2.0)
+    passages = ClosedPassages(BODY, 60.0, reopen_after=2.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(0.0) is not None
     free = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
