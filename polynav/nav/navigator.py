@@ -151,6 +151,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._phase = _Phase.PLAN
         self._phase_since = 0.0
         self._last_plan = 0.0
+        self._route_was_open = False
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
         self._hold = Hold(self.config)
@@ -346,8 +347,8 @@ class Navigator(ChargerPhases, PlanFailures):
                 return Twist()
         elif (
             now - self._last_plan >= self.config.replan_period
-            and self._remaining(pose) > self.config.replan_min_remaining
-        ):
+            or self._route_closed_since_plan(now)
+        ) and self._remaining(pose) > self.config.replan_min_remaining:
             self._replan_quietly(pose, now)
         return self._follow(pose, velocity, now, dt)
 
@@ -426,6 +427,26 @@ class Navigator(ChargerPhases, PlanFailures):
             if blocked and self._wait.blocks(pose, self._path):
                 self._replan.watch(now)  # people closed it: they may soon open it again
         self._set_path(path, now)
+
+    def _route_closed_since_plan(self, now: float) -> bool:
+        """Has the lidar closed the route ahead since it was planned open?
+
+        Waiting for the periodic re-plan, a robot drives on into the pocket or the wall it has
+        just seen, stops before it, waits, turns round and starts again; re-planned at once it
+        bends round while still moving. A route planned through cells already closed (a body
+        route through an inscribed gap) does not count: re-planning it would give it again.
+        """
+        if (
+            not self._route_was_open
+            or self._tracked is None
+            or now - self._last_plan < self.config.closed_route_replan_period
+        ):
+            return False
+        if not route_choice.route_blocked(self._costmap, self._tracked, self._along):
+            return False
+        self._route_was_open = False
+        log.info("the route ahead was closed since it was planned: re-planning now")
+        return True
 
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:
         command = self._controller.compute(pose, velocity, self._costmap, dt)
@@ -516,6 +537,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._tracked = TrackedPath.from_points(path.points)
         self._along = 0.0
         self._last_plan = now
+        self._route_was_open = not route_choice.route_blocked(self._costmap, self._tracked, 0.0)
         end = path.points[-1]
         target = self._target
         if math.hypot(end[0] - target.x, end[1] - target.y) > 1e-6:

@@ -18,7 +18,9 @@ class NavigatorConfig:
     this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
-    ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
+    ``replan_min_gain`` [m]. A route the lidar closes after it was planned open is re-planned at
+    once, at most every ``closed_route_replan_period`` [s], rather than at the next period. A
+    periodic re-plan plans the next ``replan_reach`` [m] of the
     route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
     at every re-plan for ``people_detour_watch`` after people closed the route
     (:mod:`~polynav.nav.replanning`). A goal occupied by something not on the map (a robot
@@ -34,6 +36,7 @@ class NavigatorConfig:
     """
 
     replan_period: float = 3.0
+    closed_route_replan_period: float = 0.5
     replan_min_remaining: float = 1.0
     blocked_wait: float = 1.5
     max_retries: int = 4
@@ -67,7 +70,8 @@ class NavigatorConfig:
 
     def __post_init__(self) -> None:
         for key in (
-            "replan_period", "blocked_wait", "localization_grace", "undock_speed",
+            "replan_period", "closed_route_replan_period", "blocked_wait", "localization_grace",
+            "undock_speed",
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
