@@ -86,10 +86,19 @@ INFLATION_MARGIN = 0.3
 BLIND_BACKOUT = 0.5
 
 
+# A disk's INSCRIBED band reaches this many cells beyond its radius (``CostmapConfig.
+# inscribed_cell_margin``): the grid planner is a disk's only model of its body, and without the
+# half cell it planned gaps that the controller, checking cells as squares, then stopped before
+# (delivery on lattice courses without a map: a block, a wait and a turn round per gap). A
+# polygon's planner checks the body itself.
+DISK_CELL_MARGIN = 0.5
+
+
 def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> StackConfig:
     """``base`` (default: the defaults) built for ``profile``'s robot.
 
-    The costmap's inscribed radius is the body's inscribed radius and inflation reaches at least
+    The costmap's inscribed radius is the body's inscribed radius (a disk's half a cell more:
+    ``DISK_CELL_MARGIN``) and inflation reaches at least
     ``INFLATION_MARGIN`` past its circumscribed radius (Nav2's convention: a centre nearer than
     the inscribed radius to an obstacle is certainly a collision, one nearer than the
     circumscribed radius possibly, depending on the heading). The controller drives at the
@@ -116,6 +125,7 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
     costmap = replace(
         cm,
         robot_radius=profile.inscribed_radius,
+        inscribed_cell_margin=DISK_CELL_MARGIN if profile.footprint.is_circle else 0.0,
         inflation_radius=max(cm.inflation_radius, profile.circumscribed_radius + INFLATION_MARGIN),
         range_noise=profile.lidar.noise,
     )
