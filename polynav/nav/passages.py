@@ -179,7 +179,8 @@ def touches_marks(costmap: Costmap, footprint: Footprint, pose: Pose2D) -> bool:
     if cells.shape[0] == 0:
         return False
     centres = costmap.info.cells_to_world(cells)
-    return any(costmap.map_cost_at(float(x), float(y)) < costs.LETHAL for x, y in centres)
+    # Unknown in the map (no map at all: navigating without one) is not the building either.
+    return any(costmap.map_cost_at(float(x), float(y)) != costs.LETHAL for x, y in centres)
 
 
 def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:

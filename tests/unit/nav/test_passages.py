@@ -11,7 +11,7 @@ from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.costmap import CostSnapshot
 from polynav.maps.map import MapInfo
-from polynav.nav.passages import ClosedPassages
+from polynav.nav.passages import ClosedPassages, touches_marks
 
 BODY = Footprint.rectangle(0.51, 0.43)
 INFO = MapInfo(resolution=0.05, width=100, height=60)
@@ -84,3 +84,16 @@ def test_no_passage_is_closed_once_the_time_budget_after_the_first_is_spent() ->
     assert passages.close(71.0) is None
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(69.0) is not None
+
+
+class _NoMap(CostSnapshot):
+    """Live costs over a map that knows nothing (navigating without one)."""
+
+    def map_cost_at(self, x: float, y: float) -> int:
+        return costs.UNKNOWN
+
+
+def test_a_mark_where_the_map_knows_nothing_is_a_mark_not_the_building() -> None:
+    grid = _grid_with_post()
+    on_post = Pose2D(3.025 - 0.2, 1.525, 0.0)  # the nose over the post
+    assert touches_marks(_NoMap(grid.info, grid.costs), BODY, on_post)  # type: ignore[arg-type]
