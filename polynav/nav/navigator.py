@@ -84,6 +84,10 @@ from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
+_CLOSED_ROUTE_PLACE = 0.5
+"""[m] a route found closed this near a place it was re-planned for at once before waits for
+the periodic re-plan."""
+
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
 
@@ -152,6 +156,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._phase_since = 0.0
         self._last_plan = 0.0
         self._route_was_open = False
+        self._closed_at: list[tuple[float, float]] = []
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
         self._hold = Hold(self.config)
@@ -230,6 +235,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._tracked = None
         self._cleared_for_plan = False
         self._passages.reset()
+        self._closed_at.clear()
         self._back_out.reset()
         self._hold.reset()
         self._last_pose = None
@@ -442,10 +448,19 @@ class Navigator(ChargerPhases, PlanFailures):
             or now - self._last_plan < self.config.closed_route_replan_period
         ):
             return False
-        if not route_choice.route_blocked(self._costmap, self._tracked, self._along):
+        closed = route_choice.first_blocked(self._costmap, self._tracked, self._along)
+        if closed is None:
             return False
         self._route_was_open = False
-        log.info("the route ahead was closed since it was planned: re-planning now")
+        # Once per place: a mark flickering on the inscribed ring of a post the route grazes
+        # would have every new route closed again half a second later, and the robot turning
+        # between them (demo, lattice course 92: 55 plans, 57 s turning, timed out).
+        if any(math.hypot(closed[0] - x, closed[1] - y) < _CLOSED_ROUTE_PLACE
+               for x, y in self._closed_at):
+            return False
+        self._closed_at.append(closed)
+        log.info("the route ahead was closed at (%.2f, %.2f) since it was planned: re-planning "
+                 "now", *closed)
         return True
 
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:
