@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from polynav.footprint.kernels import NO_CELLS, clearance_gaps, first_hit, mask, overlapped_cells
+from polynav.footprint import kernels
+from polynav.footprint.kernels import NO_CELLS, clearance_gaps, first_hit, mask
 from polynav.footprint.shape import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps import costs
@@ -75,8 +76,8 @@ def first_collision(
     grid = np.ascontiguousarray(costmap.costs)
     ignore = NO_CELLS
     if ignore_start and local.shape[0] > 0:
-        ignore = overlapped_cells(grid, costmap.info.resolution, footprint.vertices,
-                                   footprint.radius, local[0], unknown_is_lethal)
+        ignore = kernels.overlapped_cells(grid, costmap.info.resolution, footprint.vertices,
+                                          footprint.radius, local[0], unknown_is_lethal)
     hit = first_hit(
         grid,
         costmap.info.resolution,
@@ -87,6 +88,20 @@ def first_collision(
         ignore,
     )
     return None if hit < 0 else int(hit)
+
+
+def overlapped_cells(footprint: Footprint, costmap: CostGrid, pose: Pose2D
+                     ) -> npt.NDArray[np.int64]:
+    """The LETHAL cells (K, 2) of ``(ix, iy)`` the footprint overlaps at ``pose``.
+
+    What the body touches where it stands: the cells a closed passage remembers, and those a
+    start pose may leave but not touch more of.
+    """
+    local = _to_grid_frame(costmap.info, poses_array([pose]))
+    return np.asarray(kernels.overlapped_cells(
+        np.ascontiguousarray(costmap.costs), costmap.info.resolution, footprint.vertices,
+        footprint.radius, local[0], False,
+    ))
 
 
 def collision_mask(

@@ -62,6 +62,11 @@ class CostmapConfig:
         obstacle_layer: use the live scan at all.
         range_noise: standard deviation [m] of the lidar's range noise; a return does not clear
             the cells within 3 of it in front of itself (:mod:`polynav.maps.layers.obstacle`).
+        inscribed_cell_margin: cells added to ``robot_radius`` for INSCRIBED (0..1).
+            Distances run between cell centres, but the footprint check takes a LETHAL cell as
+            the full square it covers: a disk whose centre is half a cell beyond its radius
+            from a cell's centre touches the cell's side. A planner with no body check of its
+            own (a disk's) needs the half cell to plan no way the controller then stops at.
     """
 
     robot_radius: float = 0.25
@@ -73,6 +78,7 @@ class CostmapConfig:
     raytrace_max_range: float = 8.0
     obstacle_layer: bool = True
     range_noise: float = 0.01
+    inscribed_cell_margin: float = 0.0
 
     def __post_init__(self) -> None:
         _check(self.robot_radius >= 0.0, "robot_radius", "must be >= 0")
@@ -86,6 +92,8 @@ class CostmapConfig:
         _check(self.obstacle_max_range > 0.0, "obstacle_max_range", "must be > 0")
         _check(self.raytrace_max_range > 0.0, "raytrace_max_range", "must be > 0")
         _check(self.range_noise >= 0.0, "range_noise", "must be >= 0")
+        _check(0.0 <= self.inscribed_cell_margin <= 1.0, "inscribed_cell_margin",
+               "must be within 0..1")
         for name in (
             "robot_radius",
             "inflation_radius",
@@ -170,7 +178,7 @@ class Costmap:
             )
         self._inflation = InflationLayer(
             info,
-            robot_radius=cfg.robot_radius,
+            robot_radius=cfg.robot_radius + cfg.inscribed_cell_margin * info.resolution,
             inflation_radius=cfg.inflation_radius,
             cost_scaling_factor=cfg.cost_scaling_factor,
         )

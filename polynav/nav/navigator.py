@@ -84,6 +84,10 @@ from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
+_CLOSED_ROUTE_PLACE = 0.5
+"""[m] a route found closed this near a place it was re-planned for at once before waits for
+the periodic re-plan."""
+
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
 
@@ -136,7 +140,8 @@ class Navigator(ChargerPhases, PlanFailures):
             cfg.max_retries, radius=cfg.progress_reset_distance, min_time=cfg.retry_min_time
         )
         self._clear = ClearCostmap(costmap)
-        self._passages = ClosedPassages(self._footprint, limit=cfg.passage_limit)
+        self._passages = ClosedPassages(self._footprint, cfg.passage_time_budget,
+                                        limit=cfg.passage_limit)
         self._trail = Trail(cfg.recovery_backout_distance + 1.0)
         self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
                                  max_distance=cfg.recovery_backout_distance,
@@ -150,6 +155,8 @@ class Navigator(ChargerPhases, PlanFailures):
         self._phase = _Phase.PLAN
         self._phase_since = 0.0
         self._last_plan = 0.0
+        self._route_was_open = False
+        self._closed_at: list[tuple[float, float]] = []
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
         self._hold = Hold(self.config)
@@ -228,6 +235,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._tracked = None
         self._cleared_for_plan = False
         self._passages.reset()
+        self._closed_at.clear()
         self._back_out.reset()
         self._hold.reset()
         self._last_pose = None
@@ -345,8 +353,8 @@ class Navigator(ChargerPhases, PlanFailures):
                 return Twist()
         elif (
             now - self._last_plan >= self.config.replan_period
-            and self._remaining(pose) > self.config.replan_min_remaining
-        ):
+            or self._route_closed_since_plan(now)
+        ) and self._remaining(pose) > self.config.replan_min_remaining:
             self._replan_quietly(pose, now)
         return self._follow(pose, velocity, now, dt)
 
@@ -425,6 +433,35 @@ class Navigator(ChargerPhases, PlanFailures):
             if blocked and self._wait.blocks(pose, self._path):
                 self._replan.watch(now)  # people closed it: they may soon open it again
         self._set_path(path, now)
+
+    def _route_closed_since_plan(self, now: float) -> bool:
+        """Has the lidar closed the route ahead since it was planned open?
+
+        Waiting for the periodic re-plan, a robot drives on into the pocket or the wall it has
+        just seen, stops before it, waits, turns round and starts again; re-planned at once it
+        bends round while still moving. A route planned through cells already closed (a body
+        route through an inscribed gap) does not count: re-planning it would give it again.
+        """
+        if (
+            not self._route_was_open
+            or self._tracked is None
+            or now - self._last_plan < self.config.closed_route_replan_period
+        ):
+            return False
+        closed = route_choice.first_blocked(self._costmap, self._tracked, self._along)
+        if closed is None:
+            return False
+        self._route_was_open = False
+        # Once per place: a mark flickering on the inscribed ring of a post the route grazes
+        # would have every new route closed again half a second later, and the robot turning
+        # between them (demo, lattice course 92: 55 plans, 57 s turning, timed out).
+        if any(math.hypot(closed[0] - x, closed[1] - y) < _CLOSED_ROUTE_PLACE
+               for x, y in self._closed_at):
+            return False
+        self._closed_at.append(closed)
+        log.info("the route ahead was closed at (%.2f, %.2f) since it was planned: re-planning "
+                 "now", *closed)
+        return True
 
     def _follow(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:
         command = self._controller.compute(pose, velocity, self._costmap, dt)
@@ -515,6 +552,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._tracked = TrackedPath.from_points(path.points)
         self._along = 0.0
         self._last_plan = now
+        self._route_was_open = not route_choice.route_blocked(self._costmap, self._tracked, 0.0)
         end = path.points[-1]
         target = self._target
         if math.hypot(end[0] - target.x, end[1] - target.y) > 1e-6:

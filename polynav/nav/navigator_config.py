@@ -18,19 +18,25 @@ class NavigatorConfig:
     this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
-    ``replan_min_gain`` [m]. A periodic re-plan plans the next ``replan_reach`` [m] of the
+    ``replan_min_gain`` [m]. A route the lidar closes after it was planned open is re-planned at
+    once, at most every ``closed_route_replan_period`` [s], rather than at the next period. A
+    periodic re-plan plans the next ``replan_reach`` [m] of the
     route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
     at every re-plan for ``people_detour_watch`` after people closed the route
     (:mod:`~polynav.nav.replanning`). A goal occupied by something not on the map (a robot
     standing there, a trolley) is waited for ``goal_wait`` [s], planning again every
     ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
-    ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), and a robot
+    ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), none later
+    than ``passage_time_budget`` [s] after the first (a robot that has gone round that long
+    without getting through is left to the retry budget, as any robot failing at a place), and a
+    robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
     neither backs out nor backs up.
     """
 
     replan_period: float = 3.0
+    closed_route_replan_period: float = 0.5
     replan_min_remaining: float = 1.0
     blocked_wait: float = 1.5
     max_retries: int = 4
@@ -58,12 +64,14 @@ class NavigatorConfig:
     goal_wait: float = 120.0
     goal_wait_period: float = 1.0
     passage_limit: int = 12
+    passage_time_budget: float = 60.0
     recovery_backout_distance: float = 3.0
     reverse_allowed: bool = True
 
     def __post_init__(self) -> None:
         for key in (
-            "replan_period", "blocked_wait", "localization_grace", "undock_speed",
+            "replan_period", "closed_route_replan_period", "blocked_wait", "localization_grace",
+            "undock_speed",
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
@@ -76,7 +84,8 @@ class NavigatorConfig:
         if self.progress_reset_distance <= 0.0:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
-                    "full_replan_period", "people_detour_watch", "goal_wait"):
+                    "full_replan_period", "people_detour_watch", "goal_wait",
+                    "passage_time_budget"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

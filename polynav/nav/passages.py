@@ -28,7 +28,6 @@ import numpy.typing as npt
 from polynav import footprint as body
 from polynav.control.tracked_path import TrackedPath
 from polynav.footprint import Footprint
-from polynav.footprint.kernels import overlapped_cells
 from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.costmap import Costmap, CostSnapshot
@@ -64,14 +63,13 @@ class ClosedPassages:
         limit: at most this many closures per goal; blocks beyond it count as plain failures.
         reopen_after: a closure whose cells stay free this long [s] is forgotten.
         time_budget: no passage is closed later than this [s] after the first closure of the
-            goal: a robot that has gone round for that long without getting through is dealt
-            with as any robot failing at a place (the retry budget decides).
+            goal (``NavigatorConfig.passage_time_budget``).
     """
 
     footprint: Footprint
+    time_budget: float
     limit: int = 12
     reopen_after: float = 2.0
-    time_budget: float = 60.0
     passages: list[ClosedPassage] = field(default_factory=list)
     tried: list[str] = field(default_factory=list)
 
@@ -112,7 +110,7 @@ class ClosedPassages:
         hit = body.first_collision(self.footprint, costmap, poses, ignore_start=True)
         if hit is not None:
             x, y, theta = (float(v) for v in poses[hit])
-            cells = _touched_cells(self.footprint, costmap, x, y, theta)
+            cells = body.overlapped_cells(self.footprint, costmap, Pose2D(x, y, theta))
             self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells)
 
     def close(self, now: float) -> ClosedPassage | None:
@@ -177,11 +175,12 @@ class ClosedPassages:
 def touches_marks(costmap: Costmap, footprint: Footprint, pose: Pose2D) -> bool:
     """Does the body at ``pose`` touch a LETHAL cell the map does not have (a lidar mark: a
     person's trail, a trolley), rather than only the building?"""
-    cells = _touched_cells(footprint, costmap, pose.x, pose.y, pose.theta)
+    cells = body.overlapped_cells(footprint, costmap, pose)
     if cells.shape[0] == 0:
         return False
     centres = costmap.info.cells_to_world(cells)
-    return any(costmap.map_cost_at(float(x), float(y)) < costs.LETHAL for x, y in centres)
+    # Unknown in the map (no map at all: navigating without one) is not the building either.
+    return any(costmap.map_cost_at(float(x), float(y)) != costs.LETHAL for x, y in centres)
 
 
 def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:
@@ -197,21 +196,3 @@ def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDA
     centres = info.cells_to_world(cells)
     near = np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius
     return np.asarray(cells[near])
-
-
-def _grid_pose(costmap: CostGrid, x: float, y: float, theta: float) -> npt.NDArray[np.float64]:
-    """A world pose in the grid's own frame (origin at the corner of cell (0, 0))."""
-    o = costmap.info.origin
-    c, s = math.cos(o.theta), math.sin(o.theta)
-    return np.array([c * (x - o.x) + s * (y - o.y), -s * (x - o.x) + c * (y - o.y),
-                     theta - o.theta])
-
-
-def _touched_cells(
-    footprint: Footprint, costmap: CostGrid, x: float, y: float, theta: float
-) -> npt.NDArray[np.int64]:
-    """The LETHAL cells (K, 2) the body overlaps at (x, y, theta)."""
-    local = _grid_pose(costmap, x, y, theta)
-    return np.asarray(overlapped_cells(np.ascontiguousarray(costmap.costs),
-                                       costmap.info.resolution, footprint.vertices,
-                                       footprint.radius, local, False))

@@ -27,10 +27,19 @@ def route_blocked(costmap: CostGrid, route: TrackedPath, along: float) -> bool:
 
     Sampled at half a cell. A stretch the robot starts in does not count: it is driving out.
     """
+    return first_blocked(costmap, route, along) is not None
+
+
+def first_blocked(
+    costmap: CostGrid, route: TrackedPath, along: float
+) -> tuple[float, float] | None:
+    """The first point (x, y) [m] where the route from ``along`` on crosses an INSCRIBED or
+    LETHAL cell (as :func:`route_blocked`), or ``None``."""
     step = 0.5 * costmap.info.resolution
     s = np.arange(along, route.length + step, step)
-    values = collision.costs_at(costmap, route.points_at(s))
-    return collision.first_collision(values) is not None
+    points = route.points_at(s)
+    hit = collision.first_collision(collision.costs_at(costmap, points))
+    return None if hit is None else (float(points[hit, 0]), float(points[hit, 1]))
 
 
 def clearly_shorter(

@@ -11,8 +11,10 @@ when the check fails does the lattice search run, in a window 4 m round the rout
 and its shortened route is returned. A long route (over 30 m) is first repaired only round the
 stretch the body cannot drive, 5 m either side, and spliced. Windows are capped in states (the
 bound on memory); a route too long to search round keeps the grid route, as before this
-planner, and the controller and the closed passages deal with it. Where no route leaves that
-room, the search runs again for the body as it is; where the body fits the grid route facing
+planner, and the controller and the closed passages deal with it. The route must leave the body
+room all round (``LatticeConfig.footprint_paddings``, most room first: the controller drives
+faster with room to spare); where no route leaves any, the search runs again for the body as it
+is; where the body fits the grid route facing
 along it but at no lattice cell and heading, the grid route is returned. When no heading lets
 the body through in any window searched, :class:`NoBodyRoute` (a :class:`NoPath`) carries the
 grid route and where the body first touches along it: the navigator fails the goal at once if
@@ -37,7 +39,6 @@ from scipy import ndimage
 from polynav import footprint as body
 from polynav.errors import ConfigError
 from polynav.footprint import Footprint
-from polynav.footprint.kernels import overlapped_cells
 from polynav.geometry import Pose2D
 from polynav.maps import costs as cost_values
 from polynav.maps.interface import CostGrid
@@ -66,8 +67,10 @@ class LatticeConfig:
         max_leg: the shortening tries straight legs up to this long [m].
         local_repair_over: a route longer than this [m] is repaired only round the stretch
             the body cannot drive, ``repair_margin`` [m] either side of it, when that works.
-        footprint_padding: the route must leave the body this much room [m] all round
-            (Nav2's ``footprint_padding``), for control and localization to err in ...
+        footprint_paddings: the route must leave the body this much room [m] all round
+            (Nav2's ``footprint_padding``), for control and localization to err in: the first
+            padding in the list that leaves a route (most room first; the controller drives
+            faster with more room) ...
         exact_near_start: ... except within this distance [m] of where the robot stands,
             where it is checked as it is (it may not have that room where it stands).
     """
@@ -79,7 +82,7 @@ class LatticeConfig:
     max_leg: float = 4.0
     local_repair_over: float = 30.0
     repair_margin: float = 5.0
-    footprint_padding: float = 0.05
+    footprint_paddings: tuple[float, ...] = (0.05,)
     exact_near_start: float = 0.5
 
     def __post_init__(self) -> None:
@@ -88,8 +91,12 @@ class LatticeConfig:
             raise ConfigError("planner.lattice.window_margins", "must be finite values >= 0")
         if self.max_states < 1:
             raise ConfigError("planner.lattice.max_states", "must be >= 1")
+        if not self.footprint_paddings or any(not (math.isfinite(p) and p >= 0.0)
+                                              for p in self.footprint_paddings):
+            raise ConfigError("planner.lattice.footprint_paddings",
+                              "must be one or more finite values >= 0")
         for key in ("turn_cost", "max_leg", "local_repair_over", "repair_margin",
-                    "footprint_padding", "exact_near_start"):
+                    "exact_near_start"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ConfigError(f"planner.lattice.{key}", f"must be finite and >= 0, got {value}")
@@ -165,7 +172,7 @@ class FootprintPlanner:
         self._footprint = footprint
         self._grid = GridPlanner(config)
         self._lattice = lattice_config or LatticeConfig()
-        self._padded = footprint.padded(self._lattice.footprint_padding)
+        self._padded = [footprint.padded(p) for p in self._lattice.footprint_paddings]
         self.lattice_plans = 0
         """How many plans needed the lattice (for tests and benchmarks)."""
 
@@ -188,35 +195,24 @@ class FootprintPlanner:
             route lets the body through.
         """
         path = self._grid.plan(costmap, start, goal, goal_tolerance=goal_tolerance)
-        stretch = _undrivable_stretch(path, self._footprint, self._padded, costmap, start.theta,
-                                      self._lattice.exact_near_start)
-        if stretch is None:
-            return path
         end = (float(path.points[-1, 0]), float(path.points[-1, 1]))
         reached_goal = math.hypot(end[0] - goal.x, end[1] - goal.y) < 1e-9
-        self.lattice_plans += 1
         route = _Polyline.of(path.points)
-        cfg = self._lattice
-        # With room to spare first; where nothing leaves that room, the body as it is.
-        for room in (self._padded, self._footprint):
-            if route.length > cfg.local_repair_over:
-                # A long route: search round the stretch the body cannot drive, then splice.
-                s0 = max(stretch[0] - cfg.repair_margin, 0.0)
-                s1 = min(stretch[1] + cfg.repair_margin, route.length)
-                if s1 < route.length:
-                    local, _ = self._search(costmap, route, s0, s1, start, None, room)
-                    if local is not None:
-                        return _spliced(route, s0, s1, local, path.cost)
-            whole, searched = self._search(costmap, route, 0.0, route.length, start,
-                                           end if reached_goal else None, room)
-            if whole is not None:
-                return whole
-            if not searched:
-                # Too far round to search for the body: the grid route it is, and the
-                # controller and the closed passages deal with the stretch.
-                log.warning("route of %.0f m not drivable by the body and too large to search "
-                            "round; keeping the grid route", route.length)
-                return path
+        stretch: tuple[float, float] | None = None
+        # With the most room to spare first; where nothing leaves any, the body as it is.
+        for room in (*self._padded, self._footprint):
+            if room is not self._footprint:
+                stretch = _undrivable_stretch(path, self._footprint, room, costmap, start.theta,
+                                              self._lattice.exact_near_start)
+                if stretch is None:
+                    return path
+            if room is self._padded[0]:
+                self.lattice_plans += 1
+            assert stretch is not None
+            found = self._round(costmap, path, route, stretch, start,
+                                end if reached_goal else None, room)
+            if found is not None:
+                return found
         blocked = _first_touch(path, self._footprint, costmap, start.theta)
         if blocked is None:
             # The body fits the grid route facing along it, just not at the lattice's cells
@@ -224,6 +220,37 @@ class FootprintPlanner:
             return path
         raise NoBodyRoute("no route the body fits: every way is narrower than the body at the "
                           "headings it can have there", route=path, blocked_at=blocked)
+
+    def _round(
+        self,
+        costmap: CostGrid,
+        path: Path,
+        route: _Polyline,
+        stretch: tuple[float, float],
+        start: Pose2D,
+        goal: tuple[float, float] | None,
+        room: Footprint,
+    ) -> Path | None:
+        """A lattice route for ``room`` round the ``stretch`` [m] of the grid route ``path``
+        the body cannot drive, or ``None``; the grid route itself when the way round is too
+        large to search."""
+        cfg = self._lattice
+        if route.length > cfg.local_repair_over:
+            # A long route: search round the stretch the body cannot drive, then splice.
+            s0 = max(stretch[0] - cfg.repair_margin, 0.0)
+            s1 = min(stretch[1] + cfg.repair_margin, route.length)
+            if s1 < route.length:
+                local, _ = self._search(costmap, route, s0, s1, start, None, room)
+                if local is not None:
+                    return _spliced(route, s0, s1, local, path.cost)
+        whole, searched = self._search(costmap, route, 0.0, route.length, start, goal, room)
+        if whole is None and not searched:
+            # Too far round to search for the body: the grid route it is, and the controller
+            # and the closed passages deal with the stretch.
+            log.warning("route of %.0f m not drivable by the body and too large to search "
+                        "round; keeping the grid route", route.length)
+            return path
+        return whole
 
     def reachable(self, costmap: CostGrid, start: Pose2D, goal: Pose2D) -> bool:
         try:
@@ -263,7 +290,7 @@ class FootprintPlanner:
         verts = np.ascontiguousarray(fp.vertices, dtype=np.float64)
         rot_step = fp.rotation_step(info.resolution)
         turn_cost = self._lattice.turn_cost / info.resolution
-        start_ignore = _overlapped(fp, grid, info, start)
+        start_ignore = body.overlapped_cells(fp, costmap, start)
         stretch = route.points[(route.cumulative >= s0) & (route.cumulative <= s1)]
         stretch = np.vstack([[start.x, start.y], stretch, [end]])
         near = np.zeros(grid.shape, dtype=np.bool_)
@@ -321,18 +348,6 @@ class FootprintPlanner:
         if self._grid.config.point_spacing > 0.0:
             points = smoothing.densify(points, self._grid.config.point_spacing)
         return Path(points=points, cost=cost * info.resolution)
-
-
-def _overlapped(
-    footprint: Footprint, grid: npt.NDArray[np.uint8], info: MapInfo, pose: Pose2D
-) -> npt.NDArray[np.int64]:
-    """The LETHAL cells (K, 2) the body overlaps at ``pose``."""
-    o = info.origin
-    c, s = math.cos(o.theta), math.sin(o.theta)
-    local = np.array([c * (pose.x - o.x) + s * (pose.y - o.y),
-                      -s * (pose.x - o.x) + c * (pose.y - o.y), pose.theta - o.theta])
-    return np.asarray(overlapped_cells(grid, info.resolution, footprint.vertices,
-                                       footprint.radius, local, False))
 
 
 def _mark_near(

@@ -93,6 +93,19 @@ def _body_free(
 
 
 @numba.njit(cache=True, nogil=True)
+def _body_for(
+    verts: npt.NDArray[np.float64],
+    padded: npt.NDArray[np.float64],
+    dx: int,
+    dy: int,
+    near2: float,
+) -> npt.NDArray[np.float64]:
+    """The exact body ``dx``, ``dy`` [cells] from the start (within ``sqrt(near2)``), else the
+    padded one: the robot is not asked for room it has not got where it stands."""
+    return verts if dx * dx + dy * dy <= near2 else padded
+
+
+@numba.njit(cache=True, nogil=True)
 def _turn_free(
     grid: npt.NDArray[np.uint8],
     near: npt.NDArray[np.bool_],
@@ -356,7 +369,7 @@ def search(
                     d += 2.0 * math.pi
                 step = turn_cost * abs(d)
             ignore = start_ignore if at_start and move != 0 else NO_CELLS
-            body = verts if (nx - sx) ** 2 + (ny - sy) ** 2 <= near2 else padded
+            body = _body_for(verts, padded, nx - sx, ny - sy, near2)
             if state[t] == _UNSEEN or (at_start and move != 0):
                 free = _body_free(grid, near, res, body, reach, nx + 0.5, ny + 0.5,
                                   ANGLES[nk], world, ignore)
@@ -472,8 +485,8 @@ def shorten(
     while i < n - 1:
         best = i + 1
         ax, ay = states[i, 0] + 0.5, states[i, 1] + 0.5
-        dx0, dy0 = states[i, 0] - states[0, 0], states[i, 1] - states[0, 1]
-        body = verts if dx0 * dx0 + dy0 * dy0 <= near2 else padded
+        body = _body_for(verts, padded, states[i, 0] - states[0, 0],
+                         states[i, 1] - states[0, 1], near2)
         for j in range(i + 1, min(n, i + max_span + 1)):
             bx, by = states[j, 0] + 0.5, states[j, 1] + 0.5
             if bx == ax and by == ay:

@@ -16,7 +16,7 @@ from collections.abc import Callable
 from polynav.errors import ConfigError
 from polynav.footprint import Footprint
 from polynav.planning import astar, heap, lattice, line_of_sight, smoothing, theta_star
-from polynav.planning.footprint_planner import FootprintPlanner
+from polynav.planning.footprint_planner import FootprintPlanner, LatticeConfig
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from polynav.planning.interface import GlobalPlanner
 
@@ -51,14 +51,19 @@ def create(name: str, config: GridPlannerConfig | None = None) -> GlobalPlanner:
     return factory(config or GridPlannerConfig())
 
 
-def for_footprint(footprint: Footprint, config: GridPlannerConfig | None = None) -> GlobalPlanner:
+def for_footprint(
+    footprint: Footprint,
+    config: GridPlannerConfig | None = None,
+    lattice: LatticeConfig | None = None,
+) -> GlobalPlanner:
     """The planner for a body: the grid planner for a disk (inflation by its radius is exact
     for every heading), the footprint-checking planner for a polygon
-    (:mod:`~polynav.planning.footprint_planner`), whose width and diagonal differ."""
+    (:mod:`~polynav.planning.footprint_planner`, its search set by ``lattice``), whose width
+    and diagonal differ."""
     config = config or GridPlannerConfig()
     if footprint.vertices.shape[0] == 0:
         return GridPlanner(config)
-    return FootprintPlanner(footprint, config)
+    return FootprintPlanner(footprint, config, lattice)
 
 
 def warm_up() -> None:

@@ -162,6 +162,18 @@ def test_rotated_grid_origin_is_honoured() -> None:
     assert not fp_mod.collides(RECT, grid, Pose2D(0.0, 0.0, math.pi / 2))
 
 
+def test_overlapped_cells_are_the_lethal_cells_under_the_body_on_a_rotated_grid() -> None:
+    base = empty_grid(size_m=4.0, resolution=0.05)
+    info = base.info.__class__(0.05, 80, 80, Pose2D(2.0, -2.0, math.pi / 2))
+    grid = Grid(info, base.costs)
+    nose, beside = info.world_to_cell(0.22, 0.0), info.world_to_cell(0.0, 0.22)
+    for ix, iy in (nose, beside):
+        grid.costs[iy, ix] = costs.LETHAL
+    assert fp_mod.overlapped_cells(RECT, grid, Pose2D(0.0, 0.0, 0.0)).tolist() == [list(nose)]
+    assert fp_mod.overlapped_cells(RECT, grid, Pose2D(0.0, 0.0, math.pi / 2)).tolist() == [
+        list(beside)]
+
+
 def test_only_lethal_cells_are_obstacles_unless_unknown_is_asked_for() -> None:
     grid = grid_with_cells([cell_at(0.2, 0.0)], value=costs.INSCRIBED)
     assert not fp_mod.collides(RECT, grid, Pose2D())

@@ -72,6 +72,7 @@ def full_recomposition(costmap: Costmap) -> npt.NDArray[np.uint8]:
         ({"obstacle_max_range": 0.0}, "costmap.obstacle_max_range"),
         ({"raytrace_max_range": -1.0}, "costmap.raytrace_max_range"),
         ({"raytrace_max_range": math.nan}, "costmap.raytrace_max_range"),
+        ({"inscribed_cell_margin": 1.5}, "costmap.inscribed_cell_margin"),
     ],
 )
 def test_config_rejects_out_of_range_values_naming_the_key(
@@ -116,6 +117,13 @@ def test_inscribed_ring_is_exactly_the_cells_within_the_robot_radius() -> None:
     d2 = (ix - 15) ** 2 + (iy - 15) ** 2
     np.testing.assert_array_equal(c == INSCRIBED, (d2 > 0) & (d2 <= 25))
     np.testing.assert_array_equal(c == LETHAL, d2 == 0)
+
+
+def test_an_inscribed_cell_margin_widens_the_inscribed_ring_by_that_share_of_a_cell() -> None:
+    c = single_obstacle_costmap(CostmapConfig(inscribed_cell_margin=0.5)).costs
+    iy, ix = np.mgrid[0:31, 0:31]
+    d2 = (ix - 15) ** 2 + (iy - 15) ** 2
+    np.testing.assert_array_equal(c == INSCRIBED, (d2 > 0) & (d2 <= 30))  # 5.5 cells
 
 
 def test_steeper_scaling_factor_lowers_the_decay_costs() -> None:

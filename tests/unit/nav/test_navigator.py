@@ -297,6 +297,25 @@ def test_blocked_waits_then_replans() -> None:
     assert h.twists[-1].linear > 0
 
 
+def test_a_route_closed_after_it_was_planned_is_replanned_at_once_and_only_once() -> None:
+    planner = ScriptedPlanner()
+    h = Harness(planner, ScriptedController(), NavigatorConfig(replan_period=3.0,
+                                                               closed_route_replan_period=0.5))
+    h.nav.start(Pose2D(10.0, 0.0, 0.0), h.now)
+    h.run(1.0, move=True)
+    assert planner.calls == 1
+    ix, iy = h.costmap.info.world_to_cell(6.0, 0.0)
+    h.costmap.costs[iy, ix] = costs.LETHAL  # the lidar marks a post on the route ahead
+    h.run(0.1, move=True)
+    assert planner.calls == 2
+    # The double plans through the post again: a route planned closed waits for the period,
+    # 3 s after the re-plan at 1.05 s.
+    h.run(2.8, move=True)
+    assert planner.calls == 2
+    h.run(0.2, move=True)
+    assert planner.calls == 3
+
+
 def test_estop_holds_without_failing_and_releases_with_a_new_plan() -> None:
     planner = ScriptedPlanner()
     h = Harness(planner, ScriptedController())

@@ -11,7 +11,7 @@ from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.costmap import CostSnapshot
 from polynav.maps.map import MapInfo
-from polynav.nav.passages import ClosedPassages
+from polynav.nav.passages import ClosedPassages, touches_marks
 
 BODY = Footprint.rectangle(0.51, 0.43)
 INFO = MapInfo(resolution=0.05, width=100, height=60)
@@ -28,7 +28,7 @@ def _route() -> TrackedPath:
 
 
 def test_a_block_closes_the_place_the_body_first_touches_along_the_route() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     passage = passages.close(0.0)
     assert passage is not None
@@ -41,14 +41,14 @@ def test_a_block_closes_the_place_the_body_first_touches_along_the_route() -> No
 
 
 def test_a_block_with_nothing_on_the_route_closes_nothing() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     empty = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
     passages.note_block(empty, _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(0.0) is None
 
 
 def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> None:
-    passages = ClosedPassages(BODY)
+    passages = ClosedPassages(BODY, 60.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     passage = passages.close(0.0)
     assert passage is not None
@@ -61,7 +61,7 @@ def test_the_planning_grid_paints_the_closure_but_never_under_the_robot() -> Non
 
 
 def test_a_closure_is_forgotten_only_after_its_cells_stay_free() -> None:
-    passages = ClosedPassages(BODY, reopen_after=2.0)
+    passages = ClosedPassages(BODY, 60.0, reopen_after=2.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(0.0) is not None
     free = CostSnapshot(INFO, np.zeros((60, 100), dtype=np.uint8))
@@ -84,3 +84,16 @@ def test_no_passage_is_closed_once_the_time_budget_after_the_first_is_spent() ->
     assert passages.close(71.0) is None
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
     assert passages.close(69.0) is not None
+
+
+class _NoMap(CostSnapshot):
+    """Live costs over a map that knows nothing (navigating without one)."""
+
+    def map_cost_at(self, x: float, y: float) -> int:
+        return costs.UNKNOWN
+
+
+def test_a_mark_where_the_map_knows_nothing_is_a_mark_not_the_building() -> None:
+    grid = _grid_with_post()
+    on_post = Pose2D(3.025 - 0.2, 1.525, 0.0)  # the nose over the post
+    assert touches_marks(_NoMap(grid.info, grid.costs), BODY, on_post)  # type: ignore[arg-type]

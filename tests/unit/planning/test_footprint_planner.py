@@ -7,12 +7,18 @@ import math
 import numpy as np
 import pytest
 
+from polynav.errors import ConfigError
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.planning import registry
 from polynav.planning.errors import NoBodyRoute, NoPath
-from polynav.planning.footprint_planner import FootprintPlanner, drivable, route_poses
+from polynav.planning.footprint_planner import (
+    FootprintPlanner,
+    LatticeConfig,
+    drivable,
+    route_poses,
+)
 from polynav.planning.grid_planner import GridPlanner, GridPlannerConfig
 from tests.helpers.rooms import room
 
@@ -99,3 +105,21 @@ def test_a_gate_barely_wider_than_the_body_is_left_for_a_way_with_room() -> None
     path = FootprintPlanner(BODY).plan(costmap, start, goal)
     crossing = path.points[np.argmin(np.abs(path.points[:, 0] - 4.05))]
     assert 1.0 < crossing[1] < 2.0  # through the wide opening
+
+
+def test_the_route_leaves_the_most_room_of_the_paddings_that_leaves_a_route() -> None:
+    # A gap 0.59 m wide (8 cm either side of the body) on the straight line; open round the top.
+    costmap = _costmap([(4.0, 0.0, 4.1, 2.15), (4.0, 2.74, 4.1, 6.5)])
+    start, goal = Pose2D(1.0, 2.45, 0.0), Pose2D(7.0, 2.45, 0.0)
+    tight = FootprintPlanner(BODY).plan(costmap, start, goal)
+    assert float(tight.points[:, 1].max()) < 3.0  # through the gap
+    roomy = FootprintPlanner(BODY, lattice_config=LatticeConfig(footprint_paddings=(0.15, 0.05)))
+    path = roomy.plan(costmap, start, goal)
+    assert float(path.points[:, 1].max()) > 6.5  # round the top, with 15 cm of room
+    assert drivable(path, BODY.padded(0.15), costmap, start.theta)
+
+
+def test_lattice_paddings_must_be_given_and_not_negative() -> None:
+    for paddings in ((), (0.1, -0.05)):
+        with pytest.raises(ConfigError):
+            LatticeConfig(footprint_paddings=paddings)

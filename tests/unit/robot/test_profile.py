@@ -144,6 +144,14 @@ def test_the_rear_is_seen_as_far_as_a_lidar_that_looks_behind_unless_the_profile
     assert parse_profile(told.to_document()) == told
 
 
+def test_a_disks_costmap_is_inscribed_half_a_cell_wider_and_a_polygons_is_not() -> None:
+    from polynav.nav.stack import DISK_CELL_MARGIN, stack_config_for
+
+    assert stack_config_for(load_profile("delivery")).costmap.inscribed_cell_margin == (
+        DISK_CELL_MARGIN)
+    assert stack_config_for(load_profile("research-base")).costmap.inscribed_cell_margin == 0.0
+
+
 def test_the_stack_reverses_only_as_the_profile_allows_and_backs_out_only_as_far_as_it_sees(
 ) -> None:
     from polynav.nav.stack import BLIND_BACKOUT, stack_config_for
