@@ -17,6 +17,7 @@ import contextlib
 import logging
 import socket
 import struct
+from typing import cast
 
 log = logging.getLogger(__name__)
 
@@ -44,8 +45,8 @@ class _Responder(asyncio.DatagramProtocol):
         self.transport: asyncio.DatagramTransport | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.DatagramTransport)
-        self.transport = transport
+        # The loop's datagram transport (not a subclass of DatagramTransport everywhere).
+        self.transport = cast(asyncio.DatagramTransport, transport)
 
     def datagram_received(self, data: bytes, addr: tuple[str | int, ...]) -> None:
         if data.strip() != REQUEST:
