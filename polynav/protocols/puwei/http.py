@@ -129,6 +129,9 @@ async def websocket(ctx: Context, socket_: WebSocket) -> None:
     except (ImportError, AttributeError):
         log.error("puwei: WebSocket side is not available (polynav.protocols.puwei.ws)",
                   exc_info=True)
+        # Accepted first: a close before the handshake is an HTTP 403, not the 1011 (server
+        # error) a client can tell from a refused token.
+        await socket_.accept()
         await socket_.close(code=1011)
         return
     await websocket_session(socket_, ctx)
