@@ -178,3 +178,14 @@ def test_weekly_task_runs_at_its_simulated_time_and_survives_a_restart(
     assert len(stored) == 1
     assert [s["next_fire"] for s in again.tasks.schedules.list(stored[0]["id"])] == [
         "2026-01-10T09:01:00"]
+
+
+def test_set_again_while_it_runs_cancels_and_replaces_it(puwei: Harness) -> None:
+    puwei.navigate()
+    first = set_ok(puwei, task(name="now", actions=[{"type": 5, "value": ["kitchen"]}]))
+    puwei.runtime.advance(0.5)
+    assert puwei.runtime.tasks.get(first["id"])["state"] == "WORKING"
+    second = set_ok(puwei, task(name="now", actions=[{"type": 5, "value": ["lobby"]}]))
+    running = puwei.runtime.tasks.running()
+    assert running is not None and running["id"] == second["id"]
+    assert [t["id"] for t in puwei.runtime.tasks.list(owner="puwei")] == [second["id"]]
