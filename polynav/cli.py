@@ -161,6 +161,7 @@ def _run(args: argparse.Namespace) -> int:
         runtime.start()
         yunji = None
         galileo = None
+        puwei = None
         try:
             if not args.no_yunji:
                 from polynav.protocols.yunji import YunjiConfig
@@ -193,6 +194,22 @@ def _run(args: argparse.Namespace) -> int:
                 except PolynavError as exc:  # a port out of range: the user's to fix
                     print(f"polynav run: {exc}", file=sys.stderr)
                     return EXIT_BAD_INPUT
+            if not args.no_puwei:
+                from polynav.protocols.puwei import PuweiConfig
+                from polynav.protocols.puwei.server import PuweiThread
+
+                try:
+                    puwei = PuweiThread(runtime, PuweiConfig(
+                        host=args.host, port=args.puwei_port,
+                        discovery_port=args.puwei_discovery_port,
+                    ))
+                except OSError as exc:
+                    print(f"polynav run: cannot listen (Puwei, port {args.puwei_port}, udp "
+                          f"{args.puwei_discovery_port}): {exc}", file=sys.stderr)
+                    return 1
+                except PolynavError as exc:  # a port out of range: the user's to fix
+                    print(f"polynav run: {exc}", file=sys.stderr)
+                    return EXIT_BAD_INPUT
             base = f"http://{host}:{port}"
             print(f"polynav: simulating robot {runtime.profile.name!r} in world {world.name!r} at "
                   f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
@@ -208,10 +225,16 @@ def _run(args: argparse.Namespace) -> int:
                 if galileo.ws_port is not None:
                     print(f"polynav: Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>",
                           flush=True)
+            if puwei is not None:
+                print(f"polynav: Puwei API http://{host}:{puwei.port}/api/... (WebSocket "
+                      f"ws://{host}:{puwei.port}/api/ws, discovery udp {puwei.discovery_port})",
+                      flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             if not stop_requested:
                 server.run(sockets=[sock])
         finally:
+            if puwei is not None:
+                puwei.stop()
             if galileo is not None:
                 galileo.stop()
             if yunji is not None:
@@ -368,6 +391,13 @@ def build_parser() -> argparse.ArgumentParser:
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",
                      help="do not serve the Yunji legacy HTTP form")
+    run.add_argument("--puwei-port", type=int, default=8080,
+                     help="Puwei HTTP API and WebSocket port, 0 for any free one "
+                          "(default: %(default)s)")
+    run.add_argument("--no-puwei", action="store_true", help="do not serve the Puwei API")
+    run.add_argument("--puwei-discovery-port", type=int, default=9999,
+                     help="Puwei UDP discovery port (unicast and group 224.0.0.1, joined on "
+                          "loopback), 0 for any free one (default: %(default)s)")
     maps = sub.add_parser("map", help="list, import or export ROS maps of the site",
                           description="Manage the site's maps (ROS map_server YAML + image).")
     map_sub = maps.add_subparsers(dest="map_command", required=True)

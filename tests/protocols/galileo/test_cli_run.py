@@ -18,7 +18,7 @@ from polynav.errors import ConfigError
 from polynav.protocols.galileo import GalileoConfig
 
 STARTUP_LINES = 20
-QUIET = ("--no-yunji", "--no-people", "--port", "0")
+QUIET = ("--no-yunji", "--no-puwei", "--no-people", "--port", "0")
 
 
 def _start(tmp_path: Path, *extra: str) -> subprocess.Popen[str]:

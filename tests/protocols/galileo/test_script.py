@@ -158,7 +158,7 @@ class RunningPolynav:
                 [sys.executable, "-m", "polynav", "run", "--data", str(data), "--speed", "20",
                  "--port", "0", "--galileo-port", "0", "--galileo-ws-port", "0",
                  "--galileo-udp-port", str(udp_port), "--galileo-require-token", "--no-yunji",
-                 "--no-people"],
+                 "--no-puwei", "--no-people"],
                 stdout=subprocess.PIPE, stderr=stderr, text=True,
             )
         self.lines: list[str] = []

@@ -1,0 +1,129 @@
+"""The Puwei adapter's servers around one runtime: HTTP + WebSocket on one port (8080) and UDP
+discovery (9999). Transport only (STYLE R4): the handlers live in the route modules, the
+WebSocket session in ``ws.py``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import socket
+import threading
+
+from polynav.protocols.puwei import routes
+from polynav.protocols.puwei.auth import TokenBook
+from polynav.protocols.puwei.config import PuweiConfig
+from polynav.protocols.puwei.context import Context
+from polynav.protocols.puwei.discovery import DiscoveryResponder
+from polynav.protocols.puwei.http import HttpListener, create_app
+from polynav.runtime.robot_runtime import RobotRuntime
+
+log = logging.getLogger(__name__)
+
+
+def own_address(host: str) -> str:
+    """The address ``/api/devices`` gives: the bound one, or for all interfaces the host
+    name's (loopback when it has none)."""
+    if host not in ("0.0.0.0", ""):
+        return host
+    try:
+        return socket.gethostbyname(socket.gethostname())
+    except OSError:
+        return "127.0.0.1"
+
+
+class PuweiServer:
+    """The listening Puwei servers; build with :func:`serve`, end with :meth:`close`."""
+
+    def __init__(self, runtime: RobotRuntime, config: PuweiConfig) -> None:
+        self.config = config
+        self.ctx = Context(runtime=runtime, tokens=TokenBook(
+            username=config.username, password=config.password, ttl=config.token_ttl))
+        address = own_address(config.host)
+        self.ctx.state("puwei.address", lambda: address)
+        self._http: HttpListener | None = None
+        self._discovery: DiscoveryResponder | None = None
+
+    @property
+    def port(self) -> int:
+        """The HTTP (and WebSocket) port actually bound."""
+        assert self._http is not None
+        return self._http.port
+
+    @property
+    def discovery_port(self) -> int | None:
+        """The UDP discovery port actually bound, if it answers."""
+        return None if self._discovery is None else self._discovery.port
+
+    async def start(self) -> None:
+        http = HttpListener(create_app(self.ctx, routes.table()), self.config.host,
+                            self.config.port)
+        await http.start()
+        self._http = http
+        log.info("puwei: HTTP and WebSocket on %s:%d", self.config.host, http.port)
+        if self.config.discovery_port is not None:
+            discovery = DiscoveryResponder(
+                host=self.config.discovery_host, port=self.config.discovery_port,
+                group=self.config.multicast_group, http_port=http.port)
+            await discovery.start()
+            self._discovery = discovery
+            log.info("puwei: discovery on udp %s:%d and group %s", self.config.discovery_host,
+                     discovery.port, self.config.multicast_group)
+
+    async def close(self) -> None:
+        if self._discovery is not None:
+            await self._discovery.close()
+            self._discovery = None
+        if self._http is not None:
+            await self._http.close()
+            self._http = None
+
+
+async def serve(runtime: RobotRuntime, config: PuweiConfig | None = None) -> PuweiServer:
+    """Start the Puwei servers for ``runtime`` on the running event loop.
+
+    Raises:
+        OSError: a port cannot be bound (nothing is left listening).
+    """
+    server = PuweiServer(runtime, config or PuweiConfig())
+    try:
+        await server.start()
+    except BaseException:
+        await server.close()
+        raise
+    return server
+
+
+class PuweiThread:
+    """The Puwei servers on their own event loop in a daemon thread (``polynav run``)."""
+
+    def __init__(self, runtime: RobotRuntime, config: PuweiConfig) -> None:
+        self._loop = asyncio.new_event_loop()
+        self._thread = threading.Thread(target=self._loop.run_forever, name="polynav-puwei",
+                                        daemon=True)
+        self._thread.start()
+        try:
+            self.server = asyncio.run_coroutine_threadsafe(serve(runtime, config),
+                                                           self._loop).result()
+        except BaseException:
+            self._shutdown()
+            raise
+
+    @property
+    def port(self) -> int:
+        return self.server.port
+
+    @property
+    def discovery_port(self) -> int | None:
+        return self.server.discovery_port
+
+    def stop(self) -> None:
+        asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()
+        self._shutdown()
+
+    def _shutdown(self) -> None:
+        asyncio.run_coroutine_threadsafe(self._loop.shutdown_default_executor(),
+                                         self._loop).result()
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        self._thread.join()
+        self._loop.close()

@@ -1,0 +1,68 @@
+"""Coverage of the Puwei entry list: every entry has a test, or is on the exact to-do list.
+
+Each test module of this package names what it covers in a module-level ``COVERED`` dict: entry
+key (:mod:`tests.protocols.puwei.spec`) -> the name of a test function in that module that
+exercises it over real HTTP, UDP or WebSocket against a running polynav. An entry is in exactly
+one of the two places, so covering an entry means moving it out of its to-do list in the same
+commit (the lists are strict both ways). The WebSocket entries are the WebSocket side's
+(``ws.py``, issue 33 item 3), covered by its ``test_ws_*`` modules.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+
+import tests.protocols.puwei as package
+from polynav.protocols.puwei import routes
+from tests.protocols.puwei import spec
+
+# The WebSocket connection and every message type (owner: the WebSocket side, ws.py). Its
+# test_ws_* modules cover them; each covered key leaves this set in the same commit.
+TODO_WS: set[str] = {
+    "GET <unspecified ws path>?token=:token",
+    *(k for k, e in spec.WS.items() if e["method"] in ("ws-in", "ws-out")),
+}
+
+TODO = set(TODO_WS)
+
+
+def _covered() -> dict[str, tuple[str, str]]:
+    """entry key -> (test module, test name), from every test module's ``COVERED``."""
+    out: dict[str, tuple[str, str]] = {}
+    for info in pkgutil.iter_modules(package.__path__):
+        if not info.name.startswith("test_") or info.name == "test_coverage":
+            continue
+        module = importlib.import_module(f"{package.__name__}.{info.name}")
+        for key, test_name in getattr(module, "COVERED", {}).items():
+            assert key not in out, f"{key} is covered twice: {out[key]} and {info.name}"
+            assert callable(getattr(module, test_name, None)), f"{key}: no {info.name}.{test_name}"
+            out[key] = (info.name, test_name)
+    return out
+
+
+COVERED = _covered()
+
+
+def test_every_entry_has_a_test_or_is_on_the_todo_list() -> None:
+    missing = sorted(set(spec.ALL) - set(COVERED) - TODO)
+    assert missing == [], "entries with neither a test nor a to-do line"
+
+
+def test_the_todo_list_holds_no_covered_or_unknown_entry() -> None:
+    assert sorted(TODO & set(COVERED)) == [], "covered entries still on the to-do list"
+    assert sorted(TODO - set(spec.ALL)) == [], "to-do lines that are no entry"
+    known = set(spec.ALL) | spec.EXTRA
+    assert sorted(set(COVERED) - known) == [], "COVERED keys that are no entry"
+
+
+def test_every_extra_endpoint_of_the_issue_has_a_test() -> None:
+    assert sorted(spec.EXTRA - set(COVERED)) == []
+
+
+def test_every_served_http_endpoint_is_an_entry_with_a_test() -> None:
+    served = {f"{e.method} {e.path}" for e in routes.table()}
+    http = set(spec.HTTP) | spec.EXTRA
+    assert sorted(served - http) == [], "served endpoints that are no entry"
+    assert sorted(http - served) == [], "entries not served"
+    assert sorted(served - set(COVERED)) == [], "served endpoints without a test"
