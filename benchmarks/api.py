@@ -296,7 +296,7 @@ def _print(args: argparse.Namespace, figures: dict[str, Any]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    dialects = ("native", "yunji", "galileo")
+    dialects = ("native", "yunji", "galileo", "puwei")
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--dialect", choices=dialects)
     chosen, argv = pre.parse_known_args(argv)
@@ -305,12 +305,17 @@ def main(argv: list[str] | None = None) -> int:
         from api_galileo import main as galileo_main
 
         return galileo_main(argv)
+    if chosen.dialect == "puwei":  # its own load, login and reference (api_puwei.py)
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from api_puwei import main as puwei_main
+
+        return puwei_main(argv)
     if chosen.dialect is not None:
         argv += ["--only", chosen.dialect]
     parser = argparse.ArgumentParser(prog="polynav bench api", description=__doc__.splitlines()[0])
     parser.add_argument("--dialect", choices=dialects,
-                        help="one server (galileo: GET galileo_status under 50 clients, its own "
-                             "options: --dialect galileo --help)")
+                        help="one server (galileo, puwei: a status GET under 50 clients, their "
+                             "own options: --dialect galileo --help)")
     parser.add_argument("--only", nargs="+", choices=("native", "yunji"),
                         default=["native", "yunji"], help="which servers (default: all)")
     parser.add_argument("--clients", type=int, default=50, help="Yunji connections")

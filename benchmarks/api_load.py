@@ -37,8 +37,11 @@ async def _read_response(reader: asyncio.StreamReader) -> int:
     return status
 
 
-def _request(method: str, path: str, body: bytes = b"") -> bytes:
+def _request(method: str, path: str, body: bytes = b"", headers: tuple[str, ...] = ()
+             ) -> bytes:
     head = f"{method} {path} HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+    for header in headers:
+        head += f"{header}\r\n"
     if body:
         head += f"Content-Type: application/json\r\nContent-Length: {len(body)}\r\n"
     return head.encode() + b"\r\n" + body
@@ -87,8 +90,8 @@ async def _http_client(port: int, requests: Any, deadline: float, tally: _Tally,
         writer.close()
 
 
-def _gets(path: str) -> Any:
-    request = _request("GET", path)
+def _gets(path: str, headers: tuple[str, ...] = ()) -> Any:
+    request = _request("GET", path, headers=headers)
     while True:
         yield request
 
@@ -165,7 +168,7 @@ async def run(args: argparse.Namespace) -> dict[str, Any]:
         clients = [
             _http_client(
                 args.port,
-                _posts(n) if args.kind == "post" else _gets(args.path),
+                _posts(n) if args.kind == "post" else _gets(args.path, tuple(args.header)),
                 deadline, tally, period,
                 phase=(n * period / args.clients) if period else 0.0,
             )
@@ -184,6 +187,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("seconds", type=float)
     parser.add_argument("--path", default="/api/status")
     parser.add_argument("--line", default="/api/robot_status")
+    parser.add_argument("--header", action="append", default=[], metavar="NAME: VALUE",
+                        help="a request header for get and paced loads (repeat)")
     parser.add_argument("--rate", type=float, default=1000.0, help="total requests/s (paced)")
     args = parser.parse_args(argv)
     print(json.dumps(asyncio.run(run(args))))

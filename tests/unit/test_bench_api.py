@@ -40,3 +40,16 @@ def test_bench_api_refuses_empty_loads(capsys: pytest.CaptureFixture[str]) -> No
         main(["bench", "api", "--ws-clients", "0"])
     assert exit_info.value.code == 2
     assert "client counts" in capsys.readouterr().err
+
+
+def test_bench_api_puwei_logs_in_and_loads_the_status_with_its_token(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["bench", "api", "--dialect", "puwei", "--http-clients", "2", "--seconds",
+                 "0.4", "--json"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    figures = json.loads(out[-1])
+    for side in ("polynav", "reference"):
+        row = figures[side]
+        assert row["per_second"] > 0.0 and row["errors"] == 0, (side, row)
+    assert any("polynav / reference" in line for line in out)
