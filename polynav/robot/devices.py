@@ -118,6 +118,15 @@ class EnvironmentSensors(Protocol):
     def read_air(self, now: float) -> AirReading: ...
 
 
+class Buzzer(Protocol):
+    """The chassis buzzer (an alarm a remote operator switches on and off)."""
+
+    @property
+    def on(self) -> bool: ...
+
+    def set(self, now: float, on: bool) -> None: ...
+
+
 class Speaker(Protocol):
     """Speech output: a sentence plays for a while, a new one interrupts it."""
 
@@ -274,6 +283,7 @@ class DeviceSet:
     jacking_rotation: Axis
     sensors: EnvironmentSensors
     speaker: Speaker
+    buzzer: Buzzer
     io: IoPorts
     expansion_io: IoPorts
     voice_io: IoPorts

@@ -216,6 +216,15 @@ class Peripherals:
         bank = self.io_bank(name)
         return self._run(lambda now: (list(bank.outputs()), list(bank.inputs())))
 
+    @property
+    def buzzer_on(self) -> bool:
+        return self.devices.buzzer.on
+
+    def set_buzzer(self, on: bool) -> None:
+        """Sound the chassis buzzer, or silence it."""
+        buzzer = self.devices.buzzer
+        self._run(lambda now: buzzer.set(now, on))
+
     def set_outputs(self, name: str, levels: Mapping[int, int]) -> None:
         """Set several outputs of one bank at once: all or none.
 

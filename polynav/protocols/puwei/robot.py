@@ -77,9 +77,9 @@ def status(ctx: Context, request: PuweiRequest) -> dict[str, Any]:
     return robot_status(ctx)
 
 
-@ROUTES.get("/api/robot/clear")
-def clear(ctx: Context, request: PuweiRequest) -> list[str]:
-    """``data``: the errors still reported after clearing."""
+def clear_errors(ctx: Context) -> list[str]:
+    """Release the software e-stop and acknowledge the last failure; the errors left (HTTP
+    ``robot/clear``, WebSocket I_CLEAR)."""
     rt = ctx.runtime
     snap = rt.status()
     if snap.estop_software:
@@ -89,11 +89,10 @@ def clear(ctx: Context, request: PuweiRequest) -> list[str]:
     return list(robot_status(ctx)["err"])
 
 
-@ROUTES.get("/api/robot/pause")
-def pause(ctx: Context, request: PuweiRequest) -> None:
-    """Pause (``value`` true, the default) or resume the running task, else the goal."""
+def set_paused(ctx: Context, on: bool) -> None:
+    """Pause (``on``) or resume the running task, else the goal (HTTP ``robot/pause``,
+    WebSocket I_PAUSE)."""
     rt = ctx.runtime
-    on = request.flag("value", True)
     task = rt.tasks.running()
     if task is not None:
         if on:
@@ -107,11 +106,11 @@ def pause(ctx: Context, request: PuweiRequest) -> None:
         rt.resume()
 
 
-@ROUTES.get("/api/robot/charge")
-def charge(ctx: Context, request: PuweiRequest) -> None:
-    """Dock onto the charger (``value`` true, the default) or stop docking/charging."""
+def set_charging(ctx: Context, on: bool) -> None:
+    """Dock onto the charger (``on``) or stop docking/charging (HTTP ``robot/charge``,
+    WebSocket I_CHARGE)."""
     rt = ctx.runtime
-    if not request.flag("value", True):
+    if not on:
         task = rt.tasks.running()
         if task is None or task["kind"] != CHARGE_KIND:
             raise Conflict("no charging under way")
@@ -125,3 +124,21 @@ def charge(ctx: Context, request: PuweiRequest) -> None:
     rt.tasks.create({"type": "charge_action", "name": "charge", "point": point},
                     name="charge", owner="puwei", kind=CHARGE_KIND, temporary=True, start=True)
     log.info("puwei: docking onto %s", point)
+
+
+@ROUTES.get("/api/robot/clear")
+def clear(ctx: Context, request: PuweiRequest) -> list[str]:
+    """``data``: the errors still reported after clearing."""
+    return clear_errors(ctx)
+
+
+@ROUTES.get("/api/robot/pause")
+def pause(ctx: Context, request: PuweiRequest) -> None:
+    """Pause (``value`` true, the default) or resume the running task, else the goal."""
+    set_paused(ctx, request.flag("value", True))
+
+
+@ROUTES.get("/api/robot/charge")
+def charge(ctx: Context, request: PuweiRequest) -> None:
+    """Dock onto the charger (``value`` true, the default) or stop docking/charging."""
+    set_charging(ctx, request.flag("value", True))

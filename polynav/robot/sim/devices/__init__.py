@@ -2,17 +2,18 @@
 
 :func:`simulated_devices` builds the :class:`~polynav.robot.devices.DeviceSet` of a simulated
 robot: a slide table, a jacking lift with a turntable, environment and air sensors, a speaker,
-three IO banks (the base's outputs, an 8-in/8-out expansion board, the voice module's 4+4),
-the camera and a PTZ network camera that render from the lidar, the calibration procedures
-and a software updater with nothing to update to. Storage that any backend needs alike (voice
-packages, photo and video folders) is in :mod:`~polynav.robot.sim.devices.voice_library` and
-:mod:`~polynav.robot.sim.devices.media`.
+the chassis buzzer, three IO banks (the base's outputs, an 8-in/8-out expansion board, the
+voice module's 4+4), the camera and a PTZ network camera that render from the lidar, the
+calibration procedures and a software updater with nothing to update to. Storage that any
+backend needs alike (voice packages, photo and video folders) is in
+:mod:`~polynav.robot.sim.devices.voice_library` and :mod:`~polynav.robot.sim.devices.media`.
 """
 
 from __future__ import annotations
 
 from polynav.robot.devices import DeviceSet
 from polynav.robot.sim.devices.axis import AxisConfig, SimAxis
+from polynav.robot.sim.devices.buzzer import SimBuzzer
 from polynav.robot.sim.devices.calibration import (
     CameraCalibration,
     ImuCalibration,
@@ -46,6 +47,7 @@ def simulated_devices(sim: Simulation, *, seed: int = 0, version: str = "0.1.0")
         jacking_rotation=SimAxis(JACKING_ROTATION, now),
         sensors=SimEnvironmentSensors(seed, now),
         speaker=SimSpeaker(),
+        buzzer=SimBuzzer(),
         io=SimIoPorts("the base's IO", outputs=3, first_output=1),
         expansion_io=SimIoPorts("the expansion board", outputs=8, inputs=8),
         voice_io=SimIoPorts("the voice module", outputs=4, inputs=4, first_input=4),
