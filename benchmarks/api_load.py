@@ -8,7 +8,8 @@ Kinds:
 - ``paced``: keep-alive GET at a fixed total ``--rate`` spread over the clients (open loop: latency
   is counted from when a request was due, so a server that falls behind is not flattered).
 - ``post``: keep-alive ``POST /api/points`` with a new point name each time.
-- ``ws``: WebSocket subscribers to ``--path``; every status message's arrival and ``stamp``.
+- ``ws``: WebSocket subscribers to ``--path``; every status message's arrival and ``stamp``
+  (native ``status``, or Puwei's O_STATUS ``time_stamp``).
 
 The client is a few lines of asyncio over raw sockets (no HTTP library in the way), so the same
 cheap client measures polynav and the reference. Prints one JSON object.
@@ -124,6 +125,8 @@ async def _ws_client(port: int, path: str, deadline: float, frames: list[list[fl
             message = json.loads(text)
             if message.get("type") == "status":
                 mine.extend((arrived, float(message["data"]["stamp"])))
+            elif message.get("type") == 1026:  # Puwei's O_STATUS: milliseconds of its calendar
+                mine.extend((arrived, float(message["data"]["time_stamp"]) / 1000.0))
 
 
 def _lag_figures(frames: list[list[float]], seconds: float) -> dict[str, Any]:

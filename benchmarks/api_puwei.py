@@ -90,13 +90,16 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             raise RuntimeError(f"{PATH} failed: {status}")
         extra = ("--path", PATH, "--header", f"authorization: {token}")
         ours = _figures(_load("get", port, args.http_clients, args.seconds, *extra))
+        stream = _load("ws", port, args.ws_clients, args.ws_seconds, "--path",
+                       f"/api/ws?token={token}") if args.ws_clients else None
     reference = _Uvicorn(_bare(status))
     try:
         theirs = _figures(_load("get", reference.port, args.http_clients, args.seconds,
                                 "--path", PATH))
     finally:
         reference.close()
-    return {"polynav": ours, "reference": theirs, "body_bytes": len(json.dumps(status))}
+    return {"polynav": ours, "reference": theirs, "body_bytes": len(json.dumps(status)),
+            "o_status": stream}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -104,10 +107,14 @@ def main(argv: list[str] | None = None) -> int:
                                      description=__doc__.splitlines()[0])
     parser.add_argument("--http-clients", type=int, default=50, help="keep-alive connections")
     parser.add_argument("--seconds", type=float, default=5.0, help="per load")
+    parser.add_argument("--ws-clients", type=int, default=50,
+                        help="WebSocket clients reading O_STATUS (0: none)")
+    parser.add_argument("--ws-seconds", type=float, default=10.0)
     parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
     args = parser.parse_args(argv)
-    if args.http_clients < 1 or not args.seconds > 0.0:
-        parser.error("--http-clients must be >= 1 and --seconds > 0")
+    if args.http_clients < 1 or not args.seconds > 0.0 or args.ws_clients < 0 \
+            or not args.ws_seconds > 0.0:
+        parser.error("--http-clients must be >= 1, --ws-clients >= 0, the seconds > 0")
     figures = run(args)
     ours, theirs = figures["polynav"], figures["reference"]
     print(f"polynav bench api --dialect puwei: GET {PATH} with a token, {args.http_clients} "
@@ -119,6 +126,11 @@ def main(argv: list[str] | None = None) -> int:
               f"{row['errors']:8d}")
     ratio = ours["per_second"] / theirs["per_second"] if theirs["per_second"] else 0.0
     print(f"polynav / reference: {ratio:.2f}x (issue 33's target: >= 0.5x)")
+    stream = figures["o_status"]
+    if stream is not None:
+        print(f"O_STATUS to {stream['subscribers']} WebSocket clients for {args.ws_seconds:g} s: "
+              f"{stream['messages_per_second_min']:.1f} messages/s at the least (the status "
+              f"rate: 10), lag growth {stream['lag_growth_ms']:+.1f} ms")
     if args.json:
         print(json.dumps({"http_clients": args.http_clients, "seconds": args.seconds,
                           **figures}))

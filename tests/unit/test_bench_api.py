@@ -46,10 +46,12 @@ def test_bench_api_puwei_logs_in_and_loads_the_status_with_its_token(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     assert main(["bench", "api", "--dialect", "puwei", "--http-clients", "2", "--seconds",
-                 "0.4", "--json"]) == 0
+                 "0.4", "--ws-clients", "2", "--ws-seconds", "1.5", "--json"]) == 0
     out = capsys.readouterr().out.strip().splitlines()
     figures = json.loads(out[-1])
     for side in ("polynav", "reference"):
         row = figures[side]
         assert row["per_second"] > 0.0 and row["errors"] == 0, (side, row)
     assert any("polynav / reference" in line for line in out)
+    assert figures["o_status"]["subscribers"] == 2
+    assert figures["o_status"]["messages_per_second_min"] > 5.0
