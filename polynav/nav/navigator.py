@@ -174,7 +174,8 @@ class Navigator(ChargerPhases, PlanFailures):
         self._contact_since: float | None = None
         # People seen this period, and the current wait for them to make way.
         self._wait = PeopleWait(
-            people or PeopleConfig(), costmap, planner, controller, robot_radius=robot_radius
+            people or PeopleConfig(), costmap, planner, controller, robot_radius=robot_radius,
+            footprint=self._footprint,
         )
         self._goal_wait = GoalWait(costmap, patience=cfg.goal_wait, period=cfg.goal_wait_period)
 

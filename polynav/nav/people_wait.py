@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from polynav.control.interface import Controller, ControlStatus
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist
 from polynav.maps.costmap import Costmap
 from polynav.nav.people import PeopleConfig, PeopleView, aside_spots, densify
@@ -66,6 +67,7 @@ class PeopleWait:
         controller: Controller,
         *,
         robot_radius: float,
+        footprint: Footprint | None = None,
     ) -> None:
         self.config = config
         self._costmap = costmap
@@ -77,9 +79,11 @@ class PeopleWait:
         self._where: Pose2D | None = None
         self._last_plan = 0.0
         self._last_give_way = 0.0
+        # The body itself is checked backing up: a wall behind and to a side is missed by a
+        # probe on the centre line (a disk robot backed into a corridor's wall giving way).
         self._back_up = BackUp(
             costmap, distance=config.give_way_distance, speed=0.15,
-            robot_radius=robot_radius, timeout=8.0,
+            robot_radius=robot_radius, timeout=8.0, footprint=footprint,
         )
         self._backing_up = False
         self._aside: Pose2D | None = None
