@@ -19,7 +19,9 @@ stack. With ``--mapless`` the stack is given no map: it builds its rolling costm
 lidar and drives to the goal as a pose in the odometry frame (:mod:`polynav.nav.mapless`).
 
 Run with ``polynav bench clutter [--kind {posts,lattice,all}] [--robot FILE] [--mapless]
-[--courses N] [--seed S] [--json]``.
+[--courses N] [--only I [I ...]] [--seed S] [--json]``. ``--only`` drives only the given courses
+of the ``--courses`` run (the same draw and density as in the whole run), to look at a failure
+again: ``--kind lattice --courses 100 --only 41``.
 """
 
 from __future__ import annotations
@@ -160,7 +162,7 @@ def run_kind(kind: str, args: argparse.Namespace, profile: RobotProfile) -> list
     print(f"{'course':>6s}{'density':>9s}{'posts':>7s}{'gap':>7s}  {'outcome':14s}"
           f"{'coll.':>6s}{'time':>8s}{'optimal':>9s}{'ratio':>7s}{'retries':>8s}{'RTF':>7s}")
     rows: list[dict[str, Any]] = []
-    for index in range(args.courses):
+    for index in args.only if args.only else range(args.courses):
         try:
             row = run_course(index, args.courses, args.seed, profile, mapless=args.mapless,
                              kind=kind)
@@ -195,6 +197,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="course kind, or all of them (default %(default)s)")
     parser.add_argument("--courses", type=int, default=100,
                         help="courses per kind, sparse to barely passable (default %(default)s)")
+    parser.add_argument("--only", type=int, nargs="+", default=None, metavar="I",
+                        help="drive only these courses of the --courses run (same draw)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--robot", default=None,
                         help="robot profile: a robot.yaml or a built-in name (default: demo)")
@@ -204,6 +208,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.courses < 1:
         print("polynav bench clutter: --courses must be >= 1", file=sys.stderr)
+        return 2
+    if args.only and not all(0 <= i < args.courses for i in args.only):
+        print("polynav bench clutter: --only takes course numbers below --courses",
+              file=sys.stderr)
         return 2
     try:
         profile = load_profile(args.robot)

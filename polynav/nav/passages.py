@@ -11,9 +11,14 @@ walk on, :mod:`~polynav.nav.people_wait`), the passage is *closed for this goal*
 the body first touched something along the route ahead (:meth:`ClosedPassages.close`). Every
 plan then runs on a copy of the costmap where a disc of the body's inscribed radius there is
 LETHAL (:meth:`ClosedPassages.planning_grid`): the body may not overlap it, so the route goes
-round. A closure is forgotten when the goal ends, or when the cells that closed it have been
-seen free for ``reopen_after`` seconds (the lidar sees the passage wider than thought: a trolley
-moved away); marks a recovery cleared come back with the next scan, well within that time.
+round. A closure is forgotten when the goal ends, or when the cells that closed it, and those
+within ``reopen_margin`` of them, have been seen free for ``reopen_after`` seconds (the lidar
+sees the passage wider than thought: a trolley moved away); marks a recovery cleared come back
+with the next scan, well within that time. The margin is there because a thin post's mark
+wanders: without a map the lidar marks a 2 cm post in one cell or its neighbour from scan to
+scan, so the one cell the body touched went free while the post stood, the closure was
+forgotten and the next plan took the same gap (demo, lattice course 41 without a map: seven
+closures of one place, timed out).
 """
 
 from __future__ import annotations
@@ -47,6 +52,7 @@ class ClosedPassage:
     y: float
     radius: float
     cells: npt.NDArray[np.int64]
+    watched: npt.NDArray[np.int64] | None = None
     free_since: float | None = None
 
     @property
@@ -62,6 +68,8 @@ class ClosedPassages:
         footprint: the body.
         limit: at most this many closures per goal; blocks beyond it count as plain failures.
         reopen_after: a closure whose cells stay free this long [s] is forgotten.
+        reopen_margin: a closure is free only when no cell within this distance [m] of the
+            cells that closed it is marked either (a thin post's mark wanders by a cell).
         time_budget: no passage is closed later than this [s] after the first closure of the
             goal (``NavigatorConfig.passage_time_budget``).
     """
@@ -70,6 +78,7 @@ class ClosedPassages:
     time_budget: float
     limit: int = 12
     reopen_after: float = 2.0
+    reopen_margin: float = 0.1
     passages: list[ClosedPassage] = field(default_factory=list)
     tried: list[str] = field(default_factory=list)
 
@@ -111,7 +120,8 @@ class ClosedPassages:
         if hit is not None:
             x, y, theta = (float(v) for v in poses[hit])
             cells = body.overlapped_cells(self.footprint, costmap, Pose2D(x, y, theta))
-            self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells)
+            watched = _dilated(costmap, cells, self.reopen_margin)
+            self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells, watched)
 
     def close(self, now: float) -> ClosedPassage | None:
         """Close the passage noted at the last block; ``None`` when the body touched nothing
@@ -138,7 +148,7 @@ class ClosedPassages:
         kept = []
         grid = costmap.costs
         for passage in self.passages:
-            cells = passage.cells
+            cells = passage.cells if passage.watched is None else passage.watched
             marked = cells.shape[0] == 0 or bool(
                 np.any(grid[cells[:, 1], cells[:, 0]] == costs.LETHAL)
             )
@@ -181,6 +191,24 @@ def touches_marks(costmap: Costmap, footprint: Footprint, pose: Pose2D) -> bool:
     centres = costmap.info.cells_to_world(cells)
     # Unknown in the map (no map at all: navigating without one) is not the building either.
     return any(costmap.map_cost_at(float(x), float(y)) != costs.LETHAL for x, y in centres)
+
+
+def _dilated(
+    costmap: CostGrid, cells: npt.NDArray[np.int64], margin: float
+) -> npt.NDArray[np.int64]:
+    """``cells`` and every cell of the grid within ``margin`` [m] (centre to centre) of one."""
+    info = costmap.info
+    reach = int(math.floor(margin / info.resolution + 1e-9))
+    if reach <= 0 or cells.shape[0] == 0:
+        return cells
+    span = np.arange(-reach, reach + 1)
+    dx, dy = np.meshgrid(span, span)
+    near = np.hypot(dx, dy) <= reach + 1e-9
+    offsets = np.column_stack((dx[near], dy[near])).astype(np.int64)
+    grown = (cells[:, None, :] + offsets[None, :, :]).reshape(-1, 2)
+    inside = (grown[:, 0] >= 0) & (grown[:, 1] >= 0) & (grown[:, 0] < info.width) & (
+        grown[:, 1] < info.height)
+    return np.asarray(np.unique(grown[inside], axis=0), dtype=np.int64)
 
 
 def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:

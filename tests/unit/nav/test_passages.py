@@ -75,6 +75,22 @@ def test_a_closure_is_forgotten_only_after_its_cells_stay_free() -> None:
     assert len(passages.tried) == 1  # still named when the goal fails
 
 
+def test_a_closure_stays_while_its_post_is_marked_in_a_neighbouring_cell() -> None:
+    passages = ClosedPassages(BODY, 60.0, reopen_after=2.0)
+    passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
+    assert passages.close(0.0) is not None
+    wandered = np.zeros((60, 100), dtype=np.uint8)
+    wandered[31, 60] = costs.LETHAL  # the same thin post, marked one cell over
+    passages.refresh(CostSnapshot(INFO, wandered), 10.0)
+    passages.refresh(CostSnapshot(INFO, wandered), 13.0)
+    assert len(passages.passages) == 1
+    gone = np.zeros((60, 100), dtype=np.uint8)
+    gone[30, 63] = costs.LETHAL  # something three cells away: the passage is wider
+    passages.refresh(CostSnapshot(INFO, gone), 14.0)
+    passages.refresh(CostSnapshot(INFO, gone), 16.0)
+    assert passages.passages == []
+
+
 def test_no_passage_is_closed_once_the_time_budget_after_the_first_is_spent() -> None:
     passages = ClosedPassages(BODY, time_budget=60.0)
     passages.note_block(_grid_with_post(), _route(), 1.0, Pose2D(2.0, 1.5, 0.0))
