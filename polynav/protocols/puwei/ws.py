@@ -17,10 +17,11 @@ to a client that connects a moment after it. Then:
 A client message is checked whole first (:func:`.messages.parse`); an invalid one gets O_EVENT
 1029 "输入的命令无效: <why>" to that client alone, and a command the robot refuses an O_EVENT
 naming why (1025 for I_INIT, 1027 for I_MARKER, 2052 for I_CHARGE, 2049 for I_GOAL, else 1029);
-the session stays open. Runtime commands run on worker threads (they wait for the runtime's
-loop), never on the adapter's event loop. Each session's outgoing frames wait in a bounded
-queue: a client that does not read loses frames, the server keeps its memory. The session ends
-as soon as the client closes.
+the session stays open. A binary frame gets 1029 too, and so does a command that fails for a
+reason polynav has no error class for (logged with its traceback). Runtime commands run on
+worker threads (they wait for the runtime's loop), never on the adapter's event loop. Each
+session's outgoing frames wait in a bounded queue: a client that does not read loses frames, the
+server keeps its memory. The session ends as soon as the client closes.
 """
 
 from __future__ import annotations
@@ -175,7 +176,15 @@ class Session:
 
     async def _read(self) -> None:
         while True:
-            text = await self._ws.receive_text()
+            # receive(), not receive_text(): Starlette's receive_text raises KeyError on a
+            # binary frame, which would end the session over one bad frame.
+            received = await self._ws.receive()
+            if received["type"] == "websocket.disconnect":
+                raise WebSocketDisconnect(received.get("code", 1000), received.get("reason"))
+            text = received.get("text")
+            if text is None:
+                self.send(m.event(m.INVALID, "frame: must be JSON text, got a binary frame"))
+                continue
             try:
                 message = m.parse(text)
             except InvalidRequest as exc:
@@ -185,6 +194,9 @@ class Session:
                 await self._handle(message)
             except PolynavError as exc:
                 self.send(m.event(_REFUSED.get(message.kind, m.INVALID), str(exc)))
+            except Exception:  # the session's one broad except (STYLE R4): keep the client
+                log.error("puwei: WebSocket %s failed", message.kind.name, exc_info=True)
+                self.send(m.event(m.INVALID, f"{message.kind.name}: internal error"))
 
     async def _watch(self, subscription: Any) -> None:
         rt = self._rt
