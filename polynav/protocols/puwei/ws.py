@@ -55,6 +55,7 @@ T = TypeVar("T")
 
 OUTBOX = 256  # events waiting unsent for one client; one more closes it as not reading
 CLOSE_TOO_SLOW = 1008  # policy violation: the client does not read
+CLOSE_TIMEOUT = 1.0  # [s] of wall time for the close handshake with a client that does not read
 TICK = 0.02  # [s] of wall time between looks at the runtime
 LIVE_MAP_PERIOD = 1.0  # [s] of the runtime's clock between maps while mapping
 GOALS_KIND = "puwei_goals"
@@ -127,8 +128,18 @@ class Session:
                 if not part.cancelled() and part.exception() is not None and not isinstance(
                         part.exception(), WebSocketDisconnect | RuntimeError):
                     log.error("puwei: WebSocket session failed", exc_info=part.exception())
+            if self._outbox.closed:
+                await self._close_slow()
         finally:
             self._rt.bus.unsubscribe(subscription)
+
+    async def _close_slow(self) -> None:
+        """Close a client that does not read; bounded, since its socket may be stuck too."""
+        reason = str(self._outbox.closed_reason)
+        log.warning("puwei: WebSocket client too slow, closing: %s", reason)
+        with contextlib.suppress(TimeoutError, WebSocketDisconnect, RuntimeError):
+            await asyncio.wait_for(self._ws.close(code=CLOSE_TOO_SLOW, reason=reason[:120]),
+                                   CLOSE_TIMEOUT)
 
     async def _call(self, fn: Callable[[], T]) -> T:
         return await asyncio.to_thread(fn)
@@ -177,13 +188,9 @@ class Session:
     # -- the three parts -------------------------------------------------------------------
 
     async def _write(self) -> None:
-        try:
+        with contextlib.suppress(OutboxClosed):  # closed as not reading: run() closes
             while True:
                 await self._ws.send_text(await self._outbox.get())
-        except OutboxClosed:
-            reason = str(self._outbox.closed_reason)
-            log.warning("puwei: WebSocket client too slow, closing: %s", reason)
-            await self._ws.close(code=CLOSE_TOO_SLOW, reason=reason[:120])
 
     async def _read(self) -> None:
         while True:
@@ -212,12 +219,11 @@ class Session:
     async def _watch(self, subscription: Any) -> None:
         rt = self._rt
         rate = rt.config.status_rate
-        while True:
-            await asyncio.sleep(TICK)
+        while not self._outbox.closed:  # a writer stuck on a client that does not read
+            await asyncio.sleep(TICK)        # never sees the close: this part ends the session
             for happened in subscription.get_nowait():
                 await self._forward(happened)
             if subscription.dropped:  # events lost before translation: say so, do not hide it
-                # The writer then closes the socket; returning here would cancel it first.
                 self._outbox.close(f"not reading: {subscription.dropped} events could not be "
                                    "queued")
             now = rt.now()
