@@ -73,7 +73,7 @@ DOCKING, LEAVING, MARKER_SAVED, GOALS_RECEIVED, DOCKED, CLEARED, REACHED = 7, 8,
 LEFT_CHARGER, CHARGE_CANCELLED, CHARGE_FULL = 14, 15, 16
 RELOC_FAILED, PLAN_FAILED, MARKER_FAILED, LOST, INVALID = 1025, 1026, 1027, 1028, 1029
 CHASSIS_ERROR = 1030
-TASK_FAILED, LEAVE_FAILED, DOCK_FAILED = 2049, 2051, 2052
+PROGRAM_EXIT, TASK_FAILED, LEAVE_FAILED, DOCK_FAILED = 2048, 2049, 2051, 2052
 
 
 def frame(kind: Out, data: Any) -> str:
@@ -280,5 +280,12 @@ def events_for(happened: events.RuntimeEvent, *, was_paused: bool = False) -> li
         return [event(CHASSIS_ERROR, "e-stop")]
     if isinstance(happened, events.AutoChargeEnded) and happened.charged:
         return [event(CHARGE_FULL)]
+    # EVENT_ERROR_PROGRAM_EXIT (A23: by its name, not its copied comment): the robot's program
+    # is about to stop, which a client learns before its socket drops.
+    if isinstance(happened, events.SoftwareShutdownNotice):
+        return [event(PROGRAM_EXIT, "shutdown")]
+    if isinstance(happened, events.PowerOffNotice):
+        return [event(PROGRAM_EXIT, f"{'reboot' if happened.reboot else 'power off'} in "
+                                    f"{happened.after:g} s")]
     return []
 

@@ -17,10 +17,14 @@ to a client that connects a moment after it. Then:
 A client message is checked whole first (:func:`.messages.parse`); an invalid one gets O_EVENT
 1029 "输入的命令无效: <why>" to that client alone, and a command the robot refuses an O_EVENT
 naming why (1025 for I_INIT, 1027 for I_MARKER, 2052 for I_CHARGE, 2049 for I_GOAL, else 1029);
-the session stays open. Runtime commands run on worker threads (they wait for the runtime's
-loop), never on the adapter's event loop. Each session's outgoing frames wait in a bounded
-queue: a client that does not read loses frames, the server keeps its memory. The session ends
-as soon as the client closes.
+the session stays open. A binary frame gets 1029 too, and so does a command that fails for a
+reason polynav has no error class for (logged with its traceback). Runtime commands run on
+worker threads (they wait for the runtime's loop), never on the adapter's event loop. Each
+session's outgoing frames wait in a :class:`~polynav.protocols.outbox.Outbox`, as in the other
+dialects: an unsent O_STATUS, O_PATH or O_MAP is replaced by the next one, and events, goals and
+markers are never dropped silently (a client whose task-completion event would be lost is one that
+waits for ever); a client that leaves ``OUTBOX`` of them unread is closed (1008, with the reason),
+so the server keeps its memory. The session ends as soon as the client closes.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from polynav.errors import InvalidRequest, NotFound, PolynavError
 from polynav.geometry import Pose2D
 from polynav.maps import ros_map
+from polynav.protocols.outbox import Outbox, OutboxClosed
 from polynav.protocols.puwei import messages as m
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.maps import site_store
@@ -48,7 +53,9 @@ log = logging.getLogger(__name__)
 
 T = TypeVar("T")
 
-OUTBOX = 256  # frames waiting for one client; more are dropped
+OUTBOX = 256  # events waiting unsent for one client; one more closes it as not reading
+CLOSE_TOO_SLOW = 1008  # policy violation: the client does not read
+CLOSE_TIMEOUT = 1.0  # [s] of wall time for the close handshake with a client that does not read
 TICK = 0.02  # [s] of wall time between looks at the runtime
 LIVE_MAP_PERIOD = 1.0  # [s] of the runtime's clock between maps while mapping
 GOALS_KIND = "puwei_goals"
@@ -91,19 +98,19 @@ class Session:
         self._ws = websocket
         self._ctx = ctx
         self._rt = ctx.runtime
-        self._outbox: asyncio.Queue[str] = asyncio.Queue(OUTBOX)
-        self.dropped = 0
+        self._outbox: Outbox[str] = Outbox(limit=OUTBOX)
         self._task_states: dict[str, str] = {}
         self._path: list[tuple[float, float]] = []
         self._next_status = self._rt.now()
         self._next_map = self._rt.now()
 
     def send(self, text: str) -> None:
-        """Queue a frame for this client (dropped when the client lags too far)."""
-        try:
-            self._outbox.put_nowait(text)
-        except asyncio.QueueFull:
-            self.dropped += 1
+        """Queue an event-like frame for this client: never dropped; too many unsent close it."""
+        self._outbox.event(text)
+
+    def send_latest(self, text: str, key: str) -> None:
+        """Queue a frame that the next one of the same ``key`` supersedes (status, path, map)."""
+        self._outbox.status(text, key)
 
     async def run(self) -> None:
         subscription = self._rt.bus.subscribe(maxlen=1000)
@@ -121,8 +128,18 @@ class Session:
                 if not part.cancelled() and part.exception() is not None and not isinstance(
                         part.exception(), WebSocketDisconnect | RuntimeError):
                     log.error("puwei: WebSocket session failed", exc_info=part.exception())
+            if self._outbox.closed:
+                await self._close_slow()
         finally:
             self._rt.bus.unsubscribe(subscription)
+
+    async def _close_slow(self) -> None:
+        """Close a client that does not read; bounded, since its socket may be stuck too."""
+        reason = str(self._outbox.closed_reason)
+        log.warning("puwei: WebSocket client too slow, closing: %s", reason)
+        with contextlib.suppress(TimeoutError, WebSocketDisconnect, RuntimeError):
+            await asyncio.wait_for(self._ws.close(code=CLOSE_TOO_SLOW, reason=reason[:120]),
+                                   CLOSE_TIMEOUT)
 
     async def _call(self, fn: Callable[[], T]) -> T:
         return await asyncio.to_thread(fn)
@@ -133,7 +150,7 @@ class Session:
         await self._send_map()
         if self._rt.status().mode == "navigating":
             await self._send_markers()
-        self.send(m.frame(m.Out.O_STATUS, robot_status(self._ctx)))
+        self.send_latest(m.frame(m.Out.O_STATUS, robot_status(self._ctx)), "status")
         task = self._rt.tasks.running()
         if task is not None:
             self._task_states[task["id"]] = task["state"]
@@ -146,15 +163,16 @@ class Session:
             grid = await self._call(rt.mapping_map)
             info = grid.info
             png = await self._call(lambda: ros_map.png_bytes(grid))
-            self.send(m.frame(m.Out.O_MAP, m.map_data(png, info.resolution, info.width,
-                                                      info.height, info.origin)))
+            self.send_latest(m.frame(m.Out.O_MAP, m.map_data(png, info.resolution, info.width,
+                                                             info.height, info.origin)), "map")
         elif snap.map is not None and snap.frame == "map":
             name = snap.map
             store = site_store(self._ctx)
             record = store.map_record(name)
             png = await self._call(lambda: store.map_image_path(name).read_bytes())
-            self.send(m.frame(m.Out.O_MAP, m.map_data(png, record.resolution, record.width,
-                                                      record.height, record.origin)))
+            self.send_latest(m.frame(m.Out.O_MAP, m.map_data(png, record.resolution,
+                                                             record.width, record.height,
+                                                             record.origin)), "map")
 
     async def _send_markers(self, *, everyone: bool = False) -> None:
         map_name = self._rt.status().map
@@ -170,12 +188,21 @@ class Session:
     # -- the three parts -------------------------------------------------------------------
 
     async def _write(self) -> None:
-        while True:
-            await self._ws.send_text(await self._outbox.get())
+        with contextlib.suppress(OutboxClosed):  # closed as not reading: run() closes
+            while True:
+                await self._ws.send_text(await self._outbox.get())
 
     async def _read(self) -> None:
         while True:
-            text = await self._ws.receive_text()
+            # receive(), not receive_text(): Starlette's receive_text raises KeyError on a
+            # binary frame, which would end the session over one bad frame.
+            received = await self._ws.receive()
+            if received["type"] == "websocket.disconnect":
+                raise WebSocketDisconnect(received.get("code", 1000), received.get("reason"))
+            text = received.get("text")
+            if text is None:
+                self.send(m.event(m.INVALID, "frame: must be JSON text, got a binary frame"))
+                continue
             try:
                 message = m.parse(text)
             except InvalidRequest as exc:
@@ -185,18 +212,24 @@ class Session:
                 await self._handle(message)
             except PolynavError as exc:
                 self.send(m.event(_REFUSED.get(message.kind, m.INVALID), str(exc)))
+            except Exception:  # the session's one broad except (STYLE R4): keep the client
+                log.error("puwei: WebSocket %s failed", message.kind.name, exc_info=True)
+                self.send(m.event(m.INVALID, f"{message.kind.name}: internal error"))
 
     async def _watch(self, subscription: Any) -> None:
         rt = self._rt
         rate = rt.config.status_rate
-        while True:
-            await asyncio.sleep(TICK)
+        while not self._outbox.closed:  # a writer stuck on a client that does not read
+            await asyncio.sleep(TICK)        # never sees the close: this part ends the session
             for happened in subscription.get_nowait():
                 await self._forward(happened)
+            if subscription.dropped:  # events lost before translation: say so, do not hide it
+                self._outbox.close(f"not reading: {subscription.dropped} events could not be "
+                                   "queued")
             now = rt.now()
             if now >= self._next_status:
                 self._next_status = max(self._next_status + 1.0 / rate, now)
-                self.send(m.frame(m.Out.O_STATUS, robot_status(self._ctx)))
+                self.send_latest(m.frame(m.Out.O_STATUS, robot_status(self._ctx)), "status")
                 await self._check_path()
             if rt.status().mode == "mapping" and now >= self._next_map:
                 self._next_map = now + LIVE_MAP_PERIOD
@@ -209,7 +242,7 @@ class Session:
         path = await self._call(self._rt.queries.planned_path)
         if path and path != self._path:
             self._path = path
-            self.send(m.frame(m.Out.O_PATH, m.path_data(path)))
+            self.send_latest(m.frame(m.Out.O_PATH, m.path_data(path)), "path")
 
     async def _forward(self, happened: events.RuntimeEvent) -> None:
         was_paused = False
