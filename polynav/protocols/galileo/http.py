@@ -11,14 +11,11 @@ others on a worker thread. This module holds the one broad ``except`` per reques
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import json
 import logging
-import socket
 from collections.abc import Mapping
 from typing import Any
 
-import uvicorn
 from starlette.applications import Starlette
 from starlette.datastructures import UploadFile
 from starlette.requests import Request
@@ -26,7 +23,6 @@ from starlette.responses import JSONResponse, Response
 from starlette.routing import Route
 
 from polynav.errors import InvalidRequest
-from polynav.listen import tcp_listener
 from polynav.protocols.galileo import errors
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.endpoint import Endpoint
@@ -159,46 +155,3 @@ async def answer(ctx: Context, endpoint: Endpoint, request: Request) -> Response
         log.error("galileo: %s %s: reply is not JSON", request.method, endpoint.path,
                   exc_info=True)
         return GalileoJSON({"status": "error", "description": "internal error"}, status_code=500)
-
-
-class HttpListener:
-    """The HTTP app served by uvicorn on the running event loop."""
-
-    def __init__(self, app: Starlette, host: str, port: int) -> None:
-        config = uvicorn.Config(
-            app, host=host, port=port, log_level="warning", lifespan="off", access_log=False
-        )
-        self._server = uvicorn.Server(config)
-        self._task: asyncio.Task[None] | None = None
-        self._sock: socket.socket | None = None
-
-    @property
-    def port(self) -> int:
-        assert self._sock is not None
-        return int(self._sock.getsockname()[1])
-
-    async def start(self) -> None:
-        """Bind and serve.
-
-        Raises:
-            OSError: the port cannot be bound.
-        """
-        config = self._server.config
-        self._sock = tcp_listener(config.host, config.port)
-        self._task = asyncio.ensure_future(self._server.serve(sockets=[self._sock]))
-        while not self._server.started:
-            if self._task.done():
-                with contextlib.suppress(SystemExit):
-                    self._task.result()
-                raise OSError(f"cannot serve on {config.host}:{config.port} (Galileo HTTP)")
-            await asyncio.sleep(0.005)
-
-    async def close(self) -> None:
-        if self._task is not None:
-            self._server.should_exit = True
-            with contextlib.suppress(asyncio.CancelledError, SystemExit):
-                await self._task
-            self._task = None
-        if self._sock is not None:
-            self._sock.close()
-            self._sock = None

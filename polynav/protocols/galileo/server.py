@@ -14,8 +14,9 @@ from polynav.protocols.galileo.auth import TokenBook, load_settings
 from polynav.protocols.galileo.config import GalileoConfig
 from polynav.protocols.galileo.context import Context, site_store
 from polynav.protocols.galileo.discovery import Announcer, announcement
-from polynav.protocols.galileo.http import HttpListener, create_app
+from polynav.protocols.galileo.http import create_app
 from polynav.protocols.galileo.ws import WsListener
+from polynav.protocols.http_listener import HttpListener
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -73,7 +74,7 @@ class GalileoServer:
 
     async def start(self) -> None:
         app = create_app(self.ctx, routes.table())
-        http = HttpListener(app, self.config.host, self.config.port)
+        http = HttpListener(app, self.config.host, self.config.port, name="Galileo HTTP")
         await http.start()
         self._http = http
         log.info("galileo: HTTP on %s:%d (token checking %s)", self.config.host, http.port,

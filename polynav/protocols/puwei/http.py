@@ -12,15 +12,12 @@ log with ``exc_info``, answer code 1, keep serving (STYLE R4).
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import importlib
 import json
 import logging
-import socket
 from collections.abc import Iterable
 from typing import Any
 
-import uvicorn
 from starlette.applications import Starlette
 from starlette.datastructures import UploadFile
 from starlette.requests import Request
@@ -29,7 +26,6 @@ from starlette.routing import BaseRoute, Route, WebSocketRoute
 from starlette.websockets import WebSocket
 
 from polynav.errors import InvalidRequest
-from polynav.listen import tcp_listener
 from polynav.protocols.puwei import errors
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.endpoint import Endpoint, starlette_path
@@ -169,45 +165,3 @@ def create_app(ctx: Context, endpoints: Iterable[Endpoint]) -> Starlette:
 
     app.add_exception_handler(404, not_found)
     return app
-
-
-class HttpListener:
-    """The app served by uvicorn on the running event loop."""
-
-    def __init__(self, app: Starlette, host: str, port: int) -> None:
-        config = uvicorn.Config(app, host=host, port=port, log_level="warning", lifespan="off",
-                                access_log=False, ws="websockets-sansio")
-        self._server = uvicorn.Server(config)
-        self._task: asyncio.Task[None] | None = None
-        self._sock: socket.socket | None = None
-
-    @property
-    def port(self) -> int:
-        assert self._sock is not None
-        return int(self._sock.getsockname()[1])
-
-    async def start(self) -> None:
-        """Bind and serve.
-
-        Raises:
-            OSError: the port cannot be bound.
-        """
-        config = self._server.config
-        self._sock = tcp_listener(config.host, config.port)
-        self._task = asyncio.ensure_future(self._server.serve(sockets=[self._sock]))
-        while not self._server.started:
-            if self._task.done():
-                with contextlib.suppress(SystemExit):
-                    self._task.result()
-                raise OSError(f"cannot serve on {config.host}:{config.port} (Puwei HTTP)")
-            await asyncio.sleep(0.005)
-
-    async def close(self) -> None:
-        if self._task is not None:
-            self._server.should_exit = True
-            with contextlib.suppress(asyncio.CancelledError, SystemExit):
-                await self._task
-            self._task = None
-        if self._sock is not None:
-            self._sock.close()
-            self._sock = None

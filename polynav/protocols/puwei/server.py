@@ -10,12 +10,13 @@ import logging
 import socket
 import threading
 
+from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.puwei import routes
 from polynav.protocols.puwei.auth import TokenBook
 from polynav.protocols.puwei.config import PuweiConfig
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.discovery import DiscoveryResponder
-from polynav.protocols.puwei.http import HttpListener, create_app
+from polynav.protocols.puwei.http import create_app
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -57,7 +58,7 @@ class PuweiServer:
 
     async def start(self) -> None:
         http = HttpListener(create_app(self.ctx, routes.table()), self.config.host,
-                            self.config.port)
+                            self.config.port, name="Puwei HTTP", ws="websockets-sansio")
         await http.start()
         self._http = http
         log.info("puwei: HTTP and WebSocket on %s:%d", self.config.host, http.port)
