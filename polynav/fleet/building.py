@@ -278,6 +278,8 @@ class Building:
             if self._next_fleet <= now:
                 self._next_fleet = now + self._fleet_period
         self.scene.step()
+        for runtime in self.runtimes:
+            runtime.stepped()
 
     def _refresh(self) -> None:
         for runtime in self.runtimes:

@@ -183,6 +183,8 @@ class RobotRuntime(
         # notice), run by the loop between steps: (due time, sequence, function).
         self._timers: list[tuple[float, int, Callable[[], None]]] = []
         self._timer_seq = itertools.count()
+        # Called after every physics step with the runtime's clock (sensor streams of servers).
+        self._step_listeners: list[Callable[[float], None]] = []
         # The current or last patrol (a task over several goals), if any.
         self._patrols = Patrols(self.tasks.engine, self._publish, self.now)
         self._auto_charge = AutoCharge(self)
@@ -390,9 +392,33 @@ class RobotRuntime(
 
     # -- the loop ------------------------------------------------------------------------------
 
+    def add_step_listener(self, listener: Callable[[float], None]) -> Callable[[], None]:
+        """Call ``listener(now)`` on the loop after every physics step, when the backend's
+        readings are new: for servers that stream sensors at their own rates on the runtime's
+        clock (a scan at 15 Hz of simulated time). It must be quick and must not block: copy what
+        it needs and hand it to its own thread. Returns the function that removes it."""
+        self._step_listeners.append(listener)
+
+        def remove() -> None:
+            if listener in self._step_listeners:
+                self._step_listeners.remove(listener)
+
+        return remove
+
+    def stepped(self) -> None:
+        """Tell the step listeners a physics step happened (the fleet's shared world calls it
+        for each robot after stepping the world once)."""
+        now = self.now()
+        for listener in tuple(self._step_listeners):
+            try:
+                listener(now)
+            except Exception:  # a server's fault must not stop the robot
+                log.exception("a step listener failed")
+
     def _step(self) -> None:
         self.tick()
         self._sim.step()
+        self.stepped()
 
     def tick(self) -> None:
         """Everything of one physics step but the physics: timers, the dead-man and, when due,
