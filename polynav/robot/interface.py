@@ -13,6 +13,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
+from polynav.clock import Clock
 from polynav.geometry import Pose2D, Twist
 
 
@@ -108,4 +109,28 @@ class Robot(Protocol):
 
     def read_people(self) -> Sequence[PersonDetection]:
         """The people the base's leg tracker sees now; empty for a base without one."""
+        ...
+
+
+class Backend(Protocol):
+    """A robot with its clock: what the runtime runs on (the simulator, or a real robot reached
+    over rosbridge). The runtime's loop calls :meth:`step` once per physics period."""
+
+    @property
+    def robot(self) -> Robot: ...
+
+    @property
+    def clock(self) -> Clock:
+        """The backend's time: simulated seconds, or the real robot's clock."""
+        ...
+
+    @property
+    def physics_period(self) -> float:
+        """Seconds of :attr:`clock` per :meth:`step`."""
+        ...
+
+    def step(self) -> None:
+        """Let one physics period pass: the simulator computes it; a real robot's backend waits
+        for it (briefly: it returns within a fraction of a second even when the robot is away,
+        so that the loop goes on running commands)."""
         ...

@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from polynav.errors import InvalidRequest
+from polynav.errors import Conflict, InvalidRequest
 from polynav.geometry import Twist
 from polynav.robot.interface import BatteryState
 from polynav.robot.sim.wifi import VisibleNetwork
@@ -23,6 +23,7 @@ from polynav.runtime.self_check import SelfCheck
 from polynav.runtime.watchers import DisplacementWatcher, ForeignObjectWatcher
 
 if TYPE_CHECKING:
+    from polynav.robot.sim.simulation import Simulation
     from polynav.runtime.robot_runtime import RobotRuntime
 
 FOREIGN_OBJECT_SECTOR = math.radians(10.0)
@@ -101,7 +102,7 @@ class Device:
 
     def network(self) -> NetworkState:
         """The wireless card's view where the robot stands now."""
-        sim = self._runtime.simulation
+        sim = self._wireless()
         visible = self._runtime.run_between_ticks(sim.wifi_scan)
         card = sim.wifi
         return NetworkState(visible, card.active(visible), card.ip_address(visible), card.mac)
@@ -112,9 +113,20 @@ class Device:
         Raises:
             InvalidRequest: not in range, a missing or wrong password.
         """
-        sim = self._runtime.simulation
+        sim = self._wireless()
         visible = self._runtime.run_between_ticks(sim.wifi_scan)
         sim.wifi.connect(ssid, password, visible)
+
+    def _wireless(self) -> Simulation:
+        """The simulator, whose wireless card the robot's network commands use.
+
+        Raises:
+            Conflict: a real robot: its host's network is not reachable through its driver.
+        """
+        if not self._runtime.is_simulated:
+            raise Conflict("this robot's wireless card is its host's: polynav does not manage "
+                           "the network of a robot it drives over rosbridge")
+        return self._runtime.simulation
 
     # -- power ---------------------------------------------------------------------------------
 

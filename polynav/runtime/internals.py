@@ -23,7 +23,6 @@ from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.nav.events import NavigationEvent
 from polynav.nav.stack import NavigationStack, StackConfig
 from polynav.robot.interface import Robot
-from polynav.robot.sim.simulation import Simulation
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.events import RuntimeEvent
@@ -31,9 +30,9 @@ from polynav.runtime.exploration import Exploration
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import Patrols
+from polynav.runtime.placement import Placement
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
-from polynav.runtime.sim_placement import floor_of
 from polynav.runtime.task_commands import TaskCommands
 from polynav.runtime.watchers import EStopWatcher
 
@@ -58,7 +57,7 @@ class RuntimeParts(abc.ABC):
     store: SiteData
     config: RuntimeConfig
     _robot: Robot
-    _sim: Simulation
+    _place: Placement
     _mode: Mode
     _stack: NavigationStack | None
     _map_name: str | None
@@ -89,7 +88,7 @@ class RuntimeParts(abc.ABC):
             raise InvalidRequest("point", "give a point or a pose, not both")
         record = self.store.map_record(map_name)
         name = str(getattr(record, "name", map_name))
-        floor = floor_of(self._sim, self.store, name, getattr(record, "floor", None))
+        floor = self._place.floor_of(self.store, name, getattr(record, "floor", None))
         initial = self.store.point(name, point).pose if point is not None else pose
         return MapStart(name, floor, self.store.load_map(name), initial)
 

@@ -21,7 +21,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from polynav.errors import InvalidRequest, NotFound
+from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.nav.stack import StackConfig
 from polynav.robot.lift import (
     DoorRequest,
@@ -32,7 +32,7 @@ from polynav.robot.lift import (
     LiftOutOfService,
     LiftRequest,
 )
-from polynav.robot.sim.simulation import Simulation
+from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.routing import connections as site_connections
 from polynav.routing.path_costs import PlannedPathCosts
 from polynav.routing.router import Router
@@ -56,7 +56,6 @@ class LiftHold:
 class LiftAccess(RuntimeParts):
     """The cars, their sessions and the router's costs (see the module docstring)."""
 
-    _sim: Simulation
     _router: Router | None
     _path_costs: PlannedPathCosts | None
     _lift_sessions: LiftSessions | None
@@ -67,12 +66,12 @@ class LiftAccess(RuntimeParts):
     @property
     def robot_id(self) -> str:
         """This robot's id: the name lift sessions and the fleet know it by."""
-        return self._sim.name
+        return self._place.name
 
     @property
     def lifts(self) -> Mapping[str, Lift]:
         """The building's lift cars by name (the simulator's; a real site's lift controllers)."""
-        return self._sim.scene.lifts
+        return self._place.lifts
 
     def lift(self, car: str) -> Lift:
         """Car ``car``.
@@ -107,10 +106,11 @@ class LiftAccess(RuntimeParts):
 
         Raises:
             NotFound: no such car.
+            Conflict: a real car (its controller sets its mode).
         """
-        found = self._sim.scene.lifts.get(car)
-        if found is None:
-            raise NotFound("lift", car)
+        found = self.lift(car)
+        if not isinstance(found, SimLiftCar):
+            raise Conflict(f"lift {car} is a real car: its controller sets its mode")
         self._call(lambda: found.set_mode(mode))
 
     # -- a car held for a task (between ticks) ------------------------------------------------

@@ -52,7 +52,6 @@ from polynav.robot.lift import (
     LiftRequest,
     MotionState,
 )
-from polynav.robot.sim.simulation import Simulation
 from polynav.routing import connections as site_connections
 from polynav.routing.errors import NoRoute
 from polynav.routing.path_costs import PlannedPathCosts
@@ -85,7 +84,6 @@ from polynav.runtime.route_run import (
     carried,
     overlay,
 )
-from polynav.runtime.sim_placement import floor_of, place
 from polynav.runtime.status import StatusSnapshot
 
 log = logging.getLogger(__name__)
@@ -94,7 +92,6 @@ log = logging.getLogger(__name__)
 class LiftCommands(LiftAccess):
     """Cross-map goals and the lift sequence (see the module docstring)."""
 
-    _sim: Simulation
     _grid: Map | None
     _keepouts: tuple[Keepout, ...]
     _route: RouteRun | None
@@ -405,7 +402,7 @@ class LiftCommands(LiftAccess):
 
     def _switch_leg(self, run: RouteRun, leg: SwitchLeg, now: float) -> None:
         floor = self._floor_of_map(leg.to_map)
-        place(self._sim, floor, leg.to_pose)  # the same place on the other map
+        self._place.place(floor, leg.to_pose)  # the same place on the other map
         self._switch_map(run, leg.to_map, leg.to_pose)
         run.advance(now)
         if run.index >= len(run.legs):
@@ -563,7 +560,7 @@ class LiftCommands(LiftAccess):
 
     def _floor_of_map(self, map_name: str) -> str:
         record = self.store.map_record(map_name)
-        return floor_of(self._sim, self.store, map_name, getattr(record, "floor", None))
+        return self._place.floor_of(self.store, map_name, getattr(record, "floor", None))
 
     def _near(self, pose: Pose2D, distance: float) -> bool:
         here = self._pose()

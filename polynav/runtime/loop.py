@@ -34,7 +34,8 @@ class CommandLoop:
         step: one physics step (control when due, then the simulator).
         now: the clock the steps advance [s].
         physics_period: simulated seconds per step; the pacing sleeps at most this long ahead.
-        speed: simulated seconds per wall second.
+        speed: simulated seconds per wall second; 0: no pacing, ``step`` waits for its own
+            time (a real robot's backend).
         max_lag: falling further behind than this [s of wall time] gives up catching up.
         after_command: run under the lock after each command that succeeded (a status refresh,
             so that a read right after a command shows its effect).
@@ -147,29 +148,14 @@ class CommandLoop:
         return future.result()  # type: ignore[return-value]
 
     def _run(self) -> None:
-        speed = self._speed
-        period = self._physics_period
-        wall0, sim0 = time.monotonic(), self._now()
-        lagged = 0
         try:
-            while not self._stopping.is_set():
-                self._run_commands()
-                target = sim0 + (time.monotonic() - wall0) * speed
-                ahead = self._now() - target
-                if ahead < 0.0:
-                    if -ahead / speed > self._max_lag:
-                        lagged += 1
-                        log.log(logging.WARNING if lagged == 1 else logging.DEBUG,
-                                "runtime fell %.2f s (simulated) behind its pace at %gx; not "
-                                "catching up (%d times so far)", -ahead, speed, lagged)
-                        wall0, sim0 = time.monotonic(), self._now()
+            if self._speed > 0.0:
+                self._run_paced()
+            else:
+                while not self._stopping.is_set():
+                    self._run_commands()
                     with self.lock:
                         self._step()
-                else:
-                    # Sleeping is the loop's job: the runtime owns the clock and the pace. A
-                    # command wakes the loop early so that it does not wait for the next step.
-                    self._wake.wait(min((ahead + period) / speed, 0.05))
-                    self._wake.clear()
         except Exception:
             log.exception("the runtime loop failed; the robot is stopped")
             self._on_failure()
@@ -178,6 +164,30 @@ class CommandLoop:
             with self._queue_lock:
                 self._loop_done = True
             self._run_commands()  # whatever was queued runs now; later commands run directly
+
+    def _run_paced(self) -> None:
+        speed = self._speed
+        period = self._physics_period
+        wall0, sim0 = time.monotonic(), self._now()
+        lagged = 0
+        while not self._stopping.is_set():
+            self._run_commands()
+            target = sim0 + (time.monotonic() - wall0) * speed
+            ahead = self._now() - target
+            if ahead < 0.0:
+                if -ahead / speed > self._max_lag:
+                    lagged += 1
+                    log.log(logging.WARNING if lagged == 1 else logging.DEBUG,
+                            "runtime fell %.2f s (simulated) behind its pace at %gx; not "
+                            "catching up (%d times so far)", -ahead, speed, lagged)
+                    wall0, sim0 = time.monotonic(), self._now()
+                with self.lock:
+                    self._step()
+            else:
+                # Sleeping is the loop's job: the runtime owns the clock and the pace. A
+                # command wakes the loop early so that it does not wait for the next step.
+                self._wake.wait(min((ahead + period) / speed, 0.05))
+                self._wake.clear()
 
     def _run_commands(self) -> None:
         while True:

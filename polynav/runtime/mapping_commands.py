@@ -24,7 +24,6 @@ from polynav.runtime.config import Mode
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_session import MappingSession
-from polynav.runtime.sim_placement import place
 
 log = logging.getLogger(__name__)
 
@@ -103,7 +102,7 @@ class MappingCommands(RuntimeParts):
             session = MappingSession(floor, initial, name=name, prior=grid)
         except ValueError as exc:
             raise InvalidRequest("map", f"map {name!r} cannot be extended: {exc}") from exc
-        place(self._sim, floor, initial)  # may raise before anything changed
+        self._place.place(floor, initial)  # may raise before anything changed
         if navigating_here:
             self._stop_navigation()
         self._halt_motion()

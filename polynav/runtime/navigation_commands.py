@@ -21,7 +21,7 @@ from polynav.nav.stack import NavigationStack
 from polynav.runtime import events
 from polynav.runtime.config import Mode
 from polynav.runtime.internals import RuntimeParts
-from polynav.runtime.sim_placement import initial_point, place
+from polynav.runtime.placement import initial_point
 
 log = logging.getLogger(__name__)
 
@@ -72,7 +72,7 @@ class NavigationCommands(RuntimeParts):
             if self._goal_active():
                 raise Conflict("a goal is active: cancel it before setting the initial pose")
             assert self._map_name is not None
-            place(self._sim, self._sim.floor, pose)
+            self._place.place(self._place.floor, pose)
             now = self.now()
             stack.initialize(pose, now)
             self._publish(events.PoseInitialized(now, pose))
@@ -112,15 +112,16 @@ class NavigationCommands(RuntimeParts):
         if self._mode is Mode.BUSY:
             raise Conflict("the robot is busy")
         if initial is None:
-            if self._sim.floor == floor:
-                initial = self._sim.true_pose
+            truth = self._place.true_pose() if self._place.floor == floor else None
+            if truth is not None:
+                initial = truth
             elif fallback is not None:
                 initial = fallback
             else:
                 raise InvalidRequest(
                     "point", f"map {name!r} has no initial point: give the initial point or pose"
                 )
-        place(self._sim, floor, initial)  # may raise before anything changed
+        self._place.place(floor, initial)  # may raise before anything changed
         self.tasks.engine.give_way("cancelled: navigation was started")
         self._cancel_goal()
         self._halt_motion()

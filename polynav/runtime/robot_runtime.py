@@ -34,7 +34,7 @@ The runtime coordinates; the parts do one job each: :mod:`~polynav.runtime.loop`
 thread, its pacing and the command queue), :mod:`~polynav.runtime.navigation_events` (attempt
 ids and navigator events as runtime events), :mod:`~polynav.runtime.watchers` (e-stop, charge,
 low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (teleop and local
-moves), :mod:`~polynav.runtime.sim_placement` (floors and placing the simulated robot) and
+moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated robot) and
 :mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
 parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
 :mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves), over the shared
@@ -65,7 +65,7 @@ from polynav.nav import events as nav_events
 from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
 from polynav.planning import registry as planning_registry
 from polynav.robot import sim as sim_kernels
-from polynav.robot.interface import Robot
+from polynav.robot.interface import Backend, Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.devices import simulated_devices
@@ -91,6 +91,7 @@ from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_commands import NavigationCommands
 from polynav.runtime.navigation_events import AttemptBook, translate
 from polynav.runtime.patrols import Patrols
+from polynav.runtime.placement import Placement, ReportedPlacement, SimulatedPlacement
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.site_queries import SiteQueries
@@ -113,27 +114,33 @@ class RobotRuntime(
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
-    Build it with :meth:`simulated`. Args are the parts: ``store`` (site data), ``sim`` (the
-    simulated backend; its clock is the runtime's clock), ``config``.
+    Build it with :meth:`simulated` or :meth:`bridged`. Args are the parts: ``store`` (site
+    data), ``backend`` (the simulator or a real robot's backend; its clock is the runtime's
+    clock), ``config``.
     """
 
     def __init__(
         self,
         store: SiteData,
-        sim: Simulation,
+        backend: Backend,
         *,
         config: RuntimeConfig | None = None,
         stack_config: StackConfig | None = None,
         loop: CommandLoop | None = None,
         profile: RobotProfile | None = None,
+        name: str = "robot",
     ) -> None:
         self.config = config or RuntimeConfig()
         self.store = store
         self.bus = EventBus()
         self.tasks = TaskCommands(self)  # first: every event published is noted for tasks
-        self._sim = sim
-        self._robot = sim.robot
-        self._clock = sim.clock
+        self._backend = backend
+        self._sim = backend if isinstance(backend, Simulation) else None
+        self._robot = backend.robot
+        self._clock = backend.clock
+        self._place: Placement = (
+            SimulatedPlacement(self._sim) if self._sim is not None
+            else ReportedPlacement(name, _first_floor(store)))
         self.profile = profile or load_profile(DEFAULT_PROFILE)
         self._base_stack_config = stack_config_for(self.profile, stack_config)
         self._settings = RobotSettings.from_stored(store.settings(), self.profile)
@@ -173,8 +180,9 @@ class RobotRuntime(
         self._loop = loop if loop is not None else CommandLoop(
             step=self._step,
             now=self.now,
-            physics_period=sim.config.physics_period,
-            speed=self.config.speed,
+            physics_period=backend.physics_period,
+            # A real robot's backend waits for its own time in step(): the loop does not pace.
+            speed=self.config.speed if self._sim is not None else 0.0,
             max_lag=self.config.max_lag,
             after_command=self._refresh,
             on_failure=lambda: self._robot.drive(Twist()),
@@ -191,9 +199,9 @@ class RobotRuntime(
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
-        self.peripherals = Peripherals(
-            self, simulated_devices(sim, seed=self.config.seed), getattr(store, "data_dir", None)
-        )
+        devices = simulated_devices(self._clock.now(), self._robot.read_scan,
+                                    seed=self.config.seed)
+        self.peripherals = Peripherals(self, devices, getattr(store, "data_dir", None))
         self.queries = SiteQueries(self)
         data_dir = getattr(store, "data_dir", None)
         self.automations = AutomationTasks(self, AutomationRunner(
@@ -242,6 +250,27 @@ class RobotRuntime(
         )
         return cls(store, sim, config=config, stack_config=stack_config, profile=profile)
 
+    @classmethod
+    def bridged(
+        cls,
+        store: SiteData,
+        backend: Backend,
+        *,
+        config: RuntimeConfig | None = None,
+        stack_config: StackConfig | None = None,
+        profile: RobotProfile | None = None,
+        name: str = "robot",
+    ) -> RobotRuntime:
+        """A runtime on a real robot's backend (:mod:`polynav.robot.rosbridge`), FREE.
+
+        The robot's clock is the runtime's; there is no ground truth, so navigation starts from
+        the point or pose the operator gives (or the map's initial point), and the robot's
+        floor is the one last named (:class:`~polynav.runtime.placement.ReportedPlacement`).
+        """
+        warm_up()
+        return cls(store, backend, config=config, stack_config=stack_config,
+                   profile=profile or load_profile(DEFAULT_PROFILE), name=name)
+
     # -- reads (any thread, never wait) --------------------------------------------------------
 
     @property
@@ -268,8 +297,24 @@ class RobotRuntime(
 
     @property
     def simulation(self) -> Simulation:
-        """The simulator backend (ground truth, for tests and the demo)."""
+        """The simulator backend (ground truth, for tests and the demo).
+
+        Raises:
+            Conflict: the robot is a real one (:attr:`is_simulated` is false).
+        """
+        if self._sim is None:
+            raise Conflict("this robot is not simulated: there is no simulator to ask")
         return self._sim
+
+    @property
+    def physics_period(self) -> float:
+        """The backend's step [s of the runtime's clock]: odometry comes at this period."""
+        return self._backend.physics_period
+
+    @property
+    def is_simulated(self) -> bool:
+        """Whether the backend is the simulator (ground truth, wifi and lifts of its world)."""
+        return self._sim is not None
 
     @property
     def mode(self) -> Mode:
@@ -417,7 +462,7 @@ class RobotRuntime(
 
     def _step(self) -> None:
         self.tick()
-        self._sim.step()
+        self._backend.step()
         self.stepped()
 
     def tick(self) -> None:
@@ -542,7 +587,7 @@ class RobotRuntime(
         self._refresh()
 
     def _floor_now(self) -> str | None:
-        return self._sim.floor
+        return self._place.floor
 
     def _refuse_if_shutting_down(self, what: str) -> None:
         self.device.power.refuse_if_pending(what)
@@ -567,3 +612,10 @@ def warm_up() -> None:
     planning_registry.warm_up()
     pose_tracker.warm_up()
     sim_kernels.warm_up()
+
+
+def _first_floor(store: SiteData) -> str:
+    """The site's lowest floor: where a real robot is taken to be until told otherwise."""
+    floors = store.floors()
+    name = getattr(floors[0], "name", None) if floors else None
+    return name if isinstance(name, str) else "1"

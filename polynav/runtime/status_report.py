@@ -9,6 +9,7 @@ from __future__ import annotations
 import abc
 
 from polynav.errors import NotFound
+from polynav.geometry import Pose2D
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.status import StatusSnapshot
@@ -32,7 +33,11 @@ class StatusReport(RuntimeParts):
             pose, loc_state, quality = estimate.pose, estimate.state.value, estimate.quality
             uncertainty = estimate.uncertainty
         else:
-            pose, loc_state, quality = self._sim.true_pose, "uninitialized", 0.0
+            # Not localized: the simulator's truth, or for a real robot the last pose shown.
+            truth = self._place.true_pose()
+            last = getattr(self, "_snapshot", None)
+            pose = truth if truth is not None else last.pose if last is not None else Pose2D()
+            loc_state, quality = "uninitialized", 0.0
             uncertainty = None
         if self._mapping is not None:
             pose = self._mapping.pose
@@ -42,7 +47,7 @@ class StatusReport(RuntimeParts):
         return self._route_overlay(StatusSnapshot(
             mode=self._mode.value,
             map=self._map_name,
-            floor=self._sim.floor,
+            floor=self._place.floor,
             pose=pose,
             linear=float(odometry.twist.linear),
             angular=float(odometry.twist.angular),
@@ -64,7 +69,7 @@ class StatusReport(RuntimeParts):
             retries=attempt.retries if attempt is not None else 0,
             phase=attempt.phase.value if attempt is not None else None,
             patrol_state=self._patrols.state,
-            floor_level=self._floor_level(self._sim.floor),
+            floor_level=self._floor_level(self._place.floor),
             frame=(GoalFrame.ODOM if self._mapless else GoalFrame.MAP).value,
         ))
 

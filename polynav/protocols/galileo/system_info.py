@@ -57,13 +57,12 @@ SELF_TEST_PARTS = {
 def get_info(ctx: Context, params: Params) -> Reply:
     """E-03: battery, sensor rates, e-stop, charge and loop tasks, identity."""
     snap = ctx.runtime.status()
-    sim = ctx.runtime.simulation.config
     return {
         "battery": int(round(snap.battery_percent)),
         "camera_rgb": 0,
         "camera_depth": 0,
-        "odom": int(round(sim.physics_rate)),
-        "imu": int(round(sim.imu_rate)),
+        "odom": int(round(1.0 / ctx.runtime.physics_period)),
+        "imu": int(round(ctx.runtime.profile.imu.rate)),
         "camera_processed": 0,
         "driver_port": bool(snap.estop_hardware),
         "info": {"version": ctx.version, "code_name": "polynav", "id": ctx.robot_id,

@@ -27,9 +27,9 @@ def _robot_velocity(ctx: Context) -> object:
 
 def _human_detection(ctx: Context) -> object:
     """§3.9.2, §A-R3: ``"legtrack <id>"`` -> position and velocity in the robot frame [m,
-    m/s]; ``{}`` when nobody is seen. From the simulator's leg tracker."""
+    m/s]; ``{}`` when nobody is seen. From the robot's leg tracker."""
     runtime = ctx.runtime
-    people = runtime.run_between_ticks(runtime.simulation.detect_people)
+    people = runtime.run_between_ticks(runtime.robot.read_people)
     return {
         f"legtrack {p.track_id}": {
             "position": {"x": p.x, "y": p.y},

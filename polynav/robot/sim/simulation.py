@@ -329,6 +329,11 @@ class Simulation:
 
     # -- time ----------------------------------------------------------------------------------
 
+    @property
+    def physics_period(self) -> float:
+        """Simulated seconds per :meth:`step`."""
+        return self.config.physics_period
+
     def step(self, dt: float | None = None) -> None:
         """Advance the scene one physics period, or ``dt`` [s] in equal steps no longer than one
         period (every robot in the scene moves).

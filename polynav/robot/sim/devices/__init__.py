@@ -11,7 +11,10 @@ backend needs alike (voice packages, photo and video folders) is in
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from polynav.robot.devices import DeviceSet
+from polynav.robot.interface import LaserScan
 from polynav.robot.sim.devices.axis import AxisConfig, SimAxis
 from polynav.robot.sim.devices.buzzer import SimBuzzer
 from polynav.robot.sim.devices.calibration import (
@@ -25,7 +28,6 @@ from polynav.robot.sim.devices.io import SimIoPorts
 from polynav.robot.sim.devices.onvif import SimPtzCamera
 from polynav.robot.sim.devices.software_update import SimSoftwareUpdate
 from polynav.robot.sim.devices.speaker import SimSpeaker
-from polynav.robot.sim.simulation import Simulation
 
 #: A slide table of 0.6 m and a jacking lift of 60 mm that stand part-way at power-on (they do
 #: not know where until homed), and a turntable that turns freely.
@@ -37,9 +39,12 @@ JACKING_ROTATION = AxisConfig("jacking_rotation", travel=None, default_speed=0.5
                               homing_speed=0.3, max_speed=1.5, start_position=0.4)
 
 
-def simulated_devices(sim: Simulation, *, seed: int = 0, version: str = "0.1.0") -> DeviceSet:
-    """The peripherals of ``sim``'s robot (its clock's ``now`` is their start)."""
-    now = sim.clock.now()
+def simulated_devices(
+    now: float, read_scan: Callable[[], LaserScan | None], *, seed: int = 0,
+    version: str = "0.1.0",
+) -> DeviceSet:
+    """Simulated peripherals started at ``now``; the cameras render from ``read_scan`` (the
+    robot's lidar: the simulator's, or a real one's for a bridged robot with no devices wired)."""
     camera_calibration = CameraCalibration()
     return DeviceSet(
         slide=SimAxis(SLIDE, now),
@@ -51,8 +56,8 @@ def simulated_devices(sim: Simulation, *, seed: int = 0, version: str = "0.1.0")
         io=SimIoPorts("the base's IO", outputs=3, first_output=1),
         expansion_io=SimIoPorts("the expansion board", outputs=8, inputs=8),
         voice_io=SimIoPorts("the voice module", outputs=4, inputs=4, first_input=4),
-        camera=SimCamera(sim.robot.read_scan),
-        ptz_camera=SimPtzCamera(sim.robot.read_scan),
+        camera=SimCamera(read_scan),
+        ptz_camera=SimPtzCamera(read_scan),
         camera_calibration=camera_calibration,
         lidar_calibration=LidarCalibration(camera_calibration),
         imu_calibration=ImuCalibration(),
