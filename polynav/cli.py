@@ -95,6 +95,7 @@ def _run(args: argparse.Namespace) -> int:
     import uvicorn
 
     from polynav.api import ApiConfig, create_app
+    from polynav.dialect_servers import DialectStartError, start_dialects, stop_dialects
     from polynav.listen import tcp_listener
     from polynav.robot.profile import load_profile
     from polynav.runtime.config import RuntimeConfig
@@ -159,86 +160,27 @@ def _run(args: argparse.Namespace) -> int:
             uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
         )
         runtime.start()
-        yunji = None
-        galileo = None
-        puwei = None
         try:
-            if not args.no_yunji:
-                from polynav.protocols.yunji import YunjiConfig
-                from polynav.protocols.yunji.server import YunjiThread
-
-                http_port = None if args.no_yunji_http else args.yunji_http_port
-                config = YunjiConfig(host=args.host, port=args.yunji_port, http_port=http_port)
-                try:
-                    yunji = YunjiThread(runtime, config)
-                except OSError as exc:
-                    print(f"polynav run: cannot listen (Yunji, ports {args.yunji_port}, "
-                          f"{http_port}): {exc}", file=sys.stderr)
-                    return 1
-            if not args.no_galileo:
-                from polynav.protocols.galileo import GalileoConfig
-                from polynav.protocols.galileo.server import GalileoThread
-
-                try:
-                    galileo = GalileoThread(runtime, GalileoConfig(
-                        host=args.host, port=args.galileo_port, ws_port=args.galileo_ws_port,
-                        require_token=args.galileo_require_token,
-                        udp_port=args.galileo_udp_port or 22002,
-                        announce=args.galileo_udp_port != 0,
-                        broadcast_address=args.galileo_broadcast,
-                    ))
-                except OSError as exc:
-                    print(f"polynav run: cannot listen (Galileo, ports {args.galileo_port}, "
-                          f"{args.galileo_ws_port}): {exc}", file=sys.stderr)
-                    return 1
-                except PolynavError as exc:  # a port out of range: the user's to fix
-                    print(f"polynav run: {exc}", file=sys.stderr)
-                    return EXIT_BAD_INPUT
-            if not args.no_puwei:
-                from polynav.protocols.puwei import PuweiConfig
-                from polynav.protocols.puwei.server import PuweiThread
-
-                try:
-                    puwei = PuweiThread(runtime, PuweiConfig(
-                        host=args.host, port=args.puwei_port,
-                        discovery_port=args.puwei_discovery_port,
-                    ))
-                except OSError as exc:
-                    print(f"polynav run: cannot listen (Puwei, port {args.puwei_port}, udp "
-                          f"{args.puwei_discovery_port}): {exc}", file=sys.stderr)
-                    return 1
-                except PolynavError as exc:  # a port out of range: the user's to fix
-                    print(f"polynav run: {exc}", file=sys.stderr)
-                    return EXIT_BAD_INPUT
+            try:
+                served = start_dialects(runtime, args, host)
+            except DialectStartError as exc:
+                print(f"polynav run: {exc}", file=sys.stderr)
+                return exc.exit_code
             base = f"http://{host}:{port}"
             print(f"polynav: simulating robot {runtime.profile.name!r} in world {world.name!r} at "
                   f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
             print(f"polynav: native API {base}/api  (docs {base}/docs, "
                   f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
-            if yunji is not None:
-                print(f"polynav: Yunji API tcp://{host}:{yunji.port}", flush=True)
-                if yunji.http_port is not None:
-                    print(f"polynav: Yunji HTTP http://{host}:{yunji.http_port}/api/...",
-                          flush=True)
-            if galileo is not None:
-                print(f"polynav: Galileo API http://{host}:{galileo.port}/api/v1", flush=True)
-                if galileo.ws_port is not None:
-                    print(f"polynav: Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>",
-                          flush=True)
-            if puwei is not None:
-                print(f"polynav: Puwei API http://{host}:{puwei.port}/api/... (WebSocket "
-                      f"ws://{host}:{puwei.port}/api/ws, discovery udp {puwei.discovery_port})",
-                      flush=True)
+            for one in served:
+                for line in one.lines:
+                    print(f"polynav: {line}", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
-            if not stop_requested:
-                server.run(sockets=[sock])
+            try:
+                if not stop_requested:
+                    server.run(sockets=[sock])
+            finally:
+                stop_dialects(served)
         finally:
-            if puwei is not None:
-                puwei.stop()
-            if galileo is not None:
-                galileo.stop()
-            if yunji is not None:
-                yunji.stop()
             runtime.stop()
             sock.close()
     finally:
