@@ -4,10 +4,8 @@ WebSocket (3547). Transport only (STYLE R4): the handlers live in the route modu
 
 from __future__ import annotations
 
-import asyncio
 import hashlib
 import logging
-import threading
 
 from polynav.protocols.galileo import routes
 from polynav.protocols.galileo.auth import TokenBook, load_settings
@@ -17,6 +15,7 @@ from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
+from polynav.protocols.server_thread import ServerThread
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -122,22 +121,11 @@ async def serve(runtime: RobotRuntime, config: GalileoConfig | None = None) -> G
     return server
 
 
-class GalileoThread:
+class GalileoThread(ServerThread[GalileoServer]):
     """The Galileo servers on their own event loop in a daemon thread (``polynav run``)."""
 
     def __init__(self, runtime: RobotRuntime, config: GalileoConfig) -> None:
-        self._loop = asyncio.new_event_loop()
-        self._thread = threading.Thread(
-            target=self._loop.run_forever, name="polynav-galileo", daemon=True
-        )
-        self._thread.start()
-        try:
-            self.server = asyncio.run_coroutine_threadsafe(
-                serve(runtime, config), self._loop
-            ).result()
-        except BaseException:
-            self._shutdown()
-            raise
+        super().__init__("polynav-galileo", lambda: serve(runtime, config))
 
     @property
     def port(self) -> int:
@@ -146,15 +134,3 @@ class GalileoThread:
     @property
     def ws_port(self) -> int | None:
         return self.server.ws_port
-
-    def stop(self) -> None:
-        asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()
-        self._shutdown()
-
-    def _shutdown(self) -> None:
-        asyncio.run_coroutine_threadsafe(
-            self._loop.shutdown_default_executor(), self._loop
-        ).result()
-        self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join()
-        self._loop.close()

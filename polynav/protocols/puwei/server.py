@@ -5,10 +5,8 @@ WebSocket session in ``ws.py``.
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import socket
-import threading
 
 from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.puwei import routes
@@ -17,6 +15,7 @@ from polynav.protocols.puwei.config import PuweiConfig
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.discovery import DiscoveryResponder
 from polynav.protocols.puwei.http import create_app
+from polynav.protocols.server_thread import ServerThread
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -95,20 +94,11 @@ async def serve(runtime: RobotRuntime, config: PuweiConfig | None = None) -> Puw
     return server
 
 
-class PuweiThread:
+class PuweiThread(ServerThread[PuweiServer]):
     """The Puwei servers on their own event loop in a daemon thread (``polynav run``)."""
 
     def __init__(self, runtime: RobotRuntime, config: PuweiConfig) -> None:
-        self._loop = asyncio.new_event_loop()
-        self._thread = threading.Thread(target=self._loop.run_forever, name="polynav-puwei",
-                                        daemon=True)
-        self._thread.start()
-        try:
-            self.server = asyncio.run_coroutine_threadsafe(serve(runtime, config),
-                                                           self._loop).result()
-        except BaseException:
-            self._shutdown()
-            raise
+        super().__init__("polynav-puwei", lambda: serve(runtime, config))
 
     @property
     def port(self) -> int:
@@ -117,14 +107,3 @@ class PuweiThread:
     @property
     def discovery_port(self) -> int | None:
         return self.server.discovery_port
-
-    def stop(self) -> None:
-        asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()
-        self._shutdown()
-
-    def _shutdown(self) -> None:
-        asyncio.run_coroutine_threadsafe(self._loop.shutdown_default_executor(),
-                                         self._loop).result()
-        self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join()
-        self._loop.close()

@@ -19,13 +19,13 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import threading
 from dataclasses import dataclass
 
 import polynav
 from polynav.errors import ConfigError, PolynavError
 from polynav.listen import tcp_listener
 from polynav.protocols.outbox import Outbox
+from polynav.protocols.server_thread import ServerThread
 from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
 from polynav.protocols.yunji.http import HttpListener
@@ -399,23 +399,12 @@ async def serve(runtime: RobotRuntime, config: YunjiConfig | None = None) -> Yun
     return server
 
 
-class YunjiThread:
+class YunjiThread(ServerThread[YunjiServer]):
     """A Yunji server on its own event loop in a daemon thread, beside another server's loop
     (``polynav run`` serves the native API with uvicorn on the main thread)."""
 
     def __init__(self, runtime: RobotRuntime, config: YunjiConfig) -> None:
-        self._loop = asyncio.new_event_loop()
-        self._thread = threading.Thread(
-            target=self._loop.run_forever, name="polynav-yunji", daemon=True
-        )
-        self._thread.start()
-        try:
-            self.server = asyncio.run_coroutine_threadsafe(
-                serve(runtime, config), self._loop
-            ).result()
-        except BaseException:
-            self._shutdown()
-            raise
+        super().__init__("polynav-yunji", lambda: serve(runtime, config))
 
     @property
     def port(self) -> int:
@@ -424,15 +413,3 @@ class YunjiThread:
     @property
     def http_port(self) -> int | None:
         return self.server.http_port
-
-    def stop(self) -> None:
-        """Close the server and its clients, then end the thread."""
-        asyncio.run_coroutine_threadsafe(self.server.close(), self._loop).result()
-        self._shutdown()
-
-    def _shutdown(self) -> None:
-        done = asyncio.run_coroutine_threadsafe(self._loop.shutdown_default_executor(), self._loop)
-        done.result()
-        self._loop.call_soon_threadsafe(self._loop.stop)
-        self._thread.join()
-        self._loop.close()
