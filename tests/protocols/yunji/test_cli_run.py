@@ -20,7 +20,7 @@ STARTUP_LINES = 20
 def _start(tmp_path: Path, *extra: str) -> subprocess.Popen[str]:
     return subprocess.Popen(
         [sys.executable, "-m", "polynav", "run", "--data", str(tmp_path / "data"),
-         "--port", "0", "--no-people", "--no-puwei", *extra],
+         "--port", "0", "--no-people", "--no-puwei", "--no-galileo", *extra],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )
 
