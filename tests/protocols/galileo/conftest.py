@@ -8,10 +8,8 @@ every run sees the same simulated history whatever the machine's speed.
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
-import threading
-from collections.abc import Callable, Coroutine, Iterator
+from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
 import httpx
@@ -22,27 +20,10 @@ from polynav.protocols.galileo.server import GalileoServer
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
+from tests.helpers.loop_thread import LoopThread
 
 T = TypeVar("T")
 HTTP_TIMEOUT = 20.0
-
-
-class LoopThread:
-    """An asyncio loop on a daemon thread, for servers the blocking test code talks to."""
-
-    def __init__(self) -> None:
-        self.loop = asyncio.new_event_loop()
-        self.thread = threading.Thread(target=self.loop.run_forever, daemon=True)
-        self.thread.start()
-
-    def run(self, coro: Coroutine[Any, Any, T]) -> T:
-        return asyncio.run_coroutine_threadsafe(coro, self.loop).result(timeout=60)
-
-    def close(self) -> None:
-        self.run(self.loop.shutdown_default_executor())
-        self.loop.call_soon_threadsafe(self.loop.stop)
-        self.thread.join(timeout=10)
-        self.loop.close()
 
 
 class Harness:

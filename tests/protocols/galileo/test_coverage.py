@@ -13,11 +13,9 @@ tasks issue's (32).
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-
 import tests.protocols.galileo as package
 from polynav.protocols.galileo import routes
+from tests.helpers.coverage import covered_entries
 from tests.protocols.galileo import spec
 
 # galileo-http-a entries without a test yet (owner: gsys): none left.
@@ -35,21 +33,7 @@ TODO_TASKS: set[str] = set()
 TODO = TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS
 
 
-def _covered() -> dict[str, tuple[str, str]]:
-    """entry key -> (test module, test name), from every test module's ``COVERED``."""
-    out: dict[str, tuple[str, str]] = {}
-    for info in pkgutil.iter_modules(package.__path__):
-        if not info.name.startswith("test_") or info.name == "test_coverage":
-            continue
-        module = importlib.import_module(f"{package.__name__}.{info.name}")
-        for key, test_name in getattr(module, "COVERED", {}).items():
-            assert key not in out, f"{key} is covered twice: {out[key]} and {info.name}"
-            assert callable(getattr(module, test_name, None)), f"{key}: no {info.name}.{test_name}"
-            out[key] = (info.name, test_name)
-    return out
-
-
-COVERED = _covered()
+COVERED = covered_entries(package)
 
 
 def test_every_entry_has_a_test_or_is_on_the_todo_list() -> None:

@@ -10,11 +10,9 @@ commit (the lists are strict both ways). The WebSocket entries are the WebSocket
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-
 import tests.protocols.puwei as package
 from polynav.protocols.puwei import routes
+from tests.helpers.coverage import covered_entries
 from tests.protocols.puwei import spec
 
 # The WebSocket connection and every message type (owner: the WebSocket side, ws.py). Its
@@ -24,21 +22,7 @@ TODO_WS: set[str] = set()
 TODO = set(TODO_WS)
 
 
-def _covered() -> dict[str, tuple[str, str]]:
-    """entry key -> (test module, test name), from every test module's ``COVERED``."""
-    out: dict[str, tuple[str, str]] = {}
-    for info in pkgutil.iter_modules(package.__path__):
-        if not info.name.startswith("test_") or info.name == "test_coverage":
-            continue
-        module = importlib.import_module(f"{package.__name__}.{info.name}")
-        for key, test_name in getattr(module, "COVERED", {}).items():
-            assert key not in out, f"{key} is covered twice: {out[key]} and {info.name}"
-            assert callable(getattr(module, test_name, None)), f"{key}: no {info.name}.{test_name}"
-            out[key] = (info.name, test_name)
-    return out
-
-
-COVERED = _covered()
+COVERED = covered_entries(package)
 
 
 def test_every_entry_has_a_test_or_is_on_the_todo_list() -> None:

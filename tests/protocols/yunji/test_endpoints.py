@@ -9,9 +9,7 @@ code polynav produces must be covered; a code polynav has no feature for must be
 
 from __future__ import annotations
 
-import importlib
 import json
-import pkgutil
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +18,7 @@ import pytest
 import tests.protocols.yunji as package
 from polynav.protocols.yunji import events as yunji_events
 from tests.conftest import DATA
+from tests.helpers.coverage import covered_entries
 
 SPEC = DATA / "spec" / "yunji-api.endpoints.json"
 
@@ -34,23 +33,9 @@ def _key(entry: dict[str, Any]) -> str:
     return f"{entry['method']} {entry['section']} {entry['path']}"
 
 
-def _covered() -> dict[str, tuple[str, str]]:
-    """entry key -> (test module, test name), from every test module's ``COVERED``."""
-    out: dict[str, tuple[str, str]] = {}
-    for info in pkgutil.iter_modules(package.__path__):
-        if not info.name.startswith("test_") or info.name == "test_endpoints":
-            continue
-        module = importlib.import_module(f"{package.__name__}.{info.name}")
-        for key, test_name in getattr(module, "COVERED", {}).items():
-            assert key not in out, f"{key} is covered twice: {out[key]} and {info.name}"
-            assert callable(getattr(module, test_name, None)), f"{key}: no {info.name}.{test_name}"
-            out[key] = (info.name, test_name)
-    return out
-
-
 ENTRIES = _entries(SPEC)
 LIVE = [e for e in ENTRIES if not e.get("reserved")]
-COVERED = _covered()
+COVERED = covered_entries(package, skip='test_endpoints')
 
 NOT_PRODUCED = {f"notify 10 {code}" for code in yunji_events.NOT_PRODUCED}
 
