@@ -1,0 +1,41 @@
+"""Galileo's ROS topic ``/galileo/status`` on a ROS graph (the rosbridge server).
+
+A Galileo robot publishes ``GalileoStatus`` on ROS as well as on its WebSocket (galileo-wire-
+protocols §2.1), so ROS clients of a Galileo robot subscribe to it over rosbridge. The message
+is the one :func:`~polynav.protocols.galileo.status.galileo_status` builds for the WebSocket
+and HTTP (one encoder), with the same context, so targets and sequence numbers agree across
+the wires.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.status import galileo_status
+from polynav.protocols.ros_graph import Graph, Topic
+
+#: The topic and its type as Galileo's ROS package names them (galileo-wire-protocols §2.1).
+STATUS = Topic("/galileo/status", "galileo_msg/GalileoStatus")
+#: Messages per second of the runtime's clock, as on the Galileo WebSocket.
+STATUS_RATE = 10.0
+
+_EPS = 1e-9
+
+
+def add_galileo_topics(graph: Graph, ctx: Context) -> Callable[[], None]:
+    """Declare ``/galileo/status`` on ``graph`` and publish it at :data:`STATUS_RATE` of the
+    runtime's clock; returns the function that stops publishing."""
+    graph.add_topic(STATUS)
+    runtime = ctx.runtime
+    period = 1.0 / STATUS_RATE
+    due = runtime.now()
+
+    def on_step(now: float) -> None:
+        nonlocal due
+        if now < due - _EPS:
+            return
+        due = max(due + period, now)  # after a jump of the clock, one message, not a burst
+        graph.publish(STATUS.name, galileo_status(ctx))
+
+    return runtime.add_step_listener(on_step)
