@@ -71,6 +71,11 @@ class RosbridgeServer:
             self._sock.close()
             self._sock = None
 
+    @property
+    def clients(self) -> int:
+        """Clients connected now."""
+        return len(self._connections)
+
     # -- what connections ask of the server ------------------------------------------------------
 
     def service(self, name: str) -> Service | None:
