@@ -31,10 +31,10 @@ from dataclasses import dataclass
 from typing import Any
 
 from polynav.errors import InvalidRequest, PolynavError
-from polynav.geometry import Pose2D, yaw_to_quaternion
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.status import galileo_status
 from polynav.robot.devices import AirReading, EnvReading
+from polynav.rosmsg import encode
 
 log = logging.getLogger(__name__)
 
@@ -61,22 +61,10 @@ class Topic:
     publish: Callable[[Context, Any], None] | None = None
 
 
-def header(seq: int, stamp: float, frame_id: str) -> dict[str, Any]:
-    stamp = max(0.0, stamp)
-    secs = int(stamp)
-    return {"seq": seq, "stamp": {"secs": secs, "nsecs": min(999_999_999,
-                                                             int((stamp - secs) * 1e9))},
-            "frame_id": frame_id}
 
 
-def ros_pose(pose: Pose2D) -> dict[str, Any]:
-    x, y, z, w = yaw_to_quaternion(pose.theta)
-    return {"position": {"x": float(pose.x), "y": float(pose.y), "z": 0.0},
-            "orientation": {"x": x, "y": y, "z": z, "w": w}}
 
 
-def vector(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> dict[str, float]:
-    return {"x": float(x), "y": float(y), "z": float(z)}
 
 
 def _status(ctx: Context, seq: int) -> dict[str, Any]:
@@ -90,15 +78,7 @@ def _odom(ctx: Context, seq: int) -> dict[str, Any] | None:
     except PolynavError as exc:  # powered off
         log.debug("galileo: no odometry: %s", exc)
         return None
-    covariance = [0.0] * 36
-    return {
-        "header": header(seq, odom.stamp, "odom"),
-        "child_frame_id": "base_link",
-        "pose": {"pose": ros_pose(odom.pose), "covariance": covariance},
-        "twist": {"twist": {"linear": vector(odom.twist.linear),
-                            "angular": vector(z=odom.twist.angular)},
-                  "covariance": covariance},
-    }
+    return encode.odometry(seq, odom)
 
 
 def _scan(ctx: Context, seq: int) -> dict[str, Any] | None:
@@ -110,27 +90,12 @@ def _scan(ctx: Context, seq: int) -> dict[str, Any] | None:
         return None
     if scan is None:
         return None
-    n = len(scan.ranges)
-    # JSON has no infinity: a beam with no return is reported as range_max + 1 (above
-    # range_max, which ROS consumers treat as "no return").
-    ranges = [float(r) if math.isfinite(r) else scan.range_max + 1.0 for r in scan.ranges]
-    return {
-        "header": header(seq, scan.stamp, "laser"),
-        "angle_min": float(scan.angle_min),
-        "angle_max": float(scan.angle_min + scan.angle_increment * max(0, n - 1)),
-        "angle_increment": float(scan.angle_increment),
-        "time_increment": 0.0,
-        "scan_time": 0.1,
-        "range_min": float(scan.range_min),
-        "range_max": float(scan.range_max),
-        "ranges": ranges,
-        "intensities": [],
-    }
+    return encode.laser_scan(seq, scan, scan_time=0.1)
 
 
 def _tracked_pose(ctx: Context, seq: int) -> dict[str, Any]:
     snap = ctx.runtime.status()
-    return {"header": header(seq, snap.stamp, "map"), "pose": ros_pose(snap.pose)}
+    return encode.pose_stamped(seq, snap.stamp, "map", snap.pose)
 
 
 def _map_key(ctx: Context) -> object:
@@ -145,19 +110,7 @@ def _map(ctx: Context, seq: int) -> dict[str, Any] | None:
         name = ctx.store.floor(snap.floor).map_name
     if name is None:
         return None
-    grid = ctx.store.load_map(name)
-    info = grid.info
-    return {
-        "header": header(seq, snap.stamp, "map"),
-        "info": {
-            "map_load_time": header(0, snap.stamp, "")["stamp"],
-            "resolution": float(info.resolution),
-            "width": int(info.width),
-            "height": int(info.height),
-            "origin": ros_pose(info.origin),
-        },
-        "data": grid.data.reshape(-1).tolist(),
-    }
+    return encode.occupancy_grid(seq, snap.stamp, ctx.store.load_map(name))
 
 
 def env_message(reading: EnvReading) -> dict[str, float]:
