@@ -73,6 +73,7 @@ class Graph:
         self._services: dict[str, Service] = {}
         self._last: dict[str, Message] = {}
         self._sinks: list[Sink] = []
+        self._interest: dict[str, int] = {}
 
     # -- what mappings declare -------------------------------------------------------------------
 
@@ -124,6 +125,12 @@ class Graph:
         for sink in sinks:
             sink(name, message)
 
+    def wanted(self, name: str) -> bool:
+        """Whether a client subscribes to ``name`` now: a mapping builds a message only then,
+        so a stream at 150 Hz costs nothing while no one listens (latched topics are
+        published regardless, to be remembered)."""
+        return self._interest.get(name, 0) > 0
+
     # -- what servers read -----------------------------------------------------------------------
 
     def add_sink(self, sink: Sink) -> Callable[[], None]:
@@ -137,6 +144,20 @@ class Graph:
                     self._sinks.remove(sink)
 
         return remove
+
+    def retain(self, name: str) -> None:
+        """A server has a subscriber of ``name`` (one call per subscribing client)."""
+        with self._lock:
+            self._interest[name] = self._interest.get(name, 0) + 1
+
+    def release(self, name: str) -> None:
+        """A subscriber of ``name`` has gone."""
+        with self._lock:
+            left = self._interest.get(name, 0) - 1
+            if left > 0:
+                self._interest[name] = left
+            else:
+                self._interest.pop(name, None)
 
     def topic(self, name: str) -> Topic | None:
         with self._lock:

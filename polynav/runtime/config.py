@@ -114,6 +114,9 @@ class FloorData(Protocol):
     @property
     def level(self) -> int: ...
 
+    @property
+    def map_name(self) -> str: ...
+
 
 class SiteData(Protocol):
     """What the runtime reads from the site store (:class:`polynav.store.SiteStore`)."""

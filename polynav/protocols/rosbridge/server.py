@@ -89,20 +89,26 @@ class RosbridgeServer:
         """``connection`` subscribes to ``topic``: it gets a latched topic's last message."""
         first = connection not in self._subscribers[topic]
         self._subscribers[topic].add(connection)
+        if first:
+            self.graph.retain(topic)
         self._wanted = frozenset(t for t, c in self._subscribers.items() if c)
         last = self.graph.latched(topic)
         if first and last is not None:
             connection.deliver(topic, _publish_frame(topic, last))
 
     def unsubscribed(self, connection: Connection, topic: str) -> None:
-        self._subscribers[topic].discard(connection)
+        if connection in self._subscribers[topic]:
+            self._subscribers[topic].discard(connection)
+            self.graph.release(topic)
         self._wanted = frozenset(t for t, c in self._subscribers.items() if c)
 
     def forget(self, connection: Connection) -> None:
         """``connection`` has gone."""
         self._connections.discard(connection)
         for topic in connection.topics:
-            self._subscribers[topic].discard(connection)
+            if connection in self._subscribers[topic]:
+                self._subscribers[topic].discard(connection)
+                self.graph.release(topic)
         self._wanted = frozenset(t for t, c in self._subscribers.items() if c)
 
     # -- the loop ----------------------------------------------------------------------------------
