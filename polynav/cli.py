@@ -7,6 +7,7 @@ thin front that loads ``benchmarks/AREA.py`` and calls its ``main(argv)``.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime
 import importlib.util
 import logging
@@ -24,6 +25,8 @@ from polynav.site import PointKind
 from polynav.worlds import cli as world_cli
 
 if TYPE_CHECKING:  # imported lazily at run time: `polynav --help` stays fast
+    from polynav.robot.profile import RobotProfile
+    from polynav.robot.rosbridge import RosbridgeBackend
     from polynav.store.site_store import SiteStore
     from polynav.worlds.world import World
 
@@ -140,12 +143,15 @@ def _run(args: argparse.Namespace) -> int:
     try:
         for warning in site_mismatches(store, world):
             print(f"polynav run: warning: {warning}", file=sys.stderr)
-        runtime = RobotRuntime.simulated(
-            store,
-            world,
-            config=runtime_config,
-            profile=profile,
-        )
+        backend = None
+        if args.robot_bridge is not None:
+            backend = _robot_bridge(args.robot_bridge, profile)
+            if backend is None:
+                return 1
+            runtime = RobotRuntime.bridged(store, backend, config=runtime_config,
+                                           profile=profile)
+        else:
+            runtime = RobotRuntime.simulated(store, world, config=runtime_config, profile=profile)
         if args.mapless:
             runtime.start_mapless()  # goals are then poses in the odometry frame
         app = create_app(runtime, api_config)
@@ -167,8 +173,13 @@ def _run(args: argparse.Namespace) -> int:
                 print(f"polynav run: {exc}", file=sys.stderr)
                 return exc.exit_code
             base = f"http://{host}:{port}"
-            print(f"polynav: simulating robot {runtime.profile.name!r} in world {world.name!r} at "
-                  f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
+            if backend is not None:
+                print(f"polynav: driving robot {runtime.profile.name!r} over rosbridge at "
+                      f"{args.robot_bridge}, data in {Path(args.data).resolve()}", flush=True)
+            else:
+                print(f"polynav: simulating robot {runtime.profile.name!r} in world "
+                      f"{world.name!r} at {args.speed:g}x, data in {Path(args.data).resolve()}",
+                      flush=True)
             print(f"polynav: native API {base}/api  (docs {base}/docs, "
                   f"WebSocket ws://{host}:{port}/api/ws)", flush=True)
             for one in served:
@@ -182,11 +193,42 @@ def _run(args: argparse.Namespace) -> int:
                 stop_dialects(served)
         finally:
             runtime.stop()
+            if backend is not None:
+                backend.close()
             sock.close()
     finally:
         store.close()
     print("polynav: stopped", flush=True)
     return 0
+
+
+#: How long ``polynav run --robot-bridge`` waits for the robot's first odometry [s].
+BRIDGE_READY_TIMEOUT = 30.0
+
+
+def _robot_bridge(url: str, profile: RobotProfile | None) -> RosbridgeBackend | None:
+    """Connect to the robot's rosbridge and wait for its odometry; ``None`` (said on stderr)
+    when it does not come."""
+    from polynav.geometry import Pose2D
+    from polynav.robot.rosbridge import BridgeConfig, RosbridgeBackend
+
+    names = profile.ros if profile is not None and profile.ros is not None else BridgeConfig()
+    try:
+        config = dataclasses.replace(names, url=url)
+    except PolynavError as exc:
+        print(f"polynav run: --robot-bridge: {exc}", file=sys.stderr)
+        return None
+    lidar = profile.lidar if profile is not None else None
+    mount = Pose2D(lidar.x, lidar.y, lidar.theta) if lidar is not None else Pose2D()
+    backend = RosbridgeBackend(config, laser_mount=mount)
+    print(f"polynav: waiting for the robot's odometry on {url} ...", flush=True)
+    if not backend.wait_ready(BRIDGE_READY_TIMEOUT):
+        backend.close()
+        print(f"polynav run: no odometry from {url}{config.odom} within "
+              f"{BRIDGE_READY_TIMEOUT:g} s (is its rosbridge server up, and its driver?)",
+              file=sys.stderr)
+        return None
+    return backend
 
 
 def site_mismatches(store: SiteStore, world: World) -> list[str]:
@@ -337,6 +379,13 @@ def build_parser() -> argparse.ArgumentParser:
                      help="Puwei HTTP API and WebSocket port, 0 for any free one "
                           "(default: %(default)s)")
     run.add_argument("--no-puwei", action="store_true", help="do not serve the Puwei API")
+    run.add_argument("--rosbridge-port", type=int, default=9090,
+                     help="rosbridge v2 WebSocket: the ROS androidmsg interface and the robot's "
+                          "topics (default: %(default)s; 0: any free port)")
+    run.add_argument("--no-rosbridge", action="store_true", help="do not serve rosbridge")
+    run.add_argument("--robot-bridge", metavar="ws://HOST:9090", default=None,
+                     help="drive a real robot through its rosbridge server instead of "
+                          "simulating one (topic names from the profile's ros: section)")
     run.add_argument("--puwei-discovery-port", type=int, default=9999,
                      help="Puwei UDP discovery port (unicast and group 224.0.0.1, joined on "
                           "loopback), 0 for any free one (default: %(default)s)")

@@ -31,19 +31,25 @@ class Served:
     name: str
     stop: Callable[[], None]
     lines: list[str] = field(default_factory=list)
+    #: What another dialect may build on (the Galileo server's context).
+    context: object = None
+
+
+Starter = Callable[[RobotRuntime, argparse.Namespace, str, list[Served]], Served]
 
 
 def start_dialects(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> list[Served]:
     """Start every dialect ``args`` does not turn off, in order; on a failure the ones already
     started are stopped before :class:`DialectStartError` is raised."""
     served: list[Served] = []
-    starters: list[tuple[bool, Callable[[RobotRuntime, argparse.Namespace, str], Served]]] = [
+    starters: list[tuple[bool, Starter]] = [
         (args.no_yunji, _yunji), (args.no_galileo, _galileo), (args.no_puwei, _puwei),
+        (args.no_rosbridge, _rosbridge),
     ]
     try:
         for off, start in starters:
             if not off:
-                served.append(start(runtime, args, host))
+                served.append(start(runtime, args, host, served))
     except BaseException:
         stop_dialects(served)
         raise
@@ -56,7 +62,8 @@ def stop_dialects(served: list[Served]) -> None:
         one.stop()
 
 
-def _yunji(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Served:
+def _yunji(runtime: RobotRuntime, args: argparse.Namespace, host: str,
+           served: list[Served]) -> Served:
     from polynav.protocols.yunji import YunjiConfig
     from polynav.protocols.yunji.server import YunjiThread
 
@@ -73,7 +80,8 @@ def _yunji(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Served
     return Served("yunji", yunji.stop, lines)
 
 
-def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Served:
+def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
+             served: list[Served]) -> Served:
     from polynav.protocols.galileo import GalileoConfig
     from polynav.protocols.galileo.server import GalileoThread
 
@@ -93,10 +101,11 @@ def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Serv
     lines = [f"Galileo API http://{host}:{galileo.port}/api/v1"]
     if galileo.ws_port is not None:
         lines.append(f"Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>")
-    return Served("galileo", galileo.stop, lines)
+    return Served("galileo", galileo.stop, lines, context=galileo.server.ctx)
 
 
-def _puwei(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Served:
+def _puwei(runtime: RobotRuntime, args: argparse.Namespace, host: str,
+           served: list[Served]) -> Served:
     from polynav.protocols.puwei import PuweiConfig
     from polynav.protocols.puwei.server import PuweiThread
 
@@ -112,3 +121,42 @@ def _puwei(runtime: RobotRuntime, args: argparse.Namespace, host: str) -> Served
     return Served("puwei", puwei.stop, [
         f"Puwei API http://{host}:{puwei.port}/api/... (WebSocket ws://{host}:{puwei.port}"
         f"/api/ws, discovery udp {puwei.discovery_port})"])
+
+
+def _rosbridge(runtime: RobotRuntime, args: argparse.Namespace, host: str,
+               served: list[Served]) -> Served:
+    from polynav.protocols.galileo.context import Context
+    from polynav.protocols.galileo.ros_topics import add_galileo_topics
+    from polynav.protocols.galileo.server import make_context
+    from polynav.protocols.ros_graph import Graph
+    from polynav.protocols.rosbridge import RosbridgeConfig, RosbridgeThread
+    from polynav.protocols.rosbridge.robot_topics import add_robot_topics
+
+    try:
+        config = RosbridgeConfig(host=args.host, port=args.rosbridge_port)
+    except PolynavError as exc:  # a port out of range: the user's to fix
+        raise DialectStartError(str(exc), 2) from exc
+    graph = Graph()
+    detach = [add_robot_topics(graph, runtime)]
+    galileo = next((one.context for one in served if one.name == "galileo"), None)
+    if galileo is None:  # /galileo/status is a Galileo robot's ROS topic: served all the same
+        from polynav.protocols.galileo import GalileoConfig
+
+        galileo = make_context(runtime, GalileoConfig(port=0, ws_port=None, announce=False))
+    assert isinstance(galileo, Context)
+    detach.append(add_galileo_topics(graph, galileo))
+    try:
+        server = RosbridgeThread(graph, runtime.clock, config)
+    except OSError as exc:
+        for remove in detach:
+            remove()
+        raise DialectStartError(f"cannot listen (rosbridge, port {args.rosbridge_port}): {exc}",
+                                1) from exc
+
+    def stop() -> None:
+        for remove in detach:
+            remove()
+        server.stop()
+
+    return Served("rosbridge", stop, [f"rosbridge ws://{host}:{server.port} (ROS androidmsg "
+                                      "interface and the robot's topics; docs/ros.md)"])

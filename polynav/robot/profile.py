@@ -66,6 +66,7 @@ import yaml
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
+from polynav.robot.rosbridge.config import BridgeConfig
 from polynav.robot.sim.config import SimConfig
 
 log = logging.getLogger(__name__)
@@ -198,6 +199,9 @@ class RobotProfile:
     imu: ImuSpec = field(default_factory=ImuSpec)
     charger: ChargerContact = field(default_factory=ChargerContact)
     reverse: Reverse = field(default_factory=Reverse)
+    #: How the robot's ROS driver is reached over rosbridge (``polynav run --robot-bridge``):
+    #: topic and frame names; ``None``: ROS's defaults.
+    ros: BridgeConfig | None = None
 
     def __post_init__(self) -> None:
         _validate(self)
@@ -278,6 +282,7 @@ class RobotProfile:
             "imu": asdict(self.imu),
             "charger": asdict(self.charger),
             "reverse": {"allowed": self.reverse.allowed, "rear_view": self.rear_view},
+            **({"ros": asdict(self.ros)} if self.ros is not None else {}),
         }
 
 
@@ -327,7 +332,7 @@ def parse_profile(doc: object) -> RobotProfile:
     """
     top = _mapping(doc, "robot")
     _known(top, "robot", ("name", "description", "footprint", "limits", "cruise", "lidar",
-                          "odometry", "imu", "charger", "reverse"))
+                          "odometry", "imu", "charger", "reverse", "ros"))
     name = top.get("name")
     if not isinstance(name, str) or not name.strip():
         raise ProfileError("name", f"expected a non-empty string, got {name!r}")
@@ -355,7 +360,17 @@ def parse_profile(doc: object) -> RobotProfile:
         imu=_section(ImuSpec, top.get("imu", {}), "imu"),
         charger=_section(ChargerContact, top.get("charger", {}), "charger"),
         reverse=_reverse(top.get("reverse", {})),
+        ros=_ros(top.get("ros")),
     )
+
+
+def _ros(raw: object) -> BridgeConfig | None:
+    if raw is None:
+        return None
+    try:
+        return BridgeConfig.from_mapping(_mapping(raw, "ros"))
+    except ConfigError as exc:
+        raise ProfileError(exc.key, str(exc).split(": ", 1)[-1]) from exc
 
 
 def _reverse(raw: object) -> Reverse:

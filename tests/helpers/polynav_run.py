@@ -14,7 +14,8 @@ from pathlib import Path
 
 STARTUP_LINES = 20
 #: Every dialect `polynav run` serves by default, and the flag that turns it off.
-DIALECTS = {"yunji": "--no-yunji", "galileo": "--no-galileo", "puwei": "--no-puwei"}
+DIALECTS = {"yunji": "--no-yunji", "galileo": "--no-galileo", "puwei": "--no-puwei",
+            "rosbridge": "--no-rosbridge"}
 
 
 def run_args(tmp_path: Path, dialect: str | None, *extra: str) -> list[str]:

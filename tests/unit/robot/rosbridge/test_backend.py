@@ -193,3 +193,15 @@ def test_config_from_a_profile_section() -> None:
         BridgeConfig(url="http://robot")
     with pytest.raises(ConfigError, match="ros.silence_timeout"):
         BridgeConfig(silence_timeout=0.0)
+
+
+def test_a_robot_profile_carries_its_ros_names() -> None:
+    from polynav.robot.profile import ProfileError, parse_profile
+
+    doc = {"name": "base", "footprint": {"radius": 0.2},
+           "ros": {"scan": "/front/scan", "cmd_vel": "/base/cmd_vel"}}
+    profile = parse_profile(doc)
+    assert profile.ros is not None and profile.ros.scan == "/front/scan"
+    assert profile.to_document()["ros"]["cmd_vel"] == "/base/cmd_vel"
+    with pytest.raises(ProfileError, match="robot.ros.topic"):
+        parse_profile({**doc, "ros": {"topic": "/x"}})
