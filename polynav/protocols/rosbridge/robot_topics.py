@@ -119,8 +119,6 @@ class RobotStreams:
         graph = self._graph
         odometry: Odometry | None = None
         self._check_map()
-        if graph.wanted(CLOCK.name):
-            graph.publish(CLOCK.name, encode.clock(now))
         for topic in (ODOM, RAW_ODOM, TF):
             due = self._schedules[topic.name].times(now)
             if not graph.wanted(topic.name):
@@ -160,13 +158,16 @@ class RobotStreams:
         if self._schedules[BATTERY.name].times(now) and graph.wanted(BATTERY.name):
             graph.publish(BATTERY.name, encode.battery_state(self._next(BATTERY.name),
                                                              robot.read_battery()))
+        # The clock last: a follower that wakes on it has this step's readings already.
+        if graph.wanted(CLOCK.name):
+            graph.publish(CLOCK.name, encode.clock(now))
 
     def _tf(self, odometry: Odometry, stamp: float) -> Message:
         f = self._frames
         pose = _pose_at(odometry, stamp)
         transforms = [encode.transform_stamped(self._next(TF.name), stamp, f.odom, f.base, pose)]
         snap = self._runtime.status()
-        if snap.localization_state == "localized" and snap.frame == "map":
+        if snap.localization_state == "tracking" and snap.frame == "map":
             map_to_odom = snap.pose.compose(odometry.pose.inverse())
             transforms.append(encode.transform_stamped(self._next(TF.name), stamp, f.map,
                                                        f.odom, map_to_odom))

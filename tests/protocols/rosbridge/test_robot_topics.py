@@ -92,6 +92,16 @@ def test_stream_fields_frames_and_key_order(runtime: RobotRuntime,
     assert 0.0 < battery["percentage"] <= 1.0
     tf = rec.messages["/tf"][-1]["transforms"]
     assert tf[0]["header"]["frame_id"] == "odom" and tf[0]["child_frame_id"] == "base_link"
+    assert len(tf) == 1  # not localized: no map -> odom
+    runtime.start_navigation("floor1", point="initial")
+    runtime.advance(1.0)
+    tf = rec.messages["/tf"][-1]["transforms"]
+    assert [t["child_frame_id"] for t in tf] == ["base_link", "odom"]
+    odom_in_map = decode.pose({"position": tf[1]["transform"]["translation"],
+                               "orientation": tf[1]["transform"]["rotation"]})
+    base_in_odom = decode.pose({"position": tf[0]["transform"]["translation"],
+                                "orientation": tf[0]["transform"]["rotation"]})
+    assert odom_in_map.compose(base_in_odom).distance_to(runtime.status().pose) < 0.05
     static = graph.latched("/tf_static")
     assert static is not None and static["transforms"][0]["child_frame_id"] == "laser"
     clock = rec.messages["/clock"][-1]["clock"]
