@@ -130,6 +130,7 @@ def _rosbridge(runtime: RobotRuntime, args: argparse.Namespace, host: str,
     from polynav.protocols.galileo.server import make_context
     from polynav.protocols.ros_graph import Graph
     from polynav.protocols.rosbridge import RosbridgeConfig, RosbridgeThread
+    from polynav.protocols.rosbridge.androidmsg import add_androidmsg
     from polynav.protocols.rosbridge.robot_topics import add_robot_topics
 
     try:
@@ -137,7 +138,7 @@ def _rosbridge(runtime: RobotRuntime, args: argparse.Namespace, host: str,
     except PolynavError as exc:  # a port out of range: the user's to fix
         raise DialectStartError(str(exc), 2) from exc
     graph = Graph()
-    detach = [add_robot_topics(graph, runtime)]
+    detach = [add_robot_topics(graph, runtime), add_androidmsg(graph, runtime)]
     galileo = next((one.context for one in served if one.name == "galileo"), None)
     if galileo is None:  # /galileo/status is a Galileo robot's ROS topic: served all the same
         from polynav.protocols.galileo import GalileoConfig

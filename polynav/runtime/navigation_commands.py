@@ -56,6 +56,19 @@ class NavigationCommands(RuntimeParts):
         """
         self._call(self._stop_navigation)
 
+    def reload_keepouts(self) -> None:
+        """Apply the site's keepouts of the map navigated on now (after an edit), so the next
+        plan and the running one respect them without a restart of navigation."""
+
+        def run() -> None:
+            if self._map_name is None or self._mapless:
+                return
+            self._keepouts = tuple(self.store.keepouts(self._map_name))
+            if self._stack is not None:
+                self._stack.costmap.set_keepouts(self._keepouts)
+
+        self._call(run)
+
     def set_initial_pose(self, pose: Pose2D) -> None:
         """Restart localization near ``pose`` on the current map.
 
