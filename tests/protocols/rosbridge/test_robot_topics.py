@@ -20,6 +20,15 @@ from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
 from tests.protocols.rosbridge.conftest import Client, rosbridge
 
+COVERED = {
+    "/map": "test_the_map_is_latched_and_oriented_as_ros",
+    "/tracked_pose": "test_streams_over_the_wire",
+    "/imu/data": "test_stream_rates_on_simulated_time_are_within_ten_percent",
+    "/raw_odom": "test_stream_rates_on_simulated_time_are_within_ten_percent",
+    "/scan": "test_streams_over_the_wire",
+    "/cmd_vel": "test_streams_over_the_wire",
+}
+
 STREAMS = ("/tracked_pose", "/imu/data", "/raw_odom", "/scan", "/odom", "/imu", "/tf",
            "/battery_state", "/clock")
 

@@ -197,15 +197,15 @@ class Maps:
             raise RosError(f"map {name!r} is in use: stop navigation or load another map first")
         floor = self._site.floor_of_map(name)
         try:
+            if floor is not None and floor.map_name == name:
+                others = [m for m in self._site.maps_of(floor) if m.name != name]
+                if others:  # the floor keeps another of its maps as its own
+                    self._store.save_floor(FloorRecord(floor.name, floor.level, others[0].name))
+                else:  # a floor with no map left goes with it (§3.15)
+                    self._store.delete_floor(floor.name)
             self._store.delete_map(name)
         except PolynavError as exc:
             raise RosError(str(exc)) from None
-        if floor is not None:
-            left = [m for m in self._store.maps() if m.floor == floor.name]
-            if not left:
-                self._store.delete_floor(floor.name)  # a floor with no map left goes (§3.15)
-            elif floor.map_name == name:
-                self._store.save_floor(FloorRecord(floor.name, floor.level, left[0].name))
 
 
 def _point(p: Point) -> dict[str, Any]:
