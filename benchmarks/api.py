@@ -296,7 +296,7 @@ def _print(args: argparse.Namespace, figures: dict[str, Any]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    dialects = ("native", "yunji", "galileo", "puwei")
+    dialects = ("native", "yunji", "galileo", "puwei", "rosbridge")
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--dialect", choices=dialects)
     chosen, argv = pre.parse_known_args(argv)
@@ -310,12 +310,18 @@ def main(argv: list[str] | None = None) -> int:
         from api_puwei import main as puwei_main
 
         return puwei_main(argv)
+    if chosen.dialect == "rosbridge":  # subscribers and calls (api_rosbridge.py)
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from api_rosbridge import main as rosbridge_main
+
+        return rosbridge_main(argv)
     if chosen.dialect is not None:
         argv += ["--only", chosen.dialect]
     parser = argparse.ArgumentParser(prog="polynav bench api", description=__doc__.splitlines()[0])
     parser.add_argument("--dialect", choices=dialects,
-                        help="one server (galileo, puwei: a status GET under 50 clients, their "
-                             "own options: --dialect galileo --help)")
+                        help="one server (galileo, puwei: a status GET under 50 clients; "
+                             "rosbridge: 20 subscribers and get_time calls; their own "
+                             "options: --dialect galileo --help)")
     parser.add_argument("--only", nargs="+", choices=("native", "yunji"),
                         default=["native", "yunji"], help="which servers (default: all)")
     parser.add_argument("--clients", type=int, default=50, help="Yunji connections")

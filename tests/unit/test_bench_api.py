@@ -55,3 +55,17 @@ def test_bench_api_puwei_logs_in_and_loads_the_status_with_its_token(
     assert any("polynav / reference" in line for line in out)
     assert figures["o_status"]["subscribers"] == 2
     assert figures["o_status"]["messages_per_second_min"] > 5.0
+
+
+def test_bench_api_rosbridge_counts_subscribed_messages_and_call_latency(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["bench", "api", "--dialect", "rosbridge", "--clients", "2", "--seconds", "1.5",
+                 "--calls", "20", "--json"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    figures = json.loads(out[-1])
+    for side in ("polynav", "reference"):
+        row = figures[side]
+        assert min(row["messages_per_second_min"].values()) > 5.0, (side, row)
+        assert 0.0 < row["get_time_p50_ms"] <= row["get_time_p99_ms"]
+    assert any("reference p50" in line for line in out)
