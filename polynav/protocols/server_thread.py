@@ -16,7 +16,22 @@ class Closable(Protocol):
     async def close(self) -> None: ...
 
 
+class Startable(Closable, Protocol):
+    async def start(self) -> None: ...
+
+
 S = TypeVar("S", bound=Closable)
+T = TypeVar("T", bound=Startable)
+
+
+async def started(server: T) -> T:
+    """``server`` started, or closed again (nothing left listening) and the error raised."""
+    try:
+        await server.start()
+    except BaseException:
+        await server.close()
+        raise
+    return server
 
 
 class ServerThread(Generic[S]):

@@ -15,7 +15,7 @@ from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
-from polynav.protocols.server_thread import ServerThread
+from polynav.protocols.server_thread import ServerThread, started
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -112,13 +112,7 @@ class GalileoServer:
 
 async def serve(runtime: RobotRuntime, config: GalileoConfig | None = None) -> GalileoServer:
     """Start the Galileo servers for ``runtime`` on the running event loop."""
-    server = GalileoServer(runtime, config or GalileoConfig())
-    try:
-        await server.start()
-    except BaseException:
-        await server.close()
-        raise
-    return server
+    return await started(GalileoServer(runtime, config or GalileoConfig()))
 
 
 class GalileoThread(ServerThread[GalileoServer]):

@@ -15,7 +15,7 @@ from polynav.protocols.puwei.config import PuweiConfig
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.discovery import DiscoveryResponder
 from polynav.protocols.puwei.http import create_app
-from polynav.protocols.server_thread import ServerThread
+from polynav.protocols.server_thread import ServerThread, started
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)
@@ -85,13 +85,7 @@ async def serve(runtime: RobotRuntime, config: PuweiConfig | None = None) -> Puw
     Raises:
         OSError: a port cannot be bound (nothing is left listening).
     """
-    server = PuweiServer(runtime, config or PuweiConfig())
-    try:
-        await server.start()
-    except BaseException:
-        await server.close()
-        raise
-    return server
+    return await started(PuweiServer(runtime, config or PuweiConfig()))
 
 
 class PuweiThread(ServerThread[PuweiServer]):

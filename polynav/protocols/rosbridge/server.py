@@ -23,7 +23,7 @@ from polynav.protocols.rosbridge.config import RosbridgeConfig
 from polynav.protocols.rosbridge.connection import Connection
 from polynav.protocols.rosbridge.rosapi import rosapi_services
 from polynav.protocols.rosbridge.wire import dumps
-from polynav.protocols.server_thread import ServerThread
+from polynav.protocols.server_thread import ServerThread, started
 
 log = logging.getLogger(__name__)
 
@@ -151,13 +151,7 @@ async def serve_rosbridge(graph: Graph, clock: Clock,
     Raises:
         OSError: the port cannot be bound.
     """
-    server = RosbridgeServer(graph, clock, config or RosbridgeConfig())
-    try:
-        await server.start()
-    except BaseException:
-        await server.close()
-        raise
-    return server
+    return await started(RosbridgeServer(graph, clock, config or RosbridgeConfig()))
 
 
 class RosbridgeThread(ServerThread[RosbridgeServer]):

@@ -25,7 +25,7 @@ from polynav.protocols.rosbridge.androidmsg.status import (
     StatusTopics,
 )
 from polynav.runtime.robot_runtime import RobotRuntime
-from polynav.site import PointKind
+from polynav.site import Point, PointKind
 
 #: /set_navi_cmd commands (§3.17): forward, backward, turn left, turn right, stop.
 FORWARD, BACKWARD, LEFT, RIGHT, STOP = "1", "2", "3", "4", "5"
@@ -144,7 +144,7 @@ class Navigation:
 
     # -- helpers -------------------------------------------------------------------------------
 
-    def _target(self, msg: dict[str, Any]) -> Any:
+    def _target(self, msg: dict[str, Any]) -> Point:
         floor_id, map_id, point_id = (ids.number(msg, k) for k in ("floor_id", "map_id",
                                                                      "point_id"))
         try:
