@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from polynav.protocols.galileo.config import GalileoConfig
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
 
@@ -108,9 +109,3 @@ class Context:
                 self._states[key] = factory()
             value: T = self._states[key]
             return value
-
-
-def site_store(runtime: RobotRuntime) -> SiteStore:
-    store = runtime.store
-    assert isinstance(store, SiteStore), "the Galileo adapter serves a SiteStore-backed runtime"
-    return store

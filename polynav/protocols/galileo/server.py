@@ -10,12 +10,13 @@ import logging
 from polynav.protocols.galileo import routes
 from polynav.protocols.galileo.auth import TokenBook, load_settings
 from polynav.protocols.galileo.config import GalileoConfig
-from polynav.protocols.galileo.context import Context, site_store
+from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.server_thread import ServerThread, started
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 
 log = logging.getLogger(__name__)

@@ -25,6 +25,7 @@ from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.endpoint import RouteList
 from polynav.protocols.puwei.launch import mapping_state
 from polynav.protocols.puwei.request import PuweiRequest
+from polynav.protocols.site_store import site_store as runtime_store
 from polynav.store.site_store import SiteStore
 
 log = logging.getLogger(__name__)
@@ -35,10 +36,8 @@ PNG, YAML = ".png", ".yaml"
 
 
 def site_store(ctx: Context) -> SiteStore:
-    """The site store (the runtime is typed against the narrower ``SiteData``)."""
-    store = ctx.runtime.store
-    assert isinstance(store, SiteStore), "the Puwei adapter serves a SiteStore-backed runtime"
-    return store
+    """The site store of the context's runtime."""
+    return runtime_store(ctx.runtime)
 
 
 def _stamp(path: Path) -> str:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D
+from polynav.protocols.site_store import site_store
 from polynav.protocols.yunji.messages import MoveStatus, Reply
 from polynav.runtime.config import Mode
 from polynav.runtime.robot_runtime import RobotRuntime
@@ -93,9 +94,7 @@ class Context:
 
     @property
     def store(self) -> SiteStore:
-        store = self.runtime.store
-        assert isinstance(store, SiteStore)
-        return store
+        return site_store(self.runtime)
 
 
 def required(params: Params, name: str) -> str:

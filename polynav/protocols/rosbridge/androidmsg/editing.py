@@ -18,6 +18,7 @@ from polynav.maps.keepout import CircleZone, ForbiddenZone, Keepout, VirtualWall
 from polynav.protocols.ros_graph import Graph, Message, RosError, Service
 from polynav.protocols.rosbridge.androidmsg import ids
 from polynav.protocols.rosbridge.androidmsg.status import VIRTUAL_MAP, WALL_UPDATE, StatusTopics
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
 from polynav.store.records import RouteRecord
@@ -38,7 +39,7 @@ class Editing:
     def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
         self._runtime = runtime
         self._status = status
-        self._store = ids.site_store(runtime)
+        self._store = site_store(runtime)
         self._site = ids.Site(self._store)
 
     def declare(self, graph: Graph) -> None:

@@ -19,7 +19,6 @@ from typing import Any
 from polynav.errors import NotFound
 from polynav.maps.keepout import Keepout
 from polynav.protocols.ros_graph import RosError
-from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point
 from polynav.store.records import FloorRecord, MapRecord
 from polynav.store.site_store import SiteStore
@@ -121,10 +120,3 @@ class Site:
                 if floor.name == recorded:
                     return floor
         return next((f for f in floors if f.map_name == map_name), None)
-
-
-def site_store(runtime: RobotRuntime) -> SiteStore:
-    """The site store (the runtime is typed against the narrower ``SiteData``)."""
-    store = runtime.store
-    assert isinstance(store, SiteStore), "the androidmsg interface serves a SiteStore runtime"
-    return store

@@ -29,6 +29,7 @@ from polynav.protocols.rosbridge.androidmsg.status import (
     WALL_UPDATE,
     StatusTopics,
 )
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
 from polynav.store.records import FloorRecord
@@ -48,7 +49,7 @@ class Maps:
     def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
         self._runtime = runtime
         self._status = status
-        self._store = ids.site_store(runtime)
+        self._store = site_store(runtime)
         self._site = ids.Site(self._store)
 
     def declare(self, graph: Graph) -> None:

@@ -24,6 +24,7 @@ from polynav.protocols.rosbridge.androidmsg.status import (
     PLAN_NOT_FOUND,
     StatusTopics,
 )
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
 
@@ -37,7 +38,7 @@ class Navigation:
     def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
         self._runtime = runtime
         self._status = status
-        self._site = ids.Site(ids.site_store(runtime))
+        self._site = ids.Site(site_store(runtime))
 
     def declare(self, graph: Graph) -> None:
         graph.add_subscription(Subscription("/navi_targetgoal", "map_msgs/TargetGoal",

@@ -17,6 +17,7 @@ import pytest
 from polynav.protocols.ros_graph import Graph
 from polynav.protocols.rosbridge.androidmsg import add_androidmsg, ids
 from polynav.protocols.rosbridge.robot_topics import add_robot_topics
+from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
@@ -30,7 +31,7 @@ class Robot:
         self.runtime = runtime
         self.graph = graph
         self.client = client
-        self.store = ids.site_store(runtime)
+        self.store = site_store(runtime)
         self.site = ids.Site(self.store)
         self.seen: dict[str, list[Any]] = {}
         self._ids = 0
