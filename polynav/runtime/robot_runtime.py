@@ -24,17 +24,16 @@ Attempt ids are the runtime's, unique for its lifetime: every time the navigatio
 rebuilt (a new map, new settings) its navigator counts from 1 again, so the runtime adds an
 offset.
 
-The simulator backend (:meth:`RobotRuntime.simulated`) assumes that the site map of a floor
-shares the world floor's frame (the store seeds it from the world). "Start navigation" on a map
-of another floor lifts the simulated robot there (there is no lift ride yet), and an initial
-point or pose far from where the simulated robot stands (over 1 m or 0.5 rad) places it there,
-as an operator would carry a robot to where they say it is.
+The backend is the simulator (:meth:`RobotRuntime.simulated`) or a real robot over rosbridge
+(:meth:`RobotRuntime.bridged`); what placing the robot means on each is
+:mod:`~polynav.runtime.placement`.
 
 The runtime coordinates; the parts do one job each: :mod:`~polynav.runtime.loop` (the loop
 thread, its pacing and the command queue), :mod:`~polynav.runtime.navigation_events` (attempt
 ids and navigator events as runtime events), :mod:`~polynav.runtime.watchers` (e-stop, charge,
 low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (teleop and local
-moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated robot) and
+moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated robot),
+:mod:`~polynav.runtime.step_hooks` (timers and step listeners) and
 :mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
 parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
 :mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves), over the shared
@@ -44,8 +43,6 @@ parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, 
 from __future__ import annotations
 
 import datetime as dt
-import heapq
-import itertools
 import logging
 import threading
 from collections.abc import Callable, Mapping
@@ -54,7 +51,7 @@ from typing import TypeVar
 
 from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
-from polynav.errors import Conflict, PolynavError
+from polynav.errors import Conflict
 from polynav.geometry import Pose2D, Twist
 from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
@@ -97,6 +94,7 @@ from polynav.runtime.settings import RobotSettings
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
+from polynav.runtime.step_hooks import StepHooks
 from polynav.runtime.task_commands import TaskCommands
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.worlds.world import World
@@ -187,12 +185,8 @@ class RobotRuntime(
             after_command=self._refresh,
             on_failure=lambda: self._robot.drive(Twist()),
         )
-        # Timers on the runtime's clock (services schedule follow-ups: a power-off after its
-        # notice), run by the loop between steps: (due time, sequence, function).
-        self._timers: list[tuple[float, int, Callable[[], None]]] = []
-        self._timer_seq = itertools.count()
-        # Called after every physics step with the runtime's clock (sensor streams of servers).
-        self._step_listeners: list[Callable[[float], None]] = []
+        # Timers the services set and listeners of every step (servers' sensor streams).
+        self._hooks = StepHooks()
         # The current or last patrol (a task over several goals), if any.
         self._patrols = Patrols(self.tasks.engine, self._publish, self.now)
         self._auto_charge = AutoCharge(self)
@@ -358,7 +352,7 @@ class RobotRuntime(
     def schedule(self, delay: float, fn: Callable[[], None]) -> None:
         """Run ``fn`` on the loop, between steps, ``delay`` seconds of the runtime's clock from
         now (for services: a power-off 10 s after its notice). Call it between ticks."""
-        heapq.heappush(self._timers, (self.now() + max(0.0, delay), next(self._timer_seq), fn))
+        self._hooks.schedule(self.now() + max(0.0, delay), fn)
 
     # -- commands ------------------------------------------------------------------------------
 
@@ -442,23 +436,12 @@ class RobotRuntime(
         readings are new: for servers that stream sensors at their own rates on the runtime's
         clock (a scan at 15 Hz of simulated time). It must be quick and must not block: copy what
         it needs and hand it to its own thread. Returns the function that removes it."""
-        self._step_listeners.append(listener)
-
-        def remove() -> None:
-            if listener in self._step_listeners:
-                self._step_listeners.remove(listener)
-
-        return remove
+        return self._hooks.add_listener(listener)
 
     def stepped(self) -> None:
         """Tell the step listeners a physics step happened (the fleet's shared world calls it
         for each robot after stepping the world once)."""
-        now = self.now()
-        for listener in tuple(self._step_listeners):
-            try:
-                listener(now)
-            except Exception:  # a server's fault must not stop the robot
-                log.exception("a step listener failed")
+        self._hooks.stepped(self.now())
 
     def _step(self) -> None:
         self.tick()
@@ -470,12 +453,7 @@ class RobotRuntime(
         a control tick. Robots sharing one simulated world are each ticked, then the world is
         stepped once (:mod:`polynav.fleet.building`); call it between steps only."""
         now = self.now()
-        while self._timers and self._timers[0][0] <= now + _EPS:
-            _, _, fn = heapq.heappop(self._timers)
-            try:
-                fn()
-            except PolynavError:  # a follow-up that cannot happen must not stop the robot
-                log.error("a scheduled step failed", exc_info=True)
+        self._hooks.run_due(now)
         self._motion.brake_if_expired(now)  # the dead-man
         if now >= self._next_control - _EPS:
             self._control(now)
