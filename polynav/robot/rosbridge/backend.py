@@ -6,7 +6,9 @@ the same: once odometry comes, it waits ``clock_grace`` for a ``/clock``; if one
 ``use_robot_clock``), the runtime's clock is the robot's, else this machine's monotonic clock.
 The choice holds for the backend's life. The robot's clock never runs backwards here: when it
 restarts (the robot's simulator restarted), the runtime's clock goes on from where it was.
-While the connection is away, a robot clock stands still: navigation holds where it was.
+While the connection is away the runtime's clock stands still, either way (a robot clock sends
+nothing; this machine's is held), so navigation holds where it was: no timeout runs out and no
+progress check fails on readings that cannot come, and it goes on once the robot is back.
 
 Readings are stamped on the runtime's clock: with the robot's clock, the messages' own stamps;
 with this machine's clock, the time they arrived.
@@ -50,6 +52,8 @@ class BridgeClock:
         self._offset = 0.0
         self._last_robot = 0.0
         self._now = time.monotonic()
+        self._away_since: float | None = None  # wall time the connection dropped
+        self._away_total = 0.0  # wall seconds the robot was away, taken out of the clock
         self._changed = threading.Condition()
 
     @property
@@ -83,16 +87,31 @@ class BridgeClock:
                 self._now = max(self._now, stamp)
                 self._changed.notify_all()
 
+    def away(self) -> None:
+        """The connection dropped: this machine's clock stands still for the runtime too."""
+        with self._changed:
+            if self._away_since is None:
+                self.now()
+                self._away_since = time.monotonic()
+
+    def back(self) -> None:
+        """The connection is back: the clock goes on from where it stood."""
+        with self._changed:
+            if self._away_since is not None:
+                self._away_total += time.monotonic() - self._away_since
+                self._away_since = None
+
     def now(self) -> float:
         if not self._robot:
             with self._changed:
-                self._now = max(self._now, time.monotonic())
+                if self._away_since is None:
+                    self._now = max(self._now, time.monotonic() - self._away_total)
         return self._now
 
     def wait_until(self, t: float, timeout: float) -> None:
         """Until the clock passes ``t``, at most ``timeout`` wall seconds."""
         if not self._robot:
-            delay = min(timeout, t - self.now())
+            delay = timeout if self._away_since is not None else min(timeout, t - self.now())
             if delay > 0:
                 time.sleep(delay)
             return
@@ -194,7 +213,8 @@ class RosbridgeBackend:
         self.clock = BridgeClock()
         self.client = RosbridgeClient(config.url, reconnect_min=config.reconnect_min,
                                       reconnect_max=config.reconnect_max,
-                                      silence_timeout=config.silence_timeout)
+                                      silence_timeout=config.silence_timeout,
+                                      on_state=self._on_state)
         self.robot = RosbridgeRobot(self.client, config, self.clock, laser_mount)
         self._last_step = 0.0
         c, r = self.client, self.robot
@@ -240,6 +260,12 @@ class RosbridgeBackend:
     def close(self) -> None:
         self.robot.drive(Twist())
         self.client.close()
+
+    def _on_state(self, connected: bool) -> None:
+        if connected:
+            self.clock.back()
+        else:
+            self.clock.away()
 
     def _on_clock(self, message: dict[str, Any]) -> None:
         clock = message.get("clock")

@@ -122,6 +122,16 @@ def test_without_a_clock_topic_the_machines_clock_is_used(peer: RosbridgePeer,
     before = backend.clock.now()
     backend.step()
     assert backend.clock.now() - before >= backend.physics_period - 1e-3
+    peer.stop()  # away: the machine's clock stands still for the runtime, navigation holds
+    assert until(lambda: not backend.connected)
+    held = backend.clock.now()
+    time.sleep(0.3)
+    backend.step()
+    assert backend.clock.now() == held
+    peer.start()
+    assert until(lambda: backend.connected)
+    time.sleep(0.1)
+    assert held < backend.clock.now() < held + 0.3  # on from where it stood
 
 
 def test_the_robots_clock_paces_steps_and_never_runs_backwards(
