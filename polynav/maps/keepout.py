@@ -1,8 +1,9 @@
 """Keepouts: places the user forbids the robot to go, drawn on top of the map.
 
-Three shapes, all in world coordinates [m] so they survive a map being re-made at another
+Four shapes, all in world coordinates [m] so they survive a map being re-made at another
 resolution: a :class:`VirtualWall` (a polyline with a thickness, Galileo's "virtual wall"), a
-:class:`ForbiddenZone` (a filled polygon, Galileo's "ignore area") and a :class:`CircleZone`.
+:class:`ForbiddenZone` (a filled polygon, Galileo's "ignore area"), a :class:`CircleZone`, and
+a :class:`GuidedZone` (a filled polygon but for a lane along its route: a "special region").
 :func:`rasterize` turns a set of them into the cells the keepout layer makes lethal.
 
 Rasterisation rules, chosen so that a keepout never leaks and never silently vanishes:
@@ -14,7 +15,9 @@ Rasterisation rules, chosen so that a keepout never leaks and never silently van
   drawn on cell borders covers exactly the cells inside); a zone too thin to hold any cell centre
   falls back to the cells its outline passes through;
 * a circle covers the cells whose centre lies within the radius, and always the cell holding its
-  centre.
+  centre;
+* a guided zone covers what its polygon would, less what a wall along its route as thick as the
+  lane would.
 """
 
 from __future__ import annotations
@@ -91,7 +94,30 @@ class CircleZone:
             raise InvalidRequest("keepout.radius", f"must be > 0, got {self.radius}")
 
 
-Keepout = VirtualWall | ForbiddenZone | CircleZone
+@dataclass(frozen=True, slots=True)
+class GuidedZone:
+    """An area the robot crosses only along its route: a simple polygon [m], filled, but for
+    the lane ``lane_width`` wide along the ``route`` polyline (the androidmsg and Yunji "special
+    region"). ``start_waits`` and ``end_waits`` are where a robot waits before entering from
+    either end while another robot is in the zone; they are kept with it for the fleet."""
+
+    polygon: tuple[Point2, ...]
+    route: tuple[Point2, ...]
+    lane_width: float = 1.2
+    start_waits: tuple[Point2, ...] = ()
+    end_waits: tuple[Point2, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "polygon", _points("keepout.polygon", self.polygon, 3))
+        object.__setattr__(self, "route", _points("keepout.route", self.route, 2))
+        object.__setattr__(self, "start_waits", _points("keepout.start_waits",
+                                                        self.start_waits, 0))
+        object.__setattr__(self, "end_waits", _points("keepout.end_waits", self.end_waits, 0))
+        if not (math.isfinite(self.lane_width) and self.lane_width > 0.0):
+            raise InvalidRequest("keepout.lane_width", f"must be > 0, got {self.lane_width}")
+
+
+Keepout = VirtualWall | ForbiddenZone | CircleZone | GuidedZone
 
 
 def rasterize(keepouts: Sequence[Keepout], info: MapInfo) -> npt.NDArray[np.bool_]:
@@ -102,6 +128,8 @@ def rasterize(keepouts: Sequence[Keepout], info: MapInfo) -> npt.NDArray[np.bool
             _draw_wall(mask, info, keepout)
         elif isinstance(keepout, ForbiddenZone):
             _draw_zone(mask, info, keepout)
+        elif isinstance(keepout, GuidedZone):
+            _draw_guided(mask, info, keepout)
         else:
             _draw_circle(mask, info, keepout)
     return mask
@@ -202,6 +230,14 @@ def _draw_zone(mask: npt.NDArray[np.bool_], info: MapInfo, zone: ForbiddenZone) 
     if not inside_any:
         for a, b in zip(pts, np.roll(pts, -1, axis=0), strict=True):
             _mark_walk(mask, a, b)
+
+
+def _draw_guided(mask: npt.NDArray[np.bool_], info: MapInfo, zone: GuidedZone) -> None:
+    area = np.zeros_like(mask)
+    _draw_zone(area, info, ForbiddenZone(zone.polygon))
+    lane = np.zeros_like(mask)
+    _draw_wall(lane, info, VirtualWall(zone.route, zone.lane_width))
+    mask |= area & ~lane
 
 
 def _draw_circle(mask: npt.NDArray[np.bool_], info: MapInfo, circle: CircleZone) -> None:

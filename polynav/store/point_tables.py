@@ -177,7 +177,7 @@ class PointTables(SiteDatabase):
         """Replace all keepouts of a map at once.
 
         Raises:
-            InvalidRequest: an element is not a VirtualWall, ForbiddenZone or CircleZone.
+            InvalidRequest: an element is not a keepout shape.
             NotFound: no such map.
         """
         rows = [keepout_codec.encode(k) for k in keepouts]

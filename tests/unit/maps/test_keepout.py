@@ -6,7 +6,14 @@ import pytest
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
-from polynav.maps.keepout import CircleZone, ForbiddenZone, Keepout, VirtualWall, rasterize
+from polynav.maps.keepout import (
+    CircleZone,
+    ForbiddenZone,
+    GuidedZone,
+    Keepout,
+    VirtualWall,
+    rasterize,
+)
 from polynav.maps.map import MapInfo
 
 INFO = MapInfo(resolution=1.0, width=8, height=6)
@@ -74,6 +81,17 @@ def test_circle_covers_cells_whose_centre_is_within_the_radius() -> None:
 
 def test_tiny_circle_still_covers_the_cell_holding_its_centre() -> None:
     assert draw(CircleZone(x=3.2, y=3.9, radius=0.1)) == {(3, 3)}
+
+
+def test_guided_zone_covers_its_polygon_but_the_lane_along_its_route() -> None:
+    band = ((0.0, 2.0), (8.0, 2.0), (8.0, 4.0), (0.0, 4.0))  # rows 2 and 3, all columns
+    zone = GuidedZone(band, ((5.5, 0.5), (5.5, 5.5)), lane_width=1.0)
+    lane = {(5, 2), (5, 3)}  # cell centres within 0.5 of x = 5.5
+    assert draw(zone) == {(ix, iy) for ix in range(8) for iy in (2, 3)} - lane
+    with pytest.raises(InvalidRequest, match="keepout.route"):
+        GuidedZone(band, ((1.0, 1.0),))
+    with pytest.raises(InvalidRequest, match="keepout.lane_width"):
+        GuidedZone(band, ((1.0, 1.0), (2.0, 2.0)), lane_width=0.0)
 
 
 def test_shapes_outside_the_map_are_clipped() -> None:

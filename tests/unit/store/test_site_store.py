@@ -10,7 +10,7 @@ import pytest
 
 from polynav.errors import Conflict, InvalidRequest, NotFound, StorageError
 from polynav.geometry import Pose2D
-from polynav.maps.keepout import CircleZone, ForbiddenZone, VirtualWall
+from polynav.maps.keepout import CircleZone, ForbiddenZone, GuidedZone, VirtualWall
 from polynav.maps.ros_map import save_map
 from polynav.site import Point, PointKind
 from polynav.store import ConnectionRecord, FloorRecord, MapRecord, RouteRecord, SiteStore
@@ -293,6 +293,8 @@ def test_keepouts_round_trip_exactly_in_order(demo_store: SiteStore) -> None:
         ForbiddenZone(((0.0, 0.0), (1.0 / 3.0, 0.0), (0.5, 2.0))),
         CircleZone(10.5, -2.25, 0.7),
         VirtualWall(((5.0, 5.0),)),
+        GuidedZone(((0.0, 0.0), (4.0, 0.0), (4.0, 1.0)), ((2.0, -1.0), (2.0, 2.0)), 0.9,
+                   ((2.0, -1.5),), ()),
     ]
     assert demo_store.keepouts("floor1") == []
     demo_store.set_keepouts("floor1", keepouts)

@@ -5,8 +5,9 @@ regions), ``/point_set`` and ``/delete_test_point``.
 Walls are the site's keepouts of the map in use, applied to the running costmap at once;
 ``/androidmsg_virtualmapstatus`` says 62 or 63 and ``/wall_update`` tells clients to read the
 map again. A ``shapeId`` above 0 deletes that shape; absent, 0 or negative adds one (A22).
-A special region is kept with the map as a route record (its boundary, its route and its
-waiting points); polynav's planner does not act on it yet (docs/ros.md).
+A special region is a guided zone among the map's keepouts: the robot crosses it only along
+its route (a lane ``2 * radius`` wide, 1.2 m when the radius is 0); its waiting points are kept
+with it for the fleet.
 """
 
 from __future__ import annotations
@@ -14,14 +15,13 @@ from __future__ import annotations
 from typing import Any
 
 from polynav.errors import PolynavError
-from polynav.maps.keepout import CircleZone, ForbiddenZone, Keepout, VirtualWall
+from polynav.maps.keepout import CircleZone, ForbiddenZone, GuidedZone, Keepout, VirtualWall
 from polynav.protocols.ros_graph import Graph, Message, RosError, Service
 from polynav.protocols.rosbridge.androidmsg import ids
 from polynav.protocols.rosbridge.androidmsg.status import VIRTUAL_MAP, WALL_UPDATE, StatusTopics
 from polynav.protocols.site_store import site_store
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
-from polynav.store.records import RouteRecord
 
 #: /point_set point_mode -> the kind of point it adds (§3.10).
 POINT_MODES = {0: PointKind.GENERAL, 1: PointKind.CHARGER, 2: PointKind.INITIAL,
@@ -30,7 +30,8 @@ POINT_MODES = {0: PointKind.GENERAL, 1: PointKind.CHARGER, 2: PointKind.INITIAL,
 ADDED, MAP_NOT_READY, NO_MAP_LIST, EMPTY_NAME, BAD_NAME = 0, 1, 2, 3, 4
 # /delete_test_point results (§3.11).
 DELETED, IN_USE = 0, 4
-REGION_PREFIX = "androidmsg-region-"
+#: A special region's lane when the request's radius is 0 [m].
+DEFAULT_LANE_WIDTH = 1.2
 
 
 class Editing:
@@ -84,25 +85,30 @@ class Editing:
 
     def set_region(self, args: Message) -> Message:
         name = self._map_in_use()
-        routes = self._store.routes(name)
+        current = list(self._store.keepouts(name))
         shape_id = args.get("shapeId")
         if shape_id is not None and ids.number(args, "shapeId") > 0:
-            kept = [r for r in routes if r.name != f"{REGION_PREFIX}{shape_id}"]
-            if len(kept) == len(routes):
+            kept = [k for k in current
+                    if not (isinstance(k, GuidedZone) and ids.shape_id(k) == shape_id)]
+            if len(kept) == len(current):
                 raise RosError(f"no special region {shape_id} on map {name!r}")
-            self._store.set_routes(name, kept)
-            self._status.code(WALL_UPDATE, 1)
-            return {"success": True}
-        if args.get("type") != "lines" or args.get("closed") is not True:
-            raise RosError("a special region is 'lines' with 'closed' true (§3.9)")
-        boundary = _points(args, "points", least=3)
-        region = {"kind": "special_region", "boundary": boundary,
-                  "route": _points(args, "points2", least=0),
-                  "start_waits": _points(args, "startPointWaits", least=0),
-                  "end_waits": _points(args, "endPointWaits", least=0)}
-        new_id = ids.shape_id(ForbiddenZone(tuple(boundary)))
-        self._store.set_routes(name, [*routes, RouteRecord(f"{REGION_PREFIX}{new_id}", name,
-                                                           region)])
+        else:
+            if args.get("type") != "lines" or args.get("closed") is not True:
+                raise RosError("a special region is 'lines' with 'closed' true (§3.9)")
+            radius = args.get("radius", 0.0)
+            if isinstance(radius, bool) or not isinstance(radius, (int, float)) or radius < 0:
+                raise RosError(f"'radius' must be >= 0 [m], got {radius!r}")
+            try:
+                region = GuidedZone(
+                    tuple(_points(args, "points", least=3)),
+                    tuple(_points(args, "points2", least=2)),
+                    2.0 * radius if radius > 0 else DEFAULT_LANE_WIDTH,
+                    tuple(_points(args, "startPointWaits", least=0)),
+                    tuple(_points(args, "endPointWaits", least=0)))
+            except PolynavError as exc:
+                raise RosError(str(exc)) from None
+            kept = [*current, region]
+        self._save(name, kept)
         self._status.code(WALL_UPDATE, 1)
         return {"success": True}
 

@@ -20,7 +20,7 @@ import numpy as np
 from PIL import Image, UnidentifiedImageError
 
 from polynav.errors import NotFound, PolynavError
-from polynav.maps.keepout import CircleZone, ForbiddenZone, VirtualWall
+from polynav.maps.keepout import CircleZone, ForbiddenZone, GuidedZone, VirtualWall
 from polynav.maps.map import Map
 from polynav.protocols.ros_graph import Graph, Message, RosError, Service
 from polynav.protocols.rosbridge.androidmsg import ids
@@ -214,17 +214,23 @@ def _point(p: Point) -> dict[str, Any]:
             "positiony": p.pose.y, "positionyaw": p.pose.theta}
 
 
+def _xyz(points: tuple[tuple[float, float], ...]) -> list[dict[str, float]]:
+    return [{"x": x, "y": y, "z": 0.0} for x, y in points]
+
+
 def _shape(shape: object) -> dict[str, Any]:
     out: dict[str, Any] = {"shapeId": ids.shape_id(shape)}  # type: ignore[arg-type]
     if isinstance(shape, CircleZone):
-        out.update(type="circle", points=[{"x": shape.x, "y": shape.y, "z": 0.0}],
-                   radius=shape.radius, closed=False)
+        out.update(type="circle", points=_xyz(((shape.x, shape.y),)), radius=shape.radius,
+                   closed=False)
+    elif isinstance(shape, GuidedZone):
+        out.update(type="lines", points=_xyz(shape.polygon), radius=shape.lane_width / 2.0,
+                   closed=True, region=True, points2=_xyz(shape.route),
+                   startPointWaits=_xyz(shape.start_waits), endPointWaits=_xyz(shape.end_waits))
     elif isinstance(shape, ForbiddenZone):
-        out.update(type="lines", points=[{"x": x, "y": y, "z": 0.0} for x, y in shape.polygon],
-                   radius=0.0, closed=True)
+        out.update(type="lines", points=_xyz(shape.polygon), radius=0.0, closed=True)
     elif isinstance(shape, VirtualWall):
-        out.update(type="lines", points=[{"x": x, "y": y, "z": 0.0} for x, y in shape.points],
-                   radius=0.0, closed=False)
+        out.update(type="lines", points=_xyz(shape.points), radius=0.0, closed=False)
     return out
 
 

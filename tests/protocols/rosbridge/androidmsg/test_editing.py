@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import json
 
-from polynav.maps.keepout import CircleZone, ForbiddenZone, VirtualWall
+from polynav.maps.keepout import CircleZone, ForbiddenZone, GuidedZone, VirtualWall
 from polynav.site import PointKind
 from tests.protocols.rosbridge.androidmsg.conftest import Robot
 
 COVERED = {
     "/set_shape": "test_set_shape_adds_and_deletes_walls_on_the_running_costmap",
     "/androidmsg_virtualmapstatus": "test_set_shape_adds_and_deletes_walls_on_the_running_costmap",
-    "/set_region": "test_set_region_keeps_a_region_with_its_route",
+    "/set_region": "test_set_region_makes_the_robot_cross_along_its_route",
     "/point_set": "test_point_set_records_the_robots_pose",
     "/delete_test_point": "test_delete_test_point_keeps_system_points",
 }
@@ -56,21 +56,37 @@ def test_set_shape_adds_and_deletes_walls_on_the_running_costmap(robot: Robot) -
     assert codes[:5] == [62, 62, 62, 62, 63]
 
 
-def test_set_region_keeps_a_region_with_its_route(robot: Robot) -> None:
+def test_set_region_makes_the_robot_cross_along_its_route(robot: Robot) -> None:
     _start(robot)
-    region = {"type": "lines", "closed": True, "radius": 0.0,
-              "points": [_p(12, 11), _p(15, 11), _p(15, 14), _p(12, 14)],
-              "points2": [_p(12.5, 12.4), _p(14.5, 12.4)],
-              "startPointWaits": [_p(11.5, 12.4)], "endPointWaits": [_p(15.5, 12.4)]}
+    # A band across the lobby's approach, crossed only along a lane at x = 9.4 (radius 0.6).
+    region = {"type": "lines", "closed": True, "radius": 0.6,
+              "points": [_p(2.0, 10.0), _p(10.0, 10.0), _p(10.0, 11.0), _p(2.0, 11.0)],
+              "points2": [_p(9.4, 9.6), _p(9.4, 11.4)],
+              "startPointWaits": [_p(9.4, 9.2)], "endPointWaits": [_p(9.4, 11.8)]}
     assert robot.call("/set_region", region) == {"success": True}
-    (route,) = [r for r in robot.store.routes("floor1") if r.name.startswith("androidmsg")]
-    assert route.geometry["route"] == [[12.5, 12.4], [14.5, 12.4]]
-    shape_id = int(route.name.rsplit("-", 1)[1])
-    assert robot.call("/set_region", {"type": "lines", "shapeId": shape_id}) == {
+    (zone,) = [k for k in robot.store.keepouts("floor1") if isinstance(k, GuidedZone)]
+    assert zone.route == ((9.4, 9.6), (9.4, 11.4)) and zone.lane_width == 1.2
+    assert zone.start_waits == ((9.4, 9.2),)
+    listed = json.loads(robot.call("/get_maps")["message"])["floors"][0]["maps"][0]
+    (shape,) = [s for s in listed["shapeAreas"] if s.get("region")]
+    assert shape["points2"] == region["points2"]
+    robot.runtime.go_to(point="lobby")
+    crossed: list[float] = []
+    while robot.runtime.status().navigation_state == "running":
+        robot.runtime.advance(0.2)
+        pose = robot.runtime.simulation.true_pose
+        if 10.0 < pose.y < 11.0:
+            crossed.append(pose.x)
+        assert robot.runtime.now() < 200
+    assert robot.runtime.status().navigation_state == "succeeded"
+    assert crossed and all(8.7 < x < 10.0 for x in crossed), crossed
+    assert robot.call("/set_region", {"type": "lines", "shapeId": shape["shapeId"]}) == {
         "success": True}
-    assert not [r for r in robot.store.routes("floor1") if r.name.startswith("androidmsg")]
+    assert not [k for k in robot.store.keepouts("floor1") if isinstance(k, GuidedZone)]
     assert "closed" in robot.fail("/set_region", {**region, "closed": False})
     assert "at least 3" in robot.fail("/set_region", {**region, "points": [_p(1, 1)]})
+    assert "at least 2" in robot.fail("/set_region", {**region, "points2": []})
+    assert "no special region" in robot.fail("/set_region", {"type": "lines", "shapeId": 7})
 
 
 def test_point_set_records_the_robots_pose(robot: Robot) -> None:
