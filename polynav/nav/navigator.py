@@ -84,10 +84,6 @@ from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
-_CLOSED_ROUTE_PLACE = 0.5
-"""[m] a route found closed this near a place it was re-planned for at once before waits for
-the periodic re-plan."""
-
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
 
@@ -141,7 +137,8 @@ class Navigator(ChargerPhases, PlanFailures):
         )
         self._clear = ClearCostmap(costmap)
         self._passages = ClosedPassages(self._footprint, cfg.passage_time_budget,
-                                        limit=cfg.passage_limit)
+                                        limit=cfg.passage_limit,
+                                        look_ahead=cfg.passage_look_ahead)
         self._trail = Trail(cfg.recovery_backout_distance + 1.0)
         self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
                                  max_distance=cfg.recovery_backout_distance,
@@ -157,6 +154,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._last_plan = 0.0
         self._route_was_open = False
         self._closed_at: list[tuple[float, float]] = []
+        self._steered_at: list[tuple[float, float]] = []
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
         self._hold = Hold(self.config)
@@ -237,6 +235,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._cleared_for_plan = False
         self._passages.reset()
         self._closed_at.clear()
+        self._steered_at.clear()
         self._back_out.reset()
         self._hold.reset()
         self._last_pose = None
@@ -456,7 +455,7 @@ class Navigator(ChargerPhases, PlanFailures):
         # Once per place: a mark flickering on the inscribed ring of a post the route grazes
         # would have every new route closed again half a second later, and the robot turning
         # between them (demo, lattice course 92: 55 plans, 57 s turning, timed out).
-        if any(math.hypot(closed[0] - x, closed[1] - y) < _CLOSED_ROUTE_PLACE
+        if any(math.hypot(closed[0] - x, closed[1] - y) < route_choice.CLOSED_ROUTE_PLACE
                for x, y in self._closed_at):
             return False
         self._closed_at.append(closed)
@@ -488,6 +487,8 @@ class Navigator(ChargerPhases, PlanFailures):
             return Twist()
         if command.status is ControlStatus.BLOCKED:
             self._passages.note_block(self._costmap, self._tracked, self._along, pose)
+            if self._steer_round(pose, now):
+                return Twist()  # braking for one period; the new route from the next
             self._enter(_Phase.BLOCKED, now)
             self._emit(events.NavigationBlocked(now, self._require()))
             return Twist()

@@ -28,7 +28,9 @@ class NavigatorConfig:
     ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
     ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), none later
     than ``passage_time_budget`` [s] after the first (a robot that has gone round that long
-    without getting through is left to the retry budget, as any robot failing at a place), and a
+    without getting through is left to the retry budget, as any robot failing at a place); a
+    block's place is looked for up to ``passage_look_ahead`` [m] along the route (at least the
+    controller's stopping distance at speed), and a
     robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
@@ -65,6 +67,7 @@ class NavigatorConfig:
     goal_wait_period: float = 1.0
     passage_limit: int = 12
     passage_time_budget: float = 60.0
+    passage_look_ahead: float = 2.5
     recovery_backout_distance: float = 3.0
     reverse_allowed: bool = True
 
@@ -75,7 +78,7 @@ class NavigatorConfig:
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
-            "recovery_backout_distance",
+            "recovery_backout_distance", "passage_look_ahead",
         ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")

@@ -21,6 +21,11 @@ from polynav.maps.interface import CostGrid
 
 log = logging.getLogger(__name__)
 
+CLOSED_ROUTE_PLACE = 0.5
+"""[m] a route the lidar closed is re-planned at once (or steered round when the controller
+stops for it) once per place: this near a place done so before, it waits for the periodic
+re-plan or the block's usual course."""
+
 
 def route_blocked(costmap: CostGrid, route: TrackedPath, along: float) -> bool:
     """Does the route from arc length ``along`` [m] on cross INSCRIBED or LETHAL cells?

@@ -12,6 +12,7 @@ import logging
 import math
 from dataclasses import dataclass, field, replace
 
+from polynav.control import regulation
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.errors import ConfigError
@@ -143,8 +144,14 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
         range_noise=profile.lidar.noise,
     )
     nav = base.navigator
+    # A block's place is looked for as far ahead as the controller stops for an obstacle at
+    # its cruise speed, and half a metre beyond.
+    stopping = regulation.stop_distance(
+        controller.max_linear_velocity, deceleration=controller.linear_deceleration,
+        lookahead_time=controller.collision_lookahead_time, minimum=controller.min_stop_distance)
     navigator = replace(
         nav,
+        passage_look_ahead=max(nav.passage_look_ahead, stopping + 0.5),
         reverse_allowed=nav.reverse_allowed and profile.reverse.allowed,
         recovery_backout_distance=min(nav.recovery_backout_distance,
                                       max(profile.rear_view, BLIND_BACKOUT)),
