@@ -84,6 +84,10 @@ from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
+_SCAN_SETTLE = 0.1
+"""[s] the ladder's back-up stands this long first, for a scan to mark again what the clearing
+rung before it forgot (a lidar scans at 10-15 Hz)."""
+
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
 
@@ -124,7 +128,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._rotate = Rotate(costmap, footprint=self._footprint, angle=cfg.recovery_rotate_angle)
         back_up: tuple[Recovery, ...] = (BackUp(
             costmap, distance=cfg.recovery_backup_distance, speed=cfg.recovery_backup_speed,
-            robot_radius=robot_radius, footprint=self._footprint,
+            robot_radius=robot_radius, footprint=self._footprint, settle=_SCAN_SETTLE,
         ),) if cfg.reverse_allowed else ()
         self._ladder_steps: Sequence[Recovery] = (
             ClearAround(costmap, radius=cfg.recovery_clear_radius),
@@ -423,16 +427,28 @@ class Navigator(ChargerPhases, PlanFailures):
             return
         if self._tracked is not None:
             blocked = route_choice.route_blocked(self._costmap, self._tracked, self._along)
-            if not blocked and not route_choice.clearly_shorter(
-                remaining=remaining, new_length=path.length,
-                hysteresis=self.config.replan_hysteresis, min_gain=self.config.replan_min_gain,
-            ):
-                log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)", remaining,
-                          path.length)
-                return
+            if not blocked:
+                # Lengths as the time the controller takes over them (route_choice).
+                off_route = remaining - (self._tracked.length - self._along)
+                remaining = off_route + self._drive_length(self._tracked, self._along)
+                new_length = self._drive_length(TrackedPath.from_points(path.points), 0.0)
+                if not route_choice.clearly_shorter(
+                    remaining=remaining, new_length=new_length,
+                    hysteresis=self.config.replan_hysteresis,
+                    min_gain=self.config.replan_min_gain,
+                ):
+                    log.debug("re-plan: keeping the route (%.2f m left, new %.2f m, as driven)",
+                              remaining, new_length)
+                    return
             if blocked and self._wait.blocks(pose, self._path):
                 self._replan.watch(now)  # people closed it: they may soon open it again
         self._set_path(path, now)
+
+    def _drive_length(self, route: TrackedPath, along: float) -> float:
+        cfg = self.config
+        return route_choice.drive_length(
+            self._costmap, self._footprint, route, along,
+            open_clearance=cfg.route_open_clearance, least_clearance=cfg.route_least_clearance)
 
     def _route_closed_since_plan(self, now: float) -> bool:
         """Has the lidar closed the route ahead since it was planned open?

@@ -18,7 +18,11 @@ class NavigatorConfig:
     this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
-    ``replan_min_gain`` [m]. A route the lidar closes after it was planned open is re-planned at
+    ``replan_min_gain`` [m], lengths counted as the time the controller takes over them: at
+    full speed where the body has ``route_open_clearance`` [m] of room, slower below it, down to
+    the speed of ``route_least_clearance`` (:func:`~polynav.nav.route_choice.drive_length`; the
+    stack sets both from the controller's pace, 0 counts plain length). A route the lidar
+    closes after it was planned open is re-planned at
     once, at most every ``closed_route_replan_period`` [s], rather than at the next period. A
     periodic re-plan plans the next ``replan_reach`` [m] of the
     route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
@@ -60,6 +64,8 @@ class NavigatorConfig:
     recovery_wait: float = 2.0
     replan_hysteresis: float = 0.15
     replan_min_gain: float = 0.3
+    route_open_clearance: float = 0.0
+    route_least_clearance: float = 0.0
     replan_reach: float = 10.0
     full_replan_period: float = 30.0
     people_detour_watch: float = 15.0
@@ -88,7 +94,8 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
                     "full_replan_period", "people_detour_watch", "goal_wait",
-                    "passage_time_budget"):
+                    "passage_time_budget", "route_open_clearance",
+                    "route_least_clearance"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

@@ -187,12 +187,20 @@ class NavigationStack:
         extra = (self._people_layer,) if people.enabled else ()
         self.costmap = Costmap(grid, self.config.costmap, extra_layers=extra)
         self.people = PeopleView()
+        ctl = self.config.controller
+        # Re-plans weigh routes by the time this controller takes over them: full speed with
+        # the room of its clearance pace, its slowest regulated speed at the least.
+        navigator_config = replace(
+            self.config.navigator,
+            route_open_clearance=ctl.max_linear_velocity * ctl.clearance_time,
+            route_least_clearance=ctl.min_regulated_speed * ctl.clearance_time,
+        )
         self.navigator = Navigator(
             self.costmap,
             registry.for_footprint(self.config.body, self.config.planner, self.config.lattice),
             RegulatedPurePursuit(self.config.controller, footprint=self.config.body),
             ProgressChecker(self.config.progress),
-            config=self.config.navigator,
+            config=navigator_config,
             robot_radius=self.config.costmap.robot_radius,
             footprint=self.config.body,
             people=people,
