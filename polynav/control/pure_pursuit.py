@@ -363,6 +363,9 @@ class RegulatedPurePursuit:
             )
             if capped < speed:
                 speed, slowing = capped, True
+        seen = self._seen_speed(ahead_poses, arc_s, costmap)
+        if seen < speed:
+            speed, slowing = seen, True
         arc = self._arc_to_carrot(pose, kappa, math.hypot(fx, fy), stop_at, costmap)
         if collision.first_footprint_collision(self.footprint, costmap, arc) is not None:
             # The path is clear (checked above) but the shortcut to the carrot is not: a body
@@ -457,6 +460,28 @@ class RegulatedPurePursuit:
         gaps = body.clearances(self.footprint, costmap, arc, horizon=horizon)
         gap = float(gaps.min(initial=horizon))
         return max(gap / cfg.clearance_time, cfg.min_regulated_speed)
+
+    def _seen_speed(
+        self, poses: npt.NDArray[np.float64], arc_s: npt.NDArray[np.float64], costmap: CostGrid
+    ) -> float:
+        """The fastest speed [m/s] from which the robot stops before its body, along the path
+        ``poses`` (at arc lengths ``arc_s``), first reaches space the sensors have not seen.
+
+        Without a map the costmap's UNKNOWN cells are where a wall round a corner may stand:
+        driving no faster than the seen floor allows, the robot meets what appears there with
+        room to stop, whatever the clearance pace (``clearance_time``). With a map the route
+        stays on known floor and this never binds. The cells the body already overlaps do
+        not count (it stands there), nor does anything beyond ``poses``.
+        """
+        cfg = self.config
+        first = body.first_collision(self.footprint, costmap, poses, unknown_is_lethal=True,
+                                     ignore_start=True)
+        if first is None:
+            return math.inf
+        room = float(arc_s[first]) - self._place
+        speed = regulation.seen_speed(room, deceleration=cfg.linear_deceleration,
+                                      latency=cfg.sight_latency)
+        return max(speed, cfg.min_regulated_speed)
 
     def _coasting_collides(self, pose: Pose2D, velocity: Twist, costmap: CostGrid) -> bool:
         """While braking into a turn in place, does the robot roll into an obstacle?

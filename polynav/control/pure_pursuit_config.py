@@ -53,6 +53,10 @@ class PurePursuitConfig:
             standing still: it coasts nowhere.
         clearance_time: the speed is at most the body's clearance along the arc ahead divided by
             this [s] (never below ``min_regulated_speed``): slow in tight gaps, fast in the open.
+        sight_latency: the speed is at most one from which the robot, after this time [s] (a
+            scan and a control period), brakes at ``linear_deceleration`` to a stop before its
+            body reaches UNKNOWN space along the path (never below ``min_regulated_speed``):
+            what is round a corner is seen only when the robot gets there.
     """
 
     max_linear_velocity: float = 0.6
@@ -84,6 +88,7 @@ class PurePursuitConfig:
     pose_filter_reset_distance: float = 0.2
     standstill_speed: float = 0.05
     clearance_time: float = 0.15
+    sight_latency: float = 0.15
 
     def __post_init__(self) -> None:
         positive = (
@@ -92,7 +97,7 @@ class PurePursuitConfig:
             "rotate_gain", "regulated_min_radius", "approach_velocity_scaling_dist",
             "min_approach_velocity", "collision_lookahead_time", "min_stop_distance",
             "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time", "standstill_speed",
-            "clearance_time",
+            "clearance_time", "sight_latency",
         )
         for key in positive:
             value = getattr(self, key)

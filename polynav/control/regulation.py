@@ -107,6 +107,21 @@ def approach_speed(
     return out
 
 
+def seen_speed(distance: float, *, deceleration: float, latency: float) -> float:
+    """The fastest speed [m/s] from which the robot still stops within ``distance`` [m].
+
+    ``distance`` is how far along the way the floor has been seen free. What lies beyond is
+    unknown: a wall round a corner is seen only once the robot looks past the corner, and the
+    robot must then be able to stop short of it. The robot covers ``latency`` [s] of travel (a
+    scan and a control period) before it starts braking at ``deceleration`` [m/s²]: the speed
+    solves ``v * latency + v² / (2 a) = distance``.
+    """
+    if distance <= 0.0:
+        return 0.0
+    a_t = deceleration * latency
+    return -a_t + math.sqrt(a_t * a_t + 2.0 * deceleration * distance)
+
+
 def stop_distance(
     speed: float, *, deceleration: float, lookahead_time: float, minimum: float
 ) -> float:

@@ -84,9 +84,9 @@ from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
-_CLOSED_ROUTE_PLACE = 0.5
-"""[m] a route found closed this near a place it was re-planned for at once before waits for
-the periodic re-plan."""
+_SCAN_SETTLE = 0.1
+"""[s] the ladder's back-up stands this long first, for a scan to mark again what the clearing
+rung before it forgot (a lidar scans at 10-15 Hz)."""
 
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
@@ -128,7 +128,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._rotate = Rotate(costmap, footprint=self._footprint, angle=cfg.recovery_rotate_angle)
         back_up: tuple[Recovery, ...] = (BackUp(
             costmap, distance=cfg.recovery_backup_distance, speed=cfg.recovery_backup_speed,
-            robot_radius=robot_radius, footprint=self._footprint,
+            robot_radius=robot_radius, footprint=self._footprint, settle=_SCAN_SETTLE,
         ),) if cfg.reverse_allowed else ()
         self._ladder_steps: Sequence[Recovery] = (
             ClearAround(costmap, radius=cfg.recovery_clear_radius),
@@ -141,7 +141,8 @@ class Navigator(ChargerPhases, PlanFailures):
         )
         self._clear = ClearCostmap(costmap)
         self._passages = ClosedPassages(self._footprint, cfg.passage_time_budget,
-                                        limit=cfg.passage_limit)
+                                        limit=cfg.passage_limit,
+                                        look_ahead=cfg.passage_look_ahead)
         self._trail = Trail(cfg.recovery_backout_distance + 1.0)
         self._back_out = BackOut(costmap, self._trail, footprint=self._footprint,
                                  max_distance=cfg.recovery_backout_distance,
@@ -157,6 +158,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._last_plan = 0.0
         self._route_was_open = False
         self._closed_at: list[tuple[float, float]] = []
+        self._steered_at: list[tuple[float, float]] = []
         self._cleared_for_plan = False
         self._recovery: Recovery | None = None
         self._hold = Hold(self.config)
@@ -237,6 +239,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._cleared_for_plan = False
         self._passages.reset()
         self._closed_at.clear()
+        self._steered_at.clear()
         self._back_out.reset()
         self._hold.reset()
         self._last_pose = None
@@ -424,16 +427,28 @@ class Navigator(ChargerPhases, PlanFailures):
             return
         if self._tracked is not None:
             blocked = route_choice.route_blocked(self._costmap, self._tracked, self._along)
-            if not blocked and not route_choice.clearly_shorter(
-                remaining=remaining, new_length=path.length,
-                hysteresis=self.config.replan_hysteresis, min_gain=self.config.replan_min_gain,
-            ):
-                log.debug("re-plan: keeping the route (%.2f m left, new %.2f m)", remaining,
-                          path.length)
-                return
+            if not blocked:
+                # Lengths as the time the controller takes over them (route_choice).
+                off_route = remaining - (self._tracked.length - self._along)
+                remaining = off_route + self._drive_length(self._tracked, self._along)
+                new_length = self._drive_length(TrackedPath.from_points(path.points), 0.0)
+                if not route_choice.clearly_shorter(
+                    remaining=remaining, new_length=new_length,
+                    hysteresis=self.config.replan_hysteresis,
+                    min_gain=self.config.replan_min_gain,
+                ):
+                    log.debug("re-plan: keeping the route (%.2f m left, new %.2f m, as driven)",
+                              remaining, new_length)
+                    return
             if blocked and self._wait.blocks(pose, self._path):
                 self._replan.watch(now)  # people closed it: they may soon open it again
         self._set_path(path, now)
+
+    def _drive_length(self, route: TrackedPath, along: float) -> float:
+        cfg = self.config
+        return route_choice.drive_length(
+            self._costmap, self._footprint, route, along,
+            open_clearance=cfg.route_open_clearance, least_clearance=cfg.route_least_clearance)
 
     def _route_closed_since_plan(self, now: float) -> bool:
         """Has the lidar closed the route ahead since it was planned open?
@@ -456,7 +471,7 @@ class Navigator(ChargerPhases, PlanFailures):
         # Once per place: a mark flickering on the inscribed ring of a post the route grazes
         # would have every new route closed again half a second later, and the robot turning
         # between them (demo, lattice course 92: 55 plans, 57 s turning, timed out).
-        if any(math.hypot(closed[0] - x, closed[1] - y) < _CLOSED_ROUTE_PLACE
+        if any(math.hypot(closed[0] - x, closed[1] - y) < route_choice.CLOSED_ROUTE_PLACE
                for x, y in self._closed_at):
             return False
         self._closed_at.append(closed)
@@ -488,6 +503,8 @@ class Navigator(ChargerPhases, PlanFailures):
             return Twist()
         if command.status is ControlStatus.BLOCKED:
             self._passages.note_block(self._costmap, self._tracked, self._along, pose)
+            if self._steer_round(pose, now):
+                return Twist()  # braking for one period; the new route from the next
             self._enter(_Phase.BLOCKED, now)
             self._emit(events.NavigationBlocked(now, self._require()))
             return Twist()

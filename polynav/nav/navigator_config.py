@@ -18,7 +18,11 @@ class NavigatorConfig:
     this long. ``recovery_*``: the ladder's clearing radius, back-up distance and speed, turn
     and wait. ``replan_hysteresis``: a periodic re-plan's route replaces an unblocked current
     one only if shorter by this fraction of the remaining length, and by at least
-    ``replan_min_gain`` [m]. A route the lidar closes after it was planned open is re-planned at
+    ``replan_min_gain`` [m], lengths counted as the time the controller takes over them: at
+    full speed where the body has ``route_open_clearance`` [m] of room, slower below it, down to
+    the speed of ``route_least_clearance`` (:func:`~polynav.nav.route_choice.drive_length`; the
+    stack sets both from the controller's pace, 0 counts plain length). A route the lidar
+    closes after it was planned open is re-planned at
     once, at most every ``closed_route_replan_period`` [s], rather than at the next period. A
     periodic re-plan plans the next ``replan_reach`` [m] of the
     route and keeps the rest; the whole way is planned again every ``full_replan_period``, and
@@ -28,7 +32,9 @@ class NavigatorConfig:
     ``goal_wait_period`` (:mod:`~polynav.nav.goal_wait`); 0 fails it at once. At most
     ``passage_limit`` passages are closed per goal (:mod:`~polynav.nav.passages`), none later
     than ``passage_time_budget`` [s] after the first (a robot that has gone round that long
-    without getting through is left to the retry budget, as any robot failing at a place), and a
+    without getting through is left to the retry budget, as any robot failing at a place); a
+    block's place is looked for up to ``passage_look_ahead`` [m] along the route (at least the
+    controller's stopping distance at speed), and a
     robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
@@ -58,6 +64,8 @@ class NavigatorConfig:
     recovery_wait: float = 2.0
     replan_hysteresis: float = 0.15
     replan_min_gain: float = 0.3
+    route_open_clearance: float = 0.0
+    route_least_clearance: float = 0.0
     replan_reach: float = 10.0
     full_replan_period: float = 30.0
     people_detour_watch: float = 15.0
@@ -65,6 +73,7 @@ class NavigatorConfig:
     goal_wait_period: float = 1.0
     passage_limit: int = 12
     passage_time_budget: float = 60.0
+    passage_look_ahead: float = 2.5
     recovery_backout_distance: float = 3.0
     reverse_allowed: bool = True
 
@@ -75,7 +84,7 @@ class NavigatorConfig:
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
             "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
-            "recovery_backout_distance",
+            "recovery_backout_distance", "passage_look_ahead",
         ):
             if getattr(self, key) <= 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be > 0")
@@ -85,7 +94,8 @@ class NavigatorConfig:
             raise ConfigError("nav.navigator.progress_reset_distance", "must be > 0")
         for key in ("retry_min_time", "recovery_wait", "replan_min_gain", "replan_reach",
                     "full_replan_period", "people_detour_watch", "goal_wait",
-                    "passage_time_budget"):
+                    "passage_time_budget", "route_open_clearance",
+                    "route_least_clearance"):
             if getattr(self, key) < 0.0:
                 raise ConfigError(f"nav.navigator.{key}", "must be >= 0")
         if not 0.0 <= self.replan_hysteresis < 1.0:

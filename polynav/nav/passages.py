@@ -40,8 +40,10 @@ from polynav.maps.interface import CostGrid
 
 log = logging.getLogger(__name__)
 
-_LOOK_AHEAD = 2.5
-"""How far along the route [m] the place that blocked the robot is looked for."""
+LOOK_AHEAD = 2.5
+"""How far along the route [m] the place that blocked the robot is looked for, by default: at
+least as far as the controller stops before an obstacle (``NavigatorConfig.passage_look_ahead``;
+a 2 m/s base stops 3 m before one, and a touch beyond 2.5 m went unnoted)."""
 
 
 @dataclass(slots=True)
@@ -60,6 +62,39 @@ class ClosedPassage:
         return f"({self.x:.2f}, {self.y:.2f})"
 
 
+@dataclass(frozen=True, slots=True)
+class Touch:
+    """Where the body, driving a route, first touches a LETHAL cell: the pose there and how far
+    [m] along the route from the robot's place."""
+
+    pose: Pose2D
+    ahead: float
+
+
+def first_touch(
+    footprint: Footprint,
+    costmap: CostGrid,
+    route: TrackedPath,
+    along: float,
+    pose: Pose2D,
+    look_ahead: float,
+) -> Touch | None:
+    """The first place within ``look_ahead`` [m] of ``along`` where the body following
+    ``route`` from ``pose`` touches a LETHAL cell it does not touch where it stands, or
+    ``None``."""
+    res = costmap.info.resolution
+    s = np.arange(along, min(route.length, along + look_ahead) + 0.5 * res, 0.5 * res)
+    s = np.minimum(s, route.length)
+    poses = route.poses_at(s)
+    # The robot's own place first, so that what it touches already does not count.
+    poses = np.vstack([[pose.x, pose.y, pose.theta], poses])
+    hit = body.first_collision(footprint, costmap, poses, ignore_start=True)
+    if hit is None:
+        return None
+    x, y, theta = (float(v) for v in poses[hit])
+    return Touch(Pose2D(x, y, theta), float(s[max(hit - 1, 0)]) - along)
+
+
 @dataclass
 class ClosedPassages:
     """The passages closed in one navigation attempt (module docstring).
@@ -72,11 +107,13 @@ class ClosedPassages:
             cells that closed it is marked either (a thin post's mark wanders by a cell).
         time_budget: no passage is closed later than this [s] after the first closure of the
             goal (``NavigatorConfig.passage_time_budget``).
+        look_ahead: how far along the route [m] a block's place is looked for.
     """
 
     footprint: Footprint
     time_budget: float
     limit: int = 12
+    look_ahead: float = LOOK_AHEAD
     reopen_after: float = 2.0
     reopen_margin: float = 0.1
     passages: list[ClosedPassage] = field(default_factory=list)
@@ -84,6 +121,8 @@ class ClosedPassages:
 
     def __post_init__(self) -> None:
         self._noted: ClosedPassage | None = None
+        self.noted_touch: Touch | None = None
+        """Where the body touched along the route at the last block (:meth:`note_block`)."""
         self._first: float | None = None
 
     def reset(self) -> None:
@@ -91,6 +130,7 @@ class ClosedPassages:
         self.passages.clear()
         self.tried.clear()
         self._noted = None
+        self.noted_touch = None
         self._first = None
 
     def reopen_all(self) -> None:
@@ -109,19 +149,16 @@ class ClosedPassages:
         route ahead of ``along`` [m], as the costmap is now (a thin post's mark may flicker
         out before the navigator decides what to do about the block)."""
         self._noted = None
+        self.noted_touch = None
         if route is None:
             return
-        res = costmap.info.resolution
-        s = np.arange(along, min(route.length, along + _LOOK_AHEAD) + 0.5 * res, 0.5 * res)
-        poses = route.poses_at(np.minimum(s, route.length))
-        # The robot's own place first, so that what it touches already does not count.
-        poses = np.vstack([[pose.x, pose.y, pose.theta], poses])
-        hit = body.first_collision(self.footprint, costmap, poses, ignore_start=True)
-        if hit is not None:
-            x, y, theta = (float(v) for v in poses[hit])
-            cells = body.overlapped_cells(self.footprint, costmap, Pose2D(x, y, theta))
+        touch = first_touch(self.footprint, costmap, route, along, pose, self.look_ahead)
+        if touch is not None:
+            cells = body.overlapped_cells(self.footprint, costmap, touch.pose)
             watched = _dilated(costmap, cells, self.reopen_margin)
-            self._noted = ClosedPassage(x, y, self.footprint.inscribed_radius, cells, watched)
+            self._noted = ClosedPassage(touch.pose.x, touch.pose.y,
+                                        self.footprint.inscribed_radius, cells, watched)
+            self.noted_touch = touch
 
     def close(self, now: float) -> ClosedPassage | None:
         """Close the passage noted at the last block; ``None`` when the body touched nothing

@@ -1,8 +1,11 @@
 """What the navigator does when a plan fails or the controller stops before a passage.
 
 A mixin over :class:`~polynav.nav.navigator.Navigator` (the navigator stays one class to its
-users). Two moments are decided here:
+users). Three moments are decided here:
 
+- **The controller stops for something the lidar has just seen on the route ahead**: the robot
+  plans again at once and, if the new route goes round it, follows it without the block's wait
+  (:meth:`PlanFailures._steer_round`; once per place per goal, never with a person in the way).
 - **The controller stops before a passage** (``BLOCKED``, and no person in the way): if the body
   touches the static or marked world along the route ahead, that passage is closed for this goal
   (:mod:`~polynav.nav.passages`) and the robot plans again at once, round it; where it cannot
@@ -25,17 +28,19 @@ users). Two moments are decided here:
 from __future__ import annotations
 
 import logging
+import math
 from typing import TYPE_CHECKING
 
 from polynav.control.interface import Controller
 from polynav.control.tracked_path import TrackedPath
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 from polynav.maps.costmap import Costmap
-from polynav.nav import events
+from polynav.nav import events, route_choice
 from polynav.nav.attempt import FailureReason, NavigationAttempt
 from polynav.nav.back_out import BackOut
 from polynav.nav.goal_wait import GoalWait
-from polynav.nav.passages import ClosedPassages
+from polynav.nav.passages import ClosedPassages, first_touch
 from polynav.nav.people_wait import PeopleWait
 from polynav.nav.phases import NavPhase
 from polynav.nav.recoveries import ClearCostmap, Recovery
@@ -72,6 +77,8 @@ class PlanFailures:
     _path: Path | None
     _tracked: TrackedPath | None
     _along: float
+    _footprint: Footprint
+    _steered_at: list[tuple[float, float]]
 
     if TYPE_CHECKING:
 
@@ -90,6 +97,48 @@ class PlanFailures:
         def _update(self, **changes: object) -> None: ...
 
         def _wait_for_people(self, pose: Pose2D, now: float) -> None: ...
+
+        def _plan_path(self, pose: Pose2D) -> Path: ...
+
+        def _follow_plan(self, path: Path, pose: Pose2D, now: float) -> None: ...
+
+    def _steer_round(self, pose: Pose2D, now: float) -> bool:
+        """The controller has just stopped for something on the route ahead: if the lidar
+        closed it since it was planned, follow a new route round at once, without the block's
+        wait, recovery and turn; ``True`` if so.
+
+        Without a map the route crosses unknown floor, and a post seen there closes it when
+        the robot comes within its stopping distance (3 m at 2 m/s): before, each such post
+        cost the robot a stop, the block's wait, a turn in place and the run up to speed again
+        (research-base, lattice courses without a map: one block in two courses, most of them
+        posts unseen when the route was planned). Only where the body touches something along
+        the route (not the arc or a turn), for a caller without its own retry limit, with no
+        person in the way (people walk on: the wait is for them), once per place per goal, and
+        only when the new route's first touch lies clearly farther on than the old one's: a
+        planner that would take the same way again leaves the block its usual course.
+        """
+        touch = self._passages.noted_touch
+        if touch is None or self._require().options.max_retries is not None:
+            return False
+        place = (touch.pose.x, touch.pose.y)
+        if any(math.hypot(place[0] - x, place[1] - y) < route_choice.CLOSED_ROUTE_PLACE
+               for x, y in self._steered_at):
+            return False
+        if self._wait.blocks(pose, self._path):
+            return False
+        self._steered_at.append(place)
+        try:
+            path = self._plan_path(pose)
+        except PlanningError:
+            return False
+        again = first_touch(self._footprint, self._costmap, TrackedPath.from_points(path.points),
+                            0.0, pose, self._passages.look_ahead)
+        if again is not None and again.ahead < touch.ahead + route_choice.CLOSED_ROUTE_PLACE:
+            return False
+        log.info("the route ahead was closed at (%.2f, %.2f), %.2f m on: steering round it",
+                 place[0], place[1], touch.ahead)
+        self._follow_plan(path, pose, now)
+        return True
 
     def _on_blocked(self, pose: Pose2D, now: float) -> None:
         """The controller stopped and nobody is in the way: close the passage or retry."""

@@ -102,8 +102,13 @@ class BackUp:
     """Reverse a short distance [m], stopping early if the way behind is blocked.
 
     With a ``footprint`` (and a costmap that is a cost grid) the body itself is placed along the
-    next stretch behind and checked against LETHAL cells; without, the cell one radius plus a
-    margin behind the centre is looked up.
+    next stretch behind and checked against LETHAL cells, and UNKNOWN ones: the robot backs only
+    onto floor it has seen free. The ladder clears the marks around the robot just before this
+    rung; a robot whose lidar sees behind marks them again with the next scan (so the ladder's
+    back-up first stands ``settle`` [s] for one), but one blind behind (a 270° lidar) does not, and
+    without a map the cleared posts behind it were only unknown floor to the check: the
+    delivery robot backed into one (lattice course 61 without a map). Without a footprint, the
+    cell one radius plus a margin behind the centre is looked up.
     """
 
     name = "back up"
@@ -117,8 +122,10 @@ class BackUp:
         robot_radius: float = 0.25,
         timeout: float = 5.0,
         footprint: Footprint | None = None,
+        settle: float = 0.0,
     ) -> None:
         self._costmap = costmap
+        self.settle = settle
         self.distance = distance
         self.speed = speed
         self.robot_radius = robot_radius
@@ -135,6 +142,8 @@ class BackUp:
         if pose.distance_to(self._origin) >= self.distance or now - self._started >= self.timeout:
             return None
         if self.footprint is not None:
+            if now - self._started < self.settle:
+                return Twist()  # the next scan marks again what the clearing forgot
             return None if self._body_blocked(pose) else Twist(-self.speed, 0.0)
         # Look one radius plus a margin behind the footprint's edge before each step back.
         probe = self.robot_radius + 0.1
@@ -156,7 +165,8 @@ class BackUp:
         )
         # Already touching a mark (wedged): back up unless something new is behind.
         poses = np.vstack(([pose.x, pose.y, pose.theta], poses))
-        return body.first_collision(self.footprint, grid, poses, ignore_start=True) is not None
+        return body.first_collision(self.footprint, grid, poses, unknown_is_lethal=True,
+                                    ignore_start=True) is not None
 
 
 class ClearAround:

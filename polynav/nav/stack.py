@@ -12,6 +12,7 @@ import logging
 import math
 from dataclasses import dataclass, field, replace
 
+from polynav.control import regulation
 from polynav.control.progress_checker import ProgressChecker, ProgressCheckerConfig
 from polynav.control.pure_pursuit import PurePursuitConfig, RegulatedPurePursuit
 from polynav.errors import ConfigError
@@ -143,8 +144,14 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
         range_noise=profile.lidar.noise,
     )
     nav = base.navigator
+    # A block's place is looked for as far ahead as the controller stops for an obstacle at
+    # its cruise speed, and half a metre beyond.
+    stopping = regulation.stop_distance(
+        controller.max_linear_velocity, deceleration=controller.linear_deceleration,
+        lookahead_time=controller.collision_lookahead_time, minimum=controller.min_stop_distance)
     navigator = replace(
         nav,
+        passage_look_ahead=max(nav.passage_look_ahead, stopping + 0.5),
         reverse_allowed=nav.reverse_allowed and profile.reverse.allowed,
         recovery_backout_distance=min(nav.recovery_backout_distance,
                                       max(profile.rear_view, BLIND_BACKOUT)),
@@ -180,12 +187,20 @@ class NavigationStack:
         extra = (self._people_layer,) if people.enabled else ()
         self.costmap = Costmap(grid, self.config.costmap, extra_layers=extra)
         self.people = PeopleView()
+        ctl = self.config.controller
+        # Re-plans weigh routes by the time this controller takes over them: full speed with
+        # the room of its clearance pace, its slowest regulated speed at the least.
+        navigator_config = replace(
+            self.config.navigator,
+            route_open_clearance=ctl.max_linear_velocity * ctl.clearance_time,
+            route_least_clearance=ctl.min_regulated_speed * ctl.clearance_time,
+        )
         self.navigator = Navigator(
             self.costmap,
             registry.for_footprint(self.config.body, self.config.planner, self.config.lattice),
             RegulatedPurePursuit(self.config.controller, footprint=self.config.body),
             ProgressChecker(self.config.progress),
-            config=self.config.navigator,
+            config=navigator_config,
             robot_radius=self.config.costmap.robot_radius,
             footprint=self.config.body,
             people=people,

@@ -467,7 +467,10 @@ def test_unknown_cells_and_the_grid_edge_are_not_obstacles() -> None:
     ctrl = RegulatedPurePursuit(RAW)
     ctrl.set_path(polyline((0.0, 0.0), (6.0, 0.0)), Pose2D(6.0, 0.0, 0.0))
     cmd = ctrl.compute(Pose2D(1.0, 0.0, 0.0), Twist(0.6, 0.0), grid, DT)
-    assert cmd.status is ControlStatus.TRACKING and cmd.twist.linear == pytest.approx(0.6)
+    # Not obstacles: the robot drives on, no faster than it can stop on the floor it has
+    # seen (none here: it brakes as fast as it may, towards the creeping speed).
+    assert cmd.status is ControlStatus.SLOWING
+    assert cmd.twist.linear == pytest.approx(0.6 - RAW.linear_deceleration * DT)
 
 
 # -- configuration -------------------------------------------------------------------------------

@@ -7,9 +7,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from polynav.footprint import Footprint
-from polynav.geometry import Pose2D
+from polynav.geometry import Pose2D, Twist
 from polynav.maps.costmap import Costmap, CostmapConfig
 from polynav.maps.map import Map, MapInfo
 from polynav.nav.recoveries import BackUp
@@ -58,3 +59,34 @@ def test_the_body_check_stops_before_a_wall_behind_and_aside() -> None:
                            footprint=Footprint.circle(0.25)))
     assert not _touches_the_wall(checked)
     assert checked.x < 2.0  # it did back up, as far as the wall lets it
+
+
+def _unknown_behind(seen_from: float) -> Costmap:
+    """4 m x 4 m, seen free for x >= ``seen_from`` [m], never seen (unknown) behind that."""
+    data = np.zeros((80, 80), dtype=np.int8)
+    data[:, : round(seen_from / RES)] = -1
+    return Costmap.from_map(Map(MapInfo(resolution=RES, width=80, height=80), data),
+                            CostmapConfig(robot_radius=0.25, track_unknown=True))
+
+
+def test_the_back_up_goes_only_onto_floor_seen_free() -> None:
+    # Cleared marks behind a robot blind behind are unknown floor to the check, not free: the
+    # delivery robot (270 degree lidar) backed into a post after the ladder cleared it.
+    body = Footprint.circle(0.25)
+    blind = _back(BackUp(_unknown_behind(1.6), distance=0.5, speed=0.15, timeout=8.0,
+                         footprint=body))
+    assert blind.x - 0.25 >= 1.6 - 1e-9  # the body stopped at the unseen floor
+    assert blind.x < 2.0  # having backed onto the floor it had seen
+    seen = _back(BackUp(_unknown_behind(0.0), distance=0.2, speed=0.15, timeout=8.0,
+                        footprint=body))
+    assert seen.x == pytest.approx(1.8, abs=0.01)
+
+
+def test_the_ladder_s_back_up_stands_for_a_scan_first() -> None:
+    back_up = BackUp(_room(), distance=0.2, speed=0.15, timeout=8.0,
+                     footprint=Footprint.circle(0.25), settle=0.1)
+    pose = Pose2D(2.0, 2.0, 0.0)
+    back_up.start(pose, 0.0)
+    assert back_up.tick(pose, 0.0) == back_up.tick(pose, 0.05) == Twist()
+    twist = back_up.tick(pose, 0.1)
+    assert twist is not None and twist.linear < 0.0
