@@ -5,7 +5,7 @@ base: polynav A simulates the robot and serves its driver topics (``/odom``, ``/
 is killed and restarted mid-goal: B holds (its clock is A's and stands still), reconnects and
 finishes; A's robot stops meanwhile on its own command timeout.
 
-A runs its loop at 4x; B follows A's ``/clock``, so the outcome does not depend on the
+A runs its loop at 3x; B follows A's ``/clock``, so the outcome does not depend on the
 machine's speed (a slower machine only makes it take longer)."""
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ class RobotA:
     def __init__(self, world: World, data: Path) -> None:
         self.store = SiteStore.open(data, seed_world=world)
         self.runtime = RobotRuntime.simulated(self.store, world,
-                                              config=RuntimeConfig(people=False, speed=4.0))
+                                              config=RuntimeConfig(people=False, speed=3.0))
         self.graph = Graph()
         self.detach = add_robot_topics(self.graph, self.runtime)
         self.server: RosbridgeThread | None = RosbridgeThread(
@@ -98,6 +98,7 @@ def test_polynav_drives_a_bridged_robot_to_five_points_through_a_server_restart(
                 if name == RESTART_AT:
                     under_way = b.now() + 2.0
                     assert _wait(lambda t=under_way: b.now() > t, 30.0)
+                    connects = backend.client.connects
                     robot_a.kill_server()
                     assert _wait(lambda: not backend.connected, 10.0)
                     held = b.now()
@@ -106,7 +107,7 @@ def test_polynav_drives_a_bridged_robot_to_five_points_through_a_server_restart(
                     assert b.status().navigation_state == "running"
                     robot_a.restart_server()
                     assert _wait(lambda: backend.connected, 15.0)
-                    assert backend.client.connects == 2
+                    assert backend.client.connects > connects
                 assert _wait(lambda: b.status().navigation_state != "running",
                              GOAL_WALL_TIMEOUT), name
                 status = b.status()
