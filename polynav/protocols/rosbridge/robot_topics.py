@@ -304,6 +304,8 @@ class MapStream:
         changed = situation != self._situation
         self._situation = situation
         if live:
+            if changed:  # mapping began: the first map now, the next a period on
+                self._live.due = now + LIVE_MAP_PERIOD
             if (self._live.times(now) or changed) and self._graph.wanted(MAP.name):
                 self._ask(True, now)
         elif self._check.times(now) or changed:
