@@ -114,7 +114,7 @@ def laser_scan(seq: int, scan: LaserScan, frame_id: str = "laser",
         "scan_time": float(scan_time),
         "range_min": float(scan.range_min),
         "range_max": float(scan.range_max),
-        "ranges": np.round(ranges, 4).tolist(),
+        "ranges": [round(float(r), 4) for r in ranges],
         "intensities": [],
     }
 
