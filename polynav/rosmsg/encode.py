@@ -30,26 +30,38 @@ def time(seconds: float) -> dict[str, int]:
     return {"secs": secs, "nsecs": min(999_999_999, int(round((seconds - secs) * 1e9)))}
 
 
+#: A header's stamp is a ROS ``time`` of the runtime's clock: ``stamp(t)`` -> ``{secs, nsecs}``.
+stamp = time
+
+
 def header(seq: int, stamp: float, frame_id: str) -> Message:
     """``std_msgs/Header``."""
     return {"seq": seq, "stamp": time(stamp), "frame_id": frame_id}
 
 
 def vector3(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Message:
+    """``geometry_msgs/Vector3``."""
     return {"x": float(x), "y": float(y), "z": float(z)}
 
 
+def point(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> Message:
+    """``geometry_msgs/Point`` (the same fields as a Vector3; a position, not a direction)."""
+    return vector3(x, y, z)
+
+
 def quaternion(yaw: float) -> Message:
+    """``geometry_msgs/Quaternion`` of a rotation by ``yaw`` [rad] about +z."""
     x, y, z, w = yaw_to_quaternion(yaw)
     return {"x": x, "y": y, "z": z, "w": w}
 
 
 def pose(p: Pose2D) -> Message:
     """``geometry_msgs/Pose`` of a planar pose."""
-    return {"position": vector3(p.x, p.y), "orientation": quaternion(p.theta)}
+    return {"position": point(p.x, p.y), "orientation": quaternion(p.theta)}
 
 
 def pose_stamped(seq: int, stamp: float, frame_id: str, p: Pose2D) -> Message:
+    """``geometry_msgs/PoseStamped``."""
     return {"header": header(seq, stamp, frame_id), "pose": pose(p)}
 
 
@@ -58,15 +70,32 @@ def twist(t: Twist) -> Message:
     return {"linear": vector3(t.linear), "angular": vector3(z=t.angular)}
 
 
+def covariance(values: Sequence[float] | None, size: int) -> list[float]:
+    """A row-major ``size`` x ``size`` covariance (zeros when not given: ROS's "unknown").
+
+    Raises:
+        ValueError: ``values`` has not ``size * size`` elements.
+    """
+    if values is None:
+        return [0.0] * (size * size)
+    if len(values) != size * size:
+        raise ValueError(f"a {size}x{size} covariance has {size * size} values, "
+                         f"got {len(values)}")
+    return [float(v) for v in values]
+
+
 def odometry(seq: int, reading: Odometry, frame_id: str = "odom",
-             child_frame_id: str = "base_link", pose_override: Pose2D | None = None) -> Message:
-    """``nav_msgs/Odometry`` (covariances not estimated: zeros)."""
-    zeros = [0.0] * 36
+             child_frame_id: str = "base_link", pose_override: Pose2D | None = None,
+             pose_covariance: Sequence[float] | None = None,
+             twist_covariance: Sequence[float] | None = None) -> Message:
+    """``nav_msgs/Odometry``: the pose (``pose_override`` instead of the reading's, for a
+    pose carried to the stamp) and the body velocity, each with its 6x6 covariance."""
     return {
         "header": header(seq, reading.stamp, frame_id),
         "child_frame_id": child_frame_id,
-        "pose": {"pose": pose(pose_override or reading.pose), "covariance": zeros},
-        "twist": {"twist": twist(reading.twist), "covariance": list(zeros)},
+        "pose": {"pose": pose(pose_override or reading.pose),
+                 "covariance": covariance(pose_covariance, 6)},
+        "twist": {"twist": twist(reading.twist), "covariance": covariance(twist_covariance, 6)},
     }
 
 
@@ -91,17 +120,20 @@ def laser_scan(seq: int, scan: LaserScan, frame_id: str = "laser",
 
 
 def imu(seq: int, reading: ImuReading, frame_id: str = "imu_link",
-        yaw: float | None = None) -> Message:
-    """``sensor_msgs/Imu`` of a planar IMU: orientation from the integrated yaw, yaw rate,
-    forward acceleration."""
+        yaw: float | None = None, orientation_covariance: Sequence[float] | None = None,
+        angular_velocity_covariance: Sequence[float] | None = None,
+        linear_acceleration_covariance: Sequence[float] | None = None) -> Message:
+    """``sensor_msgs/Imu`` of a planar IMU: orientation from the integrated yaw (``yaw``
+    instead, for a yaw carried to the stamp), yaw rate, forward acceleration, each with its
+    3x3 covariance."""
     return {
         "header": header(seq, reading.stamp, frame_id),
         "orientation": quaternion(reading.yaw if yaw is None else yaw),
-        "orientation_covariance": [0.0] * 9,
+        "orientation_covariance": covariance(orientation_covariance, 3),
         "angular_velocity": vector3(z=reading.angular_velocity),
-        "angular_velocity_covariance": [0.0] * 9,
+        "angular_velocity_covariance": covariance(angular_velocity_covariance, 3),
         "linear_acceleration": vector3(reading.linear_acceleration),
-        "linear_acceleration_covariance": [0.0] * 9,
+        "linear_acceleration_covariance": covariance(linear_acceleration_covariance, 3),
     }
 
 
@@ -177,3 +209,8 @@ def int16(value: int) -> Message:
 def string(value: str) -> Message:
     """``std_msgs/String``."""
     return {"data": value}
+
+
+def trigger_response(success: bool, message: str = "") -> Message:
+    """The response of ``std_srvs/Trigger``."""
+    return {"success": bool(success), "message": message}

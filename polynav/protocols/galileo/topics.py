@@ -25,7 +25,6 @@ robot sends nothing.
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -34,7 +33,7 @@ from polynav.errors import InvalidRequest, PolynavError
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.status import galileo_status
 from polynav.robot.devices import AirReading, EnvReading
-from polynav.rosmsg import encode
+from polynav.rosmsg import decode, encode
 
 log = logging.getLogger(__name__)
 
@@ -59,12 +58,6 @@ class Topic:
     render: Render | None = None
     changed: Callable[[Context], object] | None = None
     publish: Callable[[Context, Any], None] | None = None
-
-
-
-
-
-
 
 
 def _status(ctx: Context, seq: int) -> dict[str, Any]:
@@ -138,18 +131,11 @@ def _air(ctx: Context, seq: int) -> dict[str, Any]:
 
 def _cmd_vel(ctx: Context, message: Any) -> None:
     """A ``geometry_msgs/Twist``: ``linear.x`` [m/s] and ``angular.z`` [rad/s] drive."""
-    if not isinstance(message, dict):
-        raise InvalidRequest("cmd_vel", "a Twist is a JSON object")
-    linear, angular = message.get("linear"), message.get("angular")
-    if not isinstance(linear, dict) or not isinstance(angular, dict):
-        raise InvalidRequest("cmd_vel", "a Twist has 'linear' and 'angular' objects")
-    vx, wz = linear.get("x", 0.0), angular.get("z", 0.0)
-    for name, value in (("linear.x", vx), ("angular.z", wz)):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(
-            value
-        ):
-            raise InvalidRequest(f"cmd_vel.{name}", f"must be a finite number, got {value!r}")
-    ctx.runtime.teleop(float(vx), float(wz))
+    try:
+        twist = decode.twist(message)
+    except ValueError as exc:
+        raise InvalidRequest("cmd_vel", str(exc)) from None
+    ctx.runtime.teleop(twist.linear, twist.angular)
 
 
 TOPICS: dict[str, Topic] = {
