@@ -18,9 +18,7 @@ from polynav.errors import PolynavError
 from polynav.maps.keepout import CircleZone, ForbiddenZone, GuidedZone, Keepout, VirtualWall
 from polynav.protocols.ros_graph import Graph, Message, RosError, Service
 from polynav.protocols.rosbridge.androidmsg import ids
-from polynav.protocols.rosbridge.androidmsg.status import VIRTUAL_MAP, WALL_UPDATE, StatusTopics
-from polynav.protocols.site_store import site_store
-from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.protocols.rosbridge.androidmsg.status import VIRTUAL_MAP, WALL_UPDATE, Entries
 from polynav.site import Point, PointKind
 
 #: /point_set point_mode -> the kind of point it adds (§3.10).
@@ -34,14 +32,8 @@ DELETED, IN_USE = 0, 4
 DEFAULT_LANE_WIDTH = 1.2
 
 
-class Editing:
+class Editing(Entries):
     """The map-editing entries over one runtime."""
-
-    def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
-        self._runtime = runtime
-        self._status = status
-        self._store = site_store(runtime)
-        self._site = ids.Site(self._store)
 
     def declare(self, graph: Graph) -> None:
         graph.add_service(Service("/set_shape", "map_msgs/SetShape", self.set_shape))

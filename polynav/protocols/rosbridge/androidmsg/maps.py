@@ -27,10 +27,8 @@ from polynav.protocols.rosbridge.androidmsg import ids
 from polynav.protocols.rosbridge.androidmsg.status import (
     MAP_LOAD,
     WALL_UPDATE,
-    StatusTopics,
+    Entries,
 )
-from polynav.protocols.site_store import site_store
-from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
 from polynav.store.records import FloorRecord
 
@@ -43,14 +41,8 @@ MAX_PICTURE = 16 * 1024 * 1024
 _SYSTEM = {PointKind.INITIAL: "initial", PointKind.CHARGER: "charge"}
 
 
-class Maps:
+class Maps(Entries):
     """The floor and map entries over one runtime."""
-
-    def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
-        self._runtime = runtime
-        self._status = status
-        self._store = site_store(runtime)
-        self._site = ids.Site(self._store)
 
     def declare(self, graph: Graph) -> None:
         for name, kind, call in (

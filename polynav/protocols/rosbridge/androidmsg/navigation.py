@@ -22,23 +22,16 @@ from polynav.protocols.rosbridge.androidmsg.status import (
     NO_POINT,
     PLAN_FOUND,
     PLAN_NOT_FOUND,
-    StatusTopics,
+    Entries,
 )
-from polynav.protocols.site_store import site_store
-from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.site import Point, PointKind
 
 #: /set_navi_cmd commands (§3.17): forward, backward, turn left, turn right, stop.
 FORWARD, BACKWARD, LEFT, RIGHT, STOP = "1", "2", "3", "4", "5"
 
 
-class Navigation:
+class Navigation(Entries):
     """The goal and motion entries over one runtime."""
-
-    def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
-        self._runtime = runtime
-        self._status = status
-        self._site = ids.Site(site_store(runtime))
 
     def declare(self, graph: Graph) -> None:
         graph.add_subscription(Subscription("/navi_targetgoal", "map_msgs/TargetGoal",

@@ -20,6 +20,8 @@ import threading
 
 from polynav.nav.attempt import FailureReason
 from polynav.protocols.ros_graph import Graph, Topic
+from polynav.protocols.rosbridge.androidmsg import ids
+from polynav.protocols.site_store import site_store
 from polynav.rosmsg import encode
 from polynav.runtime import events
 from polynav.runtime.robot_runtime import RobotRuntime
@@ -144,3 +146,14 @@ class StatusTopics:
             self.code(CHARGE, CHARGE_FAILED)
         elif isinstance(event, events.ModeChanged) and event.new == "navigating":
             self.code(MAP_LOAD, 60)
+
+
+class Entries:
+    """What every group of entries works on: the runtime, its site store read through the
+    interface's ids, and the status topics it reports on."""
+
+    def __init__(self, runtime: RobotRuntime, status: StatusTopics) -> None:
+        self._runtime = runtime
+        self._status = status
+        self._store = site_store(runtime)
+        self._site = ids.Site(self._store)

@@ -36,6 +36,11 @@ class Robot:
         self.seen: dict[str, list[Any]] = {}
         self._ids = 0
 
+    def start_navigation(self) -> None:
+        """Navigating on floor1 from its initial point, localized."""
+        self.runtime.start_navigation("floor1", point="initial")
+        self.runtime.advance(1.0)
+
     def call(self, service: str, args: dict[str, Any] | None = None) -> dict[str, Any]:
         """A call that must succeed: its values."""
         reply = self._call(service, args if args is not None else {})

@@ -18,17 +18,13 @@ COVERED = {
 }
 
 
-def _start(robot: Robot) -> None:
-    robot.runtime.start_navigation("floor1", point="initial")
-    robot.runtime.advance(1.0)
-
 
 def _p(x: float, y: float) -> dict[str, float]:
     return {"x": x, "y": y, "z": 0.0}
 
 
 def test_set_shape_adds_and_deletes_walls_on_the_running_costmap(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     robot.subscribe("/androidmsg_virtualmapstatus")
     wall = {"type": "lines", "points": [_p(6.0, 10.0), _p(7.0, 10.0)], "closed": False}
     assert robot.call("/set_shape", wall) == {"success": True}
@@ -57,7 +53,7 @@ def test_set_shape_adds_and_deletes_walls_on_the_running_costmap(robot: Robot) -
 
 
 def test_set_region_makes_the_robot_cross_along_its_route(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     # A band across the lobby's approach, crossed only along a lane at x = 9.4 (radius 0.6).
     region = {"type": "lines", "closed": True, "radius": 0.6,
               "points": [_p(2.0, 10.0), _p(10.0, 10.0), _p(10.0, 11.0), _p(2.0, 11.0)],
@@ -92,7 +88,7 @@ def test_set_region_makes_the_robot_cross_along_its_route(robot: Robot) -> None:
 def test_point_set_records_the_robots_pose(robot: Robot) -> None:
     assert robot.call("/point_set", {"point_mode": 0, "point_name": "here",
                                      "point_id": 0}) == {"result": 1}  # no map yet
-    _start(robot)
+    robot.start_navigation()
     assert robot.call("/point_set", {"point_mode": 0, "point_name": "here",
                                      "point_id": 0}) == {"result": 0}
     point = robot.store.point("floor1", "here")

@@ -18,10 +18,6 @@ COVERED = {
 }
 
 
-def _start(robot: Robot) -> None:
-    robot.runtime.start_navigation("floor1", point="initial")
-    robot.runtime.advance(1.0)
-
 
 def test_navi_targetgoal_drives_to_the_point_and_reports_arrival(robot: Robot) -> None:
     robot.subscribe("/androidmsg_navigationstatus")
@@ -41,7 +37,7 @@ def test_navi_targetgoal_drives_to_the_point_and_reports_arrival(robot: Robot) -
 
 
 def test_navi_stop_stops_and_reports_seven(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     robot.subscribe("/androidmsg_navigationstatus")
     robot.publish("/navi_targetgoal", robot.ids_of("floor1", "office_3"))
     robot.codes("/androidmsg_navigationstatus", lambda c: 1 in c)
@@ -55,7 +51,7 @@ def test_navi_stop_stops_and_reports_seven(robot: Robot) -> None:
 
 
 def test_autocharge_docks_on_the_charger(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     robot.subscribe("/androidmsg_chargestatus")
     robot.publish("/autocharge", {"data": 1})
     codes = robot.codes("/androidmsg_chargestatus", lambda c: 45 in c
@@ -66,7 +62,7 @@ def test_autocharge_docks_on_the_charger(robot: Robot) -> None:
 
 
 def test_autocharge_without_a_charger_is_code_52(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     charger = robot.store.point("floor1", "charger")
     robot.store.delete_point("floor1", charger.name)
     robot.subscribe("/androidmsg_navigationstatus")
@@ -76,7 +72,7 @@ def test_autocharge_without_a_charger_is_code_52(robot: Robot) -> None:
 
 
 def test_navi_targetgoalplan_computes_the_distance_or_goes(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     robot.subscribe("/androidmsg_navigationstatus")
     target = robot.ids_of("floor1", "front_desk")
     values = robot.call("/navi_targetgoalplan", {"type": 1, **target})
@@ -97,14 +93,14 @@ def test_navi_targetgoalplan_computes_the_distance_or_goes(robot: Robot) -> None
 
 
 def test_get_position_is_the_robots_pose(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     values = robot.call("/get_position")
     pose = robot.runtime.status().pose
     assert values == {"pose": {"x": pose.x, "y": pose.y, "z": 0.0}}
 
 
 def test_set_navi_cmd_moves_in_cm_and_degrees(robot: Robot) -> None:
-    _start(robot)
+    robot.start_navigation()
     start = robot.runtime.simulation.true_pose
     robot.call("/set_navi_cmd", {"cmd": "1", "distance": 50})
     assert robot.wait(lambda: not robot.runtime.local_move_active, 30)
