@@ -353,9 +353,10 @@ def test_every_stream_over_the_wire(runtime: RobotRuntime) -> None:
                 got[frame["topic"]].append(frame["msg"])  # the latched ones come at once
             runtime.advance(1.0)
             deadline = time.monotonic() + 15.0
-            # A second's worth (less a margin for where the second's edges fall).
-            wanted = {"/tracked_pose": 13, "/imu/data": 140, "/raw_odom": 90, "/scan": 13,
-                      "/odom": 45, "/imu": 45, "/tf": 45, "/battery_state": 1, "/clock": 45,
+            # Enough of each to check (the rates are checked on the graph: here a burst of a
+            # simulated second may meet the server's bounded queue of 100 on a loaded machine).
+            wanted = {"/tracked_pose": 10, "/imu/data": 50, "/raw_odom": 50, "/scan": 10,
+                      "/odom": 30, "/imu": 30, "/tf": 30, "/battery_state": 1, "/clock": 30,
                       "/map": 1, "/tf_static": 1}
             while any(len(got[n]) < k for n, k in wanted.items()):
                 try:

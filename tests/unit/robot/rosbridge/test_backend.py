@@ -95,7 +95,8 @@ def test_readings_are_decoded_and_cmd_vel_is_published(peer: RosbridgePeer,
                       "rotation": {"x": 0, "y": 0, "z": 0, "w": 1}}}]})
     robot = backend.robot
     assert until(lambda: robot.read_scan() is not None and robot.read_imu() is not None
-                 and robot.read_battery().percent > 40 and robot.read_odometry().pose.x == 2.0)
+                 and abs(robot.read_battery().percent - 42.0) < 1e-6
+                 and robot.read_odometry().pose.x == 2.0)
     reading = robot.read_odometry()
     assert reading.stamp == pytest.approx(30.5)
     assert reading.pose.theta == pytest.approx(0.5) and reading.twist.linear == 0.3
