@@ -147,15 +147,6 @@ class Editing(Entries):
         self._store.delete_point(point.map_name, point.name)
         return {"result": DELETED}
 
-    def _map_in_use(self) -> str:
-        snap = self._runtime.status()
-        if snap.map is not None:
-            return snap.map
-        for floor in self._site.floors():
-            if floor.name == snap.floor:
-                return floor.map_name
-        raise RosError("no map is in use")
-
 
 def _points(args: Message, key: str, *, least: int) -> list[tuple[float, float]]:
     raw = args.get(key, [])

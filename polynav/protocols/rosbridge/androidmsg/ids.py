@@ -71,6 +71,9 @@ class Site:
     def floors(self) -> list[FloorRecord]:
         return sorted(self.store.floors(), key=lambda f: (f.level, f.name))
 
+    def floor_named(self, name: str | None) -> FloorRecord | None:
+        return next((f for f in self.floors() if f.name == name), None)
+
     def floor_by_id(self, floor_id: int) -> FloorRecord:
         for floor in self.floors():
             if floor.level == floor_id:

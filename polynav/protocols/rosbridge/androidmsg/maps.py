@@ -60,8 +60,7 @@ class Maps(Entries):
 
     def get_maps(self, args: Message) -> Message:
         snap = self._runtime.status()
-        here = self._site.floor_of_map(snap.map) or next(
-            (f for f in self._site.floors() if f.name == snap.floor), None)
+        here = self._site.floor_of_map(snap.map) or self._site.floor_named(snap.floor)
         floors = [self._floor(f) for f in self._site.floors()]
         body = {"defaultFloor": here.level if here else 0, "floors": floors}
         return {"success": True, "message": json.dumps(body, ensure_ascii=False)}
@@ -148,7 +147,7 @@ class Maps(Entries):
         name = ids.text(args, "map_name")
         if kind == 0:
             snap = self._runtime.status()
-            floor = next((f for f in self._site.floors() if f.name == snap.floor), None)
+            floor = self._site.floor_named(snap.floor)
             if floor is None:
                 raise RosError(f"the robot's floor {snap.floor!r} is not a floor of the site")
             return floor, name
@@ -156,7 +155,7 @@ class Maps(Entries):
             return self._site.floor_by_id(ids.number(args, "floor_id")), name
         if kind == 2:
             floor_name = ids.text(args, "floor_name")
-            if any(f.name == floor_name for f in self._site.floors()):
+            if self._site.floor_named(floor_name) is not None:
                 raise RosError(f"floor {floor_name!r} exists: save with type 1 and its floor_id")
             level = max((f.level for f in self._site.floors()), default=0) + 1
             return FloorRecord(floor_name, level, name), name
@@ -165,7 +164,7 @@ class Maps(Entries):
 
     def _file(self, name: str, floor: FloorRecord) -> None:
         """Put map ``name`` on ``floor`` (a new floor is made with it as its map)."""
-        if any(f.name == floor.name for f in self._site.floors()):
+        if self._site.floor_named(floor.name) is not None:
             self._store.save_map(name, self._store.load_map(name), floor=floor.name)
         else:
             self._store.save_floor(floor)

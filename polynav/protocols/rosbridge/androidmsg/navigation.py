@@ -63,7 +63,7 @@ class Navigation(Entries):
     def autocharge(self, msg: Message) -> None:
         if ids.number(msg, "data") != 1:
             raise RosError("/autocharge: 'data' must be 1 (auto-charge)")
-        map_name = self._current_map()
+        map_name = self._map_in_use()
         chargers = [p for p in self._site.store.points(map_name=map_name)
                     if p.kind is PointKind.CHARGER]
         if not chargers:
@@ -82,7 +82,10 @@ class Navigation(Entries):
         point = self._target(args)
         runtime = self._runtime
         snap = runtime.status()
-        here_map = snap.map or self._floor_map(snap.floor)
+        try:
+            here_map: str | None = self._map_in_use()
+        except RosError:
+            here_map = None
         here_floor = self._site.floor_of_map(here_map)
         target_floor = self._site.floor_of_map(point.map_name)
         distance, status = -1.0, 0
@@ -147,24 +150,11 @@ class Navigation(Entries):
             self._status.code(NAVIGATION, NO_POINT)
             raise
 
-    def _floor_map(self, floor: str | None) -> str | None:
-        for record in self._site.floors():
-            if record.name == floor:
-                return record.map_name
-        return None
-
-    def _current_map(self) -> str:
-        snap = self._runtime.status()
-        name = snap.map or self._floor_map(snap.floor)
-        if name is None:
-            raise RosError("the robot is on no map of the site")
-        return name
-
     def _go(self, map_name: str, point: str) -> int:
         runtime = self._runtime
         try:
             if runtime.status().mode != "navigating":
-                runtime.start_navigation(self._current_map())
+                runtime.start_navigation(self._map_in_use())
             return runtime.go_to(point=point, map_name=map_name)
         except PolynavError as exc:
             raise RosError(str(exc)) from None

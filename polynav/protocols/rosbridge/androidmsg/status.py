@@ -19,7 +19,7 @@ from __future__ import annotations
 import threading
 
 from polynav.nav.attempt import FailureReason
-from polynav.protocols.ros_graph import Graph, Topic
+from polynav.protocols.ros_graph import Graph, RosError, Topic
 from polynav.protocols.rosbridge.androidmsg import ids
 from polynav.protocols.site_store import site_store
 from polynav.rosmsg import encode
@@ -157,3 +157,17 @@ class Entries:
         self._status = status
         self._store = site_store(runtime)
         self._site = ids.Site(self._store)
+
+    def _map_in_use(self) -> str:
+        """The map navigated on, else the map of the robot's floor.
+
+        Raises:
+            RosError: the robot is on no map of the site.
+        """
+        snap = self._runtime.status()
+        if snap.map is not None:
+            return snap.map
+        floor = self._site.floor_named(snap.floor)
+        if floor is None:
+            raise RosError("the robot is on no map of the site")
+        return floor.map_name
