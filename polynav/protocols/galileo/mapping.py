@@ -49,6 +49,12 @@ def _state(ctx: Context) -> MappingState:
     return ctx.state("mapping", MappingState)
 
 
+def saving_name(ctx: Context) -> str:
+    """The name the map being built is saved under: the last name it was saved as, else
+    ``slamdb``."""
+    return _state(ctx).saved_as or WORKING_MAP
+
+
 def _track(ctx: Context) -> tuple[tuple[float, float, float], ...]:
     return tuple((p.x, p.y, 0.0) for p in ctx.runtime.mapping_trajectory())
 
@@ -67,7 +73,7 @@ def map_start(ctx: Context, params: Params) -> Reply:
 def map_stop(ctx: Context, params: Params) -> Reply:
     """E2: save (under the last saved name, else ``slamdb``) and stop."""
     state = _state(ctx)
-    name = state.saved_as or WORKING_MAP
+    name = saving_name(ctx)
     track = _track(ctx)
     ctx.runtime.stop_mapping(name, overwrite=True)
     meta = state.meta or metas(ctx).get(name)

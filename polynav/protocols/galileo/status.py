@@ -27,7 +27,7 @@ import logging
 import math
 from typing import Any
 
-from polynav.errors import PolynavError
+from polynav.errors import NotFound, PolynavError
 from polynav.protocols.galileo import task_objects as objects
 from polynav.protocols.galileo.context import TARGET_WITHOUT_ID, Context, Target
 from polynav.protocols.galileo.endpoint import Reply, RouteList
@@ -42,6 +42,7 @@ from polynav.protocols.galileo.messages import (
     TargetStatus,
     VisualStatus,
 )
+from polynav.protocols.galileo.native.marks import marks
 from polynav.protocols.galileo.params import Params
 from polynav.runtime.status import StatusSnapshot
 
@@ -76,6 +77,14 @@ _TARGET = {
     "succeeded": (TargetStatus.FREE, AngleGoalStatus.DONE),
     "failed": (TargetStatus.ERROR, AngleGoalStatus.ERROR),
     "canceled": (TargetStatus.FREE, AngleGoalStatus.INVALID),
+}
+
+
+# an angle command's task state -> angleGoalStatus
+_ANGLE = {
+    "WAITTING": AngleGoalStatus.NOT_DONE, "WORKING": AngleGoalStatus.NOT_DONE,
+    "PAUSED": AngleGoalStatus.NOT_DONE, "COMPLETE": AngleGoalStatus.DONE,
+    "CANCELLED": AngleGoalStatus.INVALID,
 }
 
 
@@ -162,6 +171,7 @@ def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict
         "power": pack_voltage(ctx),
     }
     body.update(target_fields(snap, target))
+    _native_marks(ctx, snap, body)
     body.update({
         "controlSpeedX": float(snap.linear),
         "controlSpeedTheta": float(snap.angular),
@@ -173,6 +183,26 @@ def galileo_status(ctx: Context, snapshot: StatusSnapshot | None = None) -> dict
         "busyStatus": 1 if snap.mode == "busy" else 0,
     })
     return body
+
+
+def _native_marks(ctx: Context, snap: StatusSnapshot, body: dict[str, Any]) -> None:
+    """What the native commands add (:mod:`.native.marks`): a ``g n`` to no goal reads as
+    error 3 until a newer goal starts; an angle command reports in ``angleGoalStatus``."""
+    mark = marks(ctx)
+    bad = mark.bad_goal_now(snap.attempt_id)
+    if bad is not None:
+        body.update({"targetNumID": bad, "targetStatus": int(TargetStatus.ERROR),
+                     "targetDistance": -1.0, "angleGoalStatus": int(AngleGoalStatus.INVALID)})
+        return
+    with mark.lock:
+        angle_task = mark.angle_task
+    if angle_task is None:
+        return
+    try:
+        state = ctx.runtime.tasks.get(angle_task)["state"]
+    except NotFound:
+        return
+    body["angleGoalStatus"] = int(_ANGLE.get(state, AngleGoalStatus.ERROR))
 
 
 def looping(ctx: Context) -> bool:

@@ -17,7 +17,8 @@ topic                               message                               rate [
 ``/bw_env_sensors/AirSensorData``   air sensor reading                    1
 ==================================  ====================================  ==================
 
-``/cmd_vel`` takes ``geometry_msgs/Twist`` messages from the client (teleop; 6.2.1+). Times
+``/cmd_vel`` takes ``geometry_msgs/Twist`` messages from the client (teleop; 6.2.1+),
+``/galileo/cmds`` ``GalileoNativeCmds`` (one native command, galileo-wire-protocols §2.2). Times
 are the runtime's clock (simulated time in simulation). A topic whose source is missing on this
 robot sends nothing.
 """
@@ -31,6 +32,8 @@ from typing import Any
 
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.native.control import native_control
+from polynav.protocols.galileo.native.ros_message import decode_native_cmds
 from polynav.protocols.galileo.status import galileo_status
 from polynav.robot.devices import AirReading, EnvReading
 from polynav.rosmsg import decode, encode
@@ -129,6 +132,15 @@ def _air(ctx: Context, seq: int) -> dict[str, Any]:
     return air_message(ctx.runtime.peripherals.environment()[1])
 
 
+def _native_cmds(ctx: Context, message: Any) -> None:
+    """A ``GalileoNativeCmds``: one native command (galileo-wire-protocols §2.2)."""
+    try:
+        payload = decode_native_cmds(message)
+    except ValueError as exc:
+        raise InvalidRequest("/galileo/cmds", str(exc)) from None
+    native_control(ctx).apply(payload)
+
+
 def _cmd_vel(ctx: Context, message: Any) -> None:
     """A ``geometry_msgs/Twist``: ``linear.x`` [m/s] and ``angular.z`` [rad/s] drive."""
     try:
@@ -147,6 +159,7 @@ TOPICS: dict[str, Topic] = {
         Topic("/tracked_pose", 10.0, _tracked_pose),
         Topic("/map", 0.0, _map, changed=_map_key),
         Topic("/cmd_vel", 0.0, publish=_cmd_vel),
+        Topic("/galileo/cmds", 0.0, publish=_native_cmds),
         Topic("/bw_env_sensors/EnvSensorData", 1.0, _env),
         Topic("/bw_env_sensors/AirSensorData", 1.0, _air),
     )
