@@ -19,6 +19,7 @@ SPEC_FILES = {
     "galileo-http-a": DATA / "spec" / "galileo-http-a.endpoints.json",
     "galileo-http-b": DATA / "spec" / "galileo-http-b.endpoints.json",
     "galileo-tasks-bt-ws": DATA / "spec" / "galileo-tasks-bt-ws.endpoints.json",
+    "galileo-wire-protocols": DATA / "spec" / "galileo-wire-protocols.endpoints.json",
 }
 
 
@@ -46,4 +47,24 @@ HTTP_B = keyed(_load(SPEC_FILES["galileo-http-b"]))
 WS = keyed([e for e in _load(SPEC_FILES["galileo-tasks-bt-ws"]) if e["group"] == "ws"])
 #: The task, action and automation-task endpoints (the tasks issue's).
 TASKS = keyed([e for e in _load(SPEC_FILES["galileo-tasks-bt-ws"]) if e["group"] != "ws"])
-ALL = {**HTTP_A, **HTTP_B, **WS, **TASKS}
+
+
+def wire_keyed(protocol: str) -> dict[str, dict[str, Any]]:
+    """The galileo-wire-protocols entries of ``protocol`` (``galileo-serial``, ...), keyed
+    ``"<protocol> <method> <path>"`` (``"galileo-modbus register 40008"``)."""
+    out: dict[str, dict[str, Any]] = {}
+    for e in _load(SPEC_FILES["galileo-wire-protocols"]):
+        if e["protocol"] == protocol:
+            key = f"{e['protocol']} {e['method']} {e['path']}"
+            assert key not in out, key
+            out[key] = e
+    return out
+
+
+SERIAL = wire_keyed("galileo-serial")
+ROS = wire_keyed("galileo-ros")
+MODBUS = wire_keyed("galileo-modbus")
+UDP = wire_keyed("galileo-udp")
+SDK = wire_keyed("galileo-sdk")
+WIRE = {**SERIAL, **ROS, **MODBUS, **UDP, **SDK}
+ALL = {**HTTP_A, **HTTP_B, **WS, **TASKS, **WIRE}

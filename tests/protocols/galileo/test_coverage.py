@@ -30,7 +30,15 @@ TODO_WS: set[str] = set()
 # Task entries without a test yet (issue 32): none left.
 TODO_TASKS: set[str] = set()
 
-TODO = TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS
+# galileo-wire-protocols entries without a test yet (issue 35), one set per owner: serial and
+# ROS (the lead), Modbus (gw-modbus), UDP (gw-udp), SDK (the SDK client).
+TODO_SERIAL: set[str] = set(spec.SERIAL) | set(spec.ROS)
+TODO_MODBUS: set[str] = set(spec.MODBUS)
+TODO_UDP: set[str] = set(spec.UDP)
+TODO_SDK: set[str] = set(spec.SDK)
+
+TODO = (TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS | TODO_SERIAL | TODO_MODBUS | TODO_UDP
+        | TODO_SDK)
 
 
 COVERED = covered_entries(package)
@@ -52,6 +60,10 @@ def test_the_todo_blocks_hold_their_own_lists_entries() -> None:
     assert TODO_HTTP_B <= set(spec.HTTP_B)
     assert TODO_WS <= set(spec.WS)
     assert TODO_TASKS <= set(spec.TASKS)
+    assert TODO_SERIAL <= set(spec.SERIAL) | set(spec.ROS)
+    assert TODO_MODBUS <= set(spec.MODBUS)
+    assert TODO_UDP <= set(spec.UDP)
+    assert TODO_SDK <= set(spec.SDK)
 
 
 def test_every_covered_http_entry_is_served() -> None:
