@@ -175,6 +175,7 @@ class NativeControl:
         show ``targetStatus`` 3 when there is no such goal."""
         if not self._navigating() or not self._localized():
             return _ignored("the visual system is not initialised (navigation not started)")
+        sessions.require_goals_allowed(self._ctx)  # not in dispatch mode
         if self._target_status() in (TargetStatus.WORKING, TargetStatus.PAUSED):
             self._ctx.runtime.cancel()
         map_name, path = self._map_and_path()
@@ -280,6 +281,7 @@ class NativeControl:
         if self._target_status() not in (TargetStatus.FREE, TargetStatus.ERROR,
                                          TargetStatus.INVALID):
             return _ignored("a goal is working or paused")
+        sessions.require_goals_allowed(self._ctx)
         turn = wrap_angle(math.radians(degrees) - self._ctx.runtime.status().pose.theta)
         action = {"type": "local_move_action", "angle": turn, "distance": 0.0, "method": 0}
         task = objects.run(self._ctx, ANGLE_TASK, [action], kind=objects.NAVIGATION)

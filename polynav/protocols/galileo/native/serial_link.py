@@ -35,8 +35,8 @@ log = logging.getLogger(__name__)
 BAUD = 115200
 #: Status frames per second of the runtime's clock (§1.3).
 STATUS_RATE = 30.0
-#: Status frames waiting for the writer; older ones are dropped first.
-_QUEUE = 8
+#: Status frames waiting for the writer (2 s of them); older ones are dropped first.
+_QUEUE = 64
 _READ_WAIT = 0.1  # [s] a read returns at least this often, so stop() is prompt
 _EPS = 1e-9
 
@@ -130,7 +130,7 @@ class SerialLink:
         self._threads: list[threading.Thread] = []
         self._detach: Callable[[], None] | None = None
         self._time_stamp = 0
-        self.commands = 0  # command frames received
+        self.commands = 0  # command frames received and run
 
     @property
     def path(self) -> str:
@@ -206,5 +206,5 @@ class SerialLink:
                 self._stopping.wait(_READ_WAIT)
                 continue
             for payload in self._reader.feed(data):
-                self.commands += 1
                 control.apply(payload)
+                self.commands += 1
