@@ -172,6 +172,8 @@ def _run(args: argparse.Namespace) -> int:
             except DialectStartError as exc:
                 print(f"polynav run: {exc}", file=sys.stderr)
                 return exc.exit_code
+            for one in served:
+                app.state.links.update(one.links)
             base = f"http://{host}:{port}"
             if backend is not None:
                 print(f"polynav: driving robot {runtime.profile.name!r} over rosbridge at "
@@ -371,6 +373,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--galileo-broadcast", default="127.255.255.255",
                      help="where Galileo discovery announcements go: loopback unless a LAN "
                           "broadcast address is given (default: %(default)s)")
+    run.add_argument("--galileo-serial", metavar="PATH|pty", default=None,
+                     help="serve Galileo's serial protocol on a serial device (/dev/ttyUSB0, "
+                          "115200 8N1) or on a new pseudo-terminal ('pty'; its path is printed "
+                          "and in GET /api/status 'links')")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

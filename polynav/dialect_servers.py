@@ -33,6 +33,8 @@ class Served:
     lines: list[str] = field(default_factory=list)
     #: What another dialect may build on (the Galileo server's context).
     context: object = None
+    #: Serial lines it serves (name -> device path), shown in ``GET /api/status``.
+    links: dict[str, str] = field(default_factory=dict)
 
 
 Starter = Callable[[RobotRuntime, argparse.Namespace, str, list[Served]], Served]
@@ -92,16 +94,22 @@ def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
             udp_port=args.galileo_udp_port or 22002,
             announce=args.galileo_udp_port != 0,
             broadcast_address=args.galileo_broadcast,
+            serial=args.galileo_serial,
         ))
     except OSError as exc:
         raise DialectStartError(f"cannot listen (Galileo, ports {args.galileo_port}, "
-                                f"{args.galileo_ws_port}): {exc}", 1) from exc
+                                f"{args.galileo_ws_port}, serial {args.galileo_serial}): {exc}",
+                                1) from exc
     except PolynavError as exc:  # a port out of range: the user's to fix
         raise DialectStartError(str(exc), 2) from exc
     lines = [f"Galileo API http://{host}:{galileo.port}/api/v1"]
     if galileo.ws_port is not None:
         lines.append(f"Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>")
-    return Served("galileo", galileo.stop, lines, context=galileo.server.ctx)
+    links = {}
+    if galileo.serial_path is not None:
+        lines.append(f"Galileo serial {galileo.serial_path} (115200 8N1)")
+        links["galileo_serial"] = galileo.serial_path
+    return Served("galileo", galileo.stop, lines, context=galileo.server.ctx, links=links)
 
 
 def _puwei(runtime: RobotRuntime, args: argparse.Namespace, host: str,

@@ -74,6 +74,8 @@ def create_app(
     app.state.store = store if store is not None else runtime.store
     app.state.api_config = config
     app.state.fleet = fleet
+    #: Serial lines the dialects serve (name -> path), filled by ``polynav run``.
+    app.state.links = {}
     install_error_handlers(app)
     for module in ROUTERS:
         app.include_router(module.router)

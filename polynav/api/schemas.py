@@ -247,6 +247,11 @@ class StatusOut(BaseModel):
     localization: LocalizationOut
     navigation: NavigationOut
     stamp: float
+    links: dict[str, str] = Field(
+        default_factory=dict,
+        description="serial lines the dialects serve, name -> device path (`galileo_serial`: "
+        "the serial device or pseudo-terminal a Galileo host opens)",
+    )
 
 
 class RelocalizedOut(BaseModel):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
 from fastapi.responses import JSONResponse
 
 from polynav.api.deps import RuntimeDep
@@ -21,9 +21,12 @@ router = APIRouter(prefix="/api", tags=["status"])
     response_model=StatusOut,
     summary="The robot's status snapshot",
 )
-def get_status(runtime: RuntimeDep) -> JSONResponse:
-    """Mode, map, pose, velocity, battery, e-stop, localization and navigation state.
+def get_status(runtime: RuntimeDep, request: Request) -> JSONResponse:
+    """Mode, map, pose, velocity, battery, e-stop, localization and navigation state, and the
+    serial lines the dialects serve.
 
     The runtime refreshes the snapshot on its own clock; this reads it as it is (O(1)).
     """
-    return JSONResponse(runtime.status().to_dict())
+    body = runtime.status().to_dict()
+    body["links"] = dict(request.app.state.links)
+    return JSONResponse(body)

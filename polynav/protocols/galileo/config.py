@@ -37,6 +37,8 @@ class GalileoConfig:
         announce_interval: seconds [wall] between announcements (the spec: about once a second).
         robot_id: the ``id`` of the announcement and ``/system/info``; ``None``: derived from
             the data directory, stable across restarts.
+        serial: the navigation serial port: a device path (``/dev/ttyUSB0``), ``"pty"`` for a
+            new pseudo-terminal, ``None``: none (galileo-wire-protocols §1).
     """
 
     host: str = "127.0.0.1"
@@ -49,6 +51,7 @@ class GalileoConfig:
     broadcast_address: str = "127.255.255.255"
     announce_interval: float = 1.0
     robot_id: str | None = None
+    serial: str | None = None
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -59,6 +62,8 @@ class GalileoConfig:
                 raise ConfigError(f"galileo.{key}", f"must be in [0, 65535], got {value}")
         if self.ws_port is not None and not 0 <= self.ws_port <= 65535:
             raise ConfigError("galileo.ws_port", f"must be in [0, 65535], got {self.ws_port}")
+        if self.serial is not None and not self.serial:
+            raise ConfigError("galileo.serial", "a device path, or 'pty'")
         if not 0.05 <= self.announce_interval <= 60.0:
             raise ConfigError(
                 "galileo.announce_interval",

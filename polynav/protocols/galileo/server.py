@@ -13,6 +13,7 @@ from polynav.protocols.galileo.config import GalileoConfig
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
+from polynav.protocols.galileo.native.serial_link import SerialLink
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.server_thread import ServerThread, started
@@ -60,11 +61,17 @@ class GalileoServer:
         self._http: HttpListener | None = None
         self._announcer: Announcer | None = None
         self._ws: WsListener | None = None
+        self._serial: SerialLink | None = None
 
     @property
     def ws_port(self) -> int | None:
         """The WebSocket port actually bound, if it serves."""
         return None if self._ws is None else self._ws.port
+
+    @property
+    def serial_path(self) -> str | None:
+        """The serial line's path (the pty a host opens), if the serial protocol is served."""
+        return None if self._serial is None else self._serial.path
 
     @property
     def port(self) -> int:
@@ -84,6 +91,9 @@ class GalileoServer:
             await ws.start()
             self._ws = ws
             log.info("galileo: WebSocket on %s:%d", self.config.host, ws.port)
+        if self.config.serial is not None:
+            device = None if self.config.serial == "pty" else self.config.serial
+            self._serial = SerialLink(self.ctx, device).start()
         if self.config.announce:
             ctx = self.ctx
             payload = announcement(robot_id=ctx.robot_id, port=http.port, mac=ctx.mac,
@@ -99,6 +109,9 @@ class GalileoServer:
                      self.config.udp_port)
 
     async def close(self) -> None:
+        if self._serial is not None:
+            self._serial.stop()
+            self._serial = None
         if self._announcer is not None:
             await self._announcer.close()
             self._announcer = None
@@ -129,3 +142,7 @@ class GalileoThread(ServerThread[GalileoServer]):
     @property
     def ws_port(self) -> int | None:
         return self.server.ws_port
+
+    @property
+    def serial_path(self) -> str | None:
+        return self.server.serial_path

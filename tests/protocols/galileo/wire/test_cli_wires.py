@@ -1,0 +1,63 @@
+"""``polynav run`` serves Galileo's wire protocols: ``--galileo-serial pty`` prints the pty's
+path and shows it in ``GET /api/status``; a host opening it reads status frames and drives the
+robot."""
+
+from __future__ import annotations
+
+import json
+import re
+import time
+import urllib.request
+from pathlib import Path
+
+import serial
+
+from polynav.protocols.galileo.native import commands as c
+from polynav.protocols.galileo.native.status_frame import STATUS_FRAME_SIZE, unpack_status
+from tests.helpers.polynav_run import start_run, startup_lines, stop_run
+
+GALILEO_PORTS = ("--galileo-port", "0", "--galileo-ws-port", "0", "--galileo-udp-port", "0")
+
+
+def _frames(port: serial.Serial, seconds: float) -> list[dict[str, float]]:
+    data = b""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        data += port.read(max(1, port.in_waiting))
+    frames = []
+    start = data.find(c.HEADER)
+    while start >= 0 and start + STATUS_FRAME_SIZE <= len(data):
+        frames.append(unpack_status(data[start:start + STATUS_FRAME_SIZE]))
+        start = data.find(c.HEADER, start + STATUS_FRAME_SIZE)
+    return frames
+
+
+def test_run_serves_the_serial_protocol_on_a_pty(tmp_path: Path) -> None:
+    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS, "--galileo-serial", "pty")
+    try:
+        lines = startup_lines(proc)
+        found = [m for line in lines if (m := re.search(r"Galileo serial (/\S+) \(115200 8N1\)",
+                                                         line))]
+        assert len(found) == 1, lines
+        path = found[0].group(1)
+        native = next(m.group(1) for line in lines
+                      if (m := re.search(r"native API (http://[\d.]+:\d+)", line)))
+        with urllib.request.urlopen(native + "/api/status", timeout=30) as reply:
+            assert json.loads(reply.read())["links"] == {"galileo_serial": path}
+        with serial.Serial(path, 115200, timeout=0.1) as port:
+            port.reset_input_buffer()
+            frames = _frames(port, 1.0)
+            assert 20 <= len(frames) <= 40  # 30 Hz of the real-time simulation
+            assert frames[-1]["navStatus"] == 0
+            port.write(c.frame(c.start_navigation()))
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline:
+                frames = _frames(port, 0.3)
+                if frames and frames[-1]["navStatus"] == 1:
+                    break
+            assert frames and frames[-1]["navStatus"] == 1
+        assert "polynav: stopped" in stop_run(proc, lines)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
