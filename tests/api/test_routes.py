@@ -24,7 +24,8 @@ def _error(response: httpx.Response, status: int, code: str) -> str:
 def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
     body = client.get("/api/status").json()
     assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
-                         "estop", "localization", "navigation", "stamp", "frame"}
+                         "estop", "localization", "navigation", "stamp", "frame", "links"}
+    assert body["links"] == {}  # no serial line served
     assert set(body["pose"]) == {"x", "y", "theta"}
     assert set(body["navigation"]) == {
         "state", "goal", "reason", "distance_remaining", "phase", "retries",
