@@ -17,9 +17,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import math
+import threading
+import weakref
 from collections.abc import Sequence
+from typing import Any
 
+import numpy as np
 from pymodbus.constants import ExcCodes
 from pymodbus.datastore import ModbusServerContext
 from pymodbus.server import ModbusTcpServer
@@ -52,15 +55,16 @@ _SIZES = {_DISCRETE_INPUTS: regs.DISCRETE_INPUTS, _COILS: regs.COILS,
 _SINGLE_WRITES = (5, 6)
 
 
-def reading(ctx: Context) -> regs.Reading:
-    """The robot now, as the register map shows it."""
+def reading(ctx: Context, *, scan: bool = True) -> regs.Reading:
+    """The robot now, as the register map shows it (tracked points 0 without ``scan``: only
+    the input registers show them)."""
     runtime = ctx.runtime
     outputs, inputs = expansion_io(ctx)  # first: a runtime command refreshes the snapshot
     snap = runtime.status()
     status = galileo_status(ctx, snap)
     return regs.Reading(
         status=status,
-        tracked_points=tracked_points(ctx, status["visualStatus"]),
+        tracked_points=tracked_points(ctx, status["visualStatus"]) if scan else 0,
         io_inputs=inputs,
         io_outputs=outputs,
         teleop=modbus_state(ctx).teleop_in_force(runtime.now(), runtime.config.teleop_timeout),
@@ -93,8 +97,9 @@ def tracked_points(ctx: Context, visual: int) -> int:
         return 0
     if scan is None:
         return 0
-    return sum(1 for r in scan.ranges.tolist()
-               if math.isfinite(r) and scan.range_min <= r <= scan.range_max)
+    ranges = scan.ranges
+    valid = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
+    return int(np.count_nonzero(valid))
 
 
 class GalileoDatastore(ModbusServerContext):
@@ -110,7 +115,12 @@ class GalileoDatastore(ModbusServerContext):
         # What pymodbus's server reads from a context it uses as is.
         self.old_simulator = True
         self.simdevices = []
-        self._echo: dict[asyncio.Task[object], list[int] | list[bool]] = {}
+        # The value a single write (FC 05/06) wrote, for its reply's echo: pymodbus reads the
+        # register back for it, and a switch reads its state, not what was written.
+        self._echo: weakref.WeakKeyDictionary[asyncio.Task[Any], list[int] | list[bool]] = (
+            weakref.WeakKeyDictionary())
+        # One write at a time: a write reads the holding image, then acts on it.
+        self._writing = threading.Lock()
 
     def device_ids(self) -> list[int]:
         """Every unit id reaches the one robot."""
@@ -121,7 +131,7 @@ class GalileoDatastore(ModbusServerContext):
     ) -> list[int] | list[bool] | ExcCodes:
         """``count`` values of the table ``func_code`` reads, from PDU ``address``."""
         task = asyncio.current_task()
-        if func_code in _SINGLE_WRITES and task in self._echo:
+        if func_code in _SINGLE_WRITES and task is not None and task in self._echo:
             return self._echo.pop(task)
         table = _TABLES.get(func_code)
         if table is None:
@@ -156,7 +166,7 @@ class GalileoDatastore(ModbusServerContext):
         return None
 
     def _read(self, table: str) -> list[int] | list[bool]:
-        r = reading(self._ctx)
+        r = reading(self._ctx, scan=table == _INPUT_REGISTERS)
         if table == _DISCRETE_INPUTS:
             return regs.discrete_inputs(r)
         if table == _COILS:
@@ -175,14 +185,15 @@ class GalileoDatastore(ModbusServerContext):
 
     def _write(self, table: str, address: int, values: list[int] | list[bool]) -> None:
         control = native_control(self._ctx)
-        if table == _COILS:
-            actions = coil_actions(control, self._ctx, address, [bool(v) for v in values])
-        else:
-            image = self._holding(reading(self._ctx))
-            actions = holding_actions(control, self._ctx, image, address,
-                                      [int(v) for v in values])
-        for action in actions:
-            action()
+        with self._writing:
+            if table == _COILS:
+                actions = coil_actions(control, self._ctx, address, [bool(v) for v in values])
+            else:
+                image = self._holding(reading(self._ctx, scan=False))
+                actions = holding_actions(control, self._ctx, image, address,
+                                          [int(v) for v in values])
+            for action in actions:
+                action()
 
 
 class ModbusListener:

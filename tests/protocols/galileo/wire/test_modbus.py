@@ -11,12 +11,14 @@ from __future__ import annotations
 import math
 import socket
 import struct
+import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import pytest
 from pymodbus.client import ModbusTcpClient
+from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ModbusPDU
 
 from polynav.protocols.galileo.modbus import GalileoModbus
@@ -322,7 +324,8 @@ def test_goal_index_pause_resume_cancel(bus: Bus) -> None:
 
 def test_navigation_and_loop_coils(bus: Bus) -> None:
     ctx = bus.g.server.ctx
-    bus.write_coil(4, True)  # loop without navigation: ignored, as on the serial line
+    # loop without navigation: ignored, as on the serial line; the reply still echoes the write
+    assert bus.ok(bus.client.write_coil(_pdu(4), True)).bits[0] is True
     bus.g.runtime.advance(0.5)
     assert bus.coils(4) == [False] and bus.inputs(10007) == [False]
 
@@ -470,6 +473,45 @@ def test_garbage_on_the_socket_is_no_crash(bus: Bus) -> None:
         assert reply[7] & 0x80 and reply[8] == 1  # pymodbus's answer: illegal function
         raw.sendall(b"\xff" * 300)
     assert len(bus.inputs(10001, 24)) == 24  # the server still answers
+
+
+def test_clients_at_once_and_a_taken_port(bus: Bus) -> None:
+    port = bus.server.port
+    errors: list[BaseException] = []
+
+    def reads() -> None:
+        try:
+            with ModbusTcpClient("127.0.0.1", port=port, timeout=10, retries=0) as other:
+                for _ in range(30):
+                    assert len(other.read_input_registers(0, count=27).registers) == 27
+        except BaseException as exc:  # noqa: BLE001 - handed to the test thread
+            errors.append(exc)
+
+    threads = [threading.Thread(target=reads) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for _ in range(30):
+        assert len(bus.coils(1, 22)) == 22
+    for t in threads:
+        t.join(timeout=30)
+    assert errors == []
+
+    taken = GalileoModbus(bus.g.server.ctx, port=port)
+    with pytest.raises(OSError, match="cannot listen"):
+        taken.start()
+    assert len(bus.inputs(10001, 24)) == 24  # the first server is untouched
+
+
+def test_stop_closes_the_connections(galileo: Harness) -> None:
+    server = GalileoModbus(galileo.server.ctx, port=0)
+    server.start()
+    with ModbusTcpClient("127.0.0.1", port=server.port, timeout=2, retries=0) as client:
+        assert not client.read_coils(0).isError()
+        server.stop()
+        with pytest.raises(ModbusException):
+            client.read_coils(0)
+    with pytest.raises(RuntimeError, match="not started"):
+        _ = server.port
 
 
 def test_every_modbus_entry_has_a_test() -> None:
