@@ -66,7 +66,7 @@ IR_POSE_X = 15
 IR_POSE_Y = 17
 IR_ANGLE = 19
 IR_TRACKED_POINTS = 21
-IR_GAP = 22
+# 22 (30023): the document's gap, reads 0
 IR_STAMP_SECS = 23
 IR_STAMP_NSECS = 25
 
@@ -190,15 +190,20 @@ def input_registers(r: Reading) -> list[int]:
     """Input registers 30001-30027."""
     s = r.status
     stamp = s["header"]["stamp"]
-    words = [int16_word(s["visualStatus"])]
-    words += float32_words(s["power"])
-    words += [int16_word(s["targetNumID"]), int16_word(s["targetStatus"])]
-    for key in ("targetDistance", "controlSpeedX", "controlSpeedTheta", "currentSpeedX",
-                "currentSpeedTheta", "currentPosX", "currentPosY", "currentAngle"):
-        words += float32_words(s[key])
-    words += [int16_word(r.tracked_points), 0]
-    words += uint32_words(stamp["secs"]) + uint32_words(stamp["nsecs"])
-    assert len(words) == INPUT_REGISTERS
+    words = [0] * INPUT_REGISTERS
+    words[IR_VISUAL] = int16_word(s["visualStatus"])
+    words[IR_TARGET_ID] = int16_word(s["targetNumID"])
+    words[IR_TARGET_STATUS] = int16_word(s["targetStatus"])
+    words[IR_TRACKED_POINTS] = int16_word(r.tracked_points)
+    for address, key in ((IR_POWER, "power"), (IR_TARGET_DISTANCE, "targetDistance"),
+                         (IR_CONTROL_SPEED_X, "controlSpeedX"),
+                         (IR_CONTROL_SPEED_THETA, "controlSpeedTheta"),
+                         (IR_SPEED_X, "currentSpeedX"), (IR_SPEED_THETA, "currentSpeedTheta"),
+                         (IR_POSE_X, "currentPosX"), (IR_POSE_Y, "currentPosY"),
+                         (IR_ANGLE, "currentAngle")):
+        words[address:address + 2] = float32_words(s[key])
+    words[IR_STAMP_SECS:IR_STAMP_SECS + 2] = uint32_words(stamp["secs"])
+    words[IR_STAMP_NSECS:IR_STAMP_NSECS + 2] = uint32_words(stamp["nsecs"])
     return words
 
 
@@ -206,11 +211,13 @@ def holding_registers(r: Reading) -> list[int]:
     """Holding registers 40001-40014: each reads the state its write drives (cancel reads 0)."""
     s = r.status
     goal = r.goal if r.goal is not None else Pose2D()
-    words = float32_words(r.teleop[0]) + float32_words(r.teleop[1])
-    words += [int16_word(s["targetNumID"]), int(s["targetStatus"] == TARGET_PAUSED), 0]
-    for value in (goal.x, goal.y, goal.theta):
-        words += float32_words(value)
-    words.append(int16_word(r.loop_wait))
-    assert len(words) == HOLDING_REGISTERS
+    words = [0] * HOLDING_REGISTERS
+    words[HR_TELEOP_LINEAR:HR_TELEOP_LINEAR + 2] = float32_words(r.teleop[0])
+    words[HR_TELEOP_ANGULAR:HR_TELEOP_ANGULAR + 2] = float32_words(r.teleop[1])
+    words[HR_GOAL_INDEX] = int16_word(s["targetNumID"])
+    words[HR_PAUSE] = int(s["targetStatus"] == TARGET_PAUSED)
+    words[HR_CANCEL] = 0
+    for address, value in ((HR_GOAL_X, goal.x), (HR_GOAL_Y, goal.y), (HR_GOAL_THETA, goal.theta)):
+        words[address:address + 2] = float32_words(value)
+    words[HR_LOOP_WAIT] = int16_word(r.loop_wait)
     return words
-

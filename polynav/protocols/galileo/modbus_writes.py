@@ -124,8 +124,13 @@ def _command(name: str, on: bool, start: Callable[[], Outcome],
 
 
 def _set_outputs(ctx: Context, outputs: dict[int, int]) -> None:
-    """Virtual IO 8-15: the expansion board's outputs 0-7, all at once."""
-    ctx.runtime.peripherals.set_outputs("expansion_io", outputs)
+    """Virtual IO 8-15: the expansion board's outputs 0-7, all at once (or none: a robot
+    powered off, a board with fewer outputs)."""
+    try:
+        ctx.runtime.peripherals.set_outputs("expansion_io", outputs)
+    except PolynavError as exc:
+        log.info("galileo modbus: expansion outputs %s ignored: %s", outputs, exc)
+        return
     log.info("galileo modbus: expansion outputs %s", outputs)
 
 

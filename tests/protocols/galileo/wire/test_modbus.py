@@ -384,7 +384,16 @@ def test_shutdown_coil_powers_the_robot_off(bus: Bus) -> None:
     assert bus.coils(3) == [False]  # a one-shot: reads 0
     bus.g.runtime.advance(10.5)
     assert not bus.g.runtime.powered
-    assert bus.inputs(10001, 24)[:7] == [False] * 7  # the server still answers
+    # the server still answers, and takes writes it cannot carry out as ignored commands
+    assert bus.inputs(10001, 24) == [False] * 24 and bus.coils(1, 22) == [False] * 22
+    words = bus.input_words(30001, 27)
+    assert _int16(words[0:1]) == -1 and words[21] == 0  # visual system off, no tracked points
+    assert len(bus.holding_words(40001, 14)) == 14
+    bus.ok(bus.client.write_coils(_pdu(15), [True] * 8))
+    bus.write_coil(1, True)
+    bus.write_floats(40001, 0.2, 0.0)
+    bus.g.runtime.advance(1.0)
+    assert not bus.g.runtime.powered and bus.g.runtime.status().mode != "navigating"
 
 
 def test_teleop_registers_drive_the_robot(bus: Bus) -> None:
