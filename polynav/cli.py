@@ -377,6 +377,10 @@ def build_parser() -> argparse.ArgumentParser:
                      help="serve Galileo's serial protocol on a serial device (/dev/ttyUSB0, "
                           "115200 8N1) or on a new pseudo-terminal ('pty'; its path is printed "
                           "and in GET /api/status 'links')")
+    run.add_argument("--galileo-modbus-port", type=int, default=3551,
+                     help="Galileo Modbus TCP port, 0 for any free one (default: %(default)s)")
+    run.add_argument("--no-galileo-modbus", action="store_true",
+                     help="do not serve Galileo's Modbus TCP")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

@@ -18,12 +18,17 @@ DIALECTS = {"yunji": "--no-yunji", "galileo": "--no-galileo", "puwei": "--no-puw
             "rosbridge": "--no-rosbridge"}
 
 
+#: The Galileo wires with a default port, on any free port (``extra`` may say otherwise).
+GALILEO_WIRES = ("--galileo-modbus-port", "0")
+
+
 def run_args(tmp_path: Path, dialect: str | None, *extra: str) -> list[str]:
     """The command line: a fresh site under ``tmp_path``, only ``dialect`` served (``None``:
-    none), no walkers, the native API on any free port."""
+    none), no walkers, the native API (and Galileo's wires) on any free port."""
     off = [flag for name, flag in DIALECTS.items() if name != dialect]
+    wires = GALILEO_WIRES if dialect == "galileo" else ()
     return [sys.executable, "-m", "polynav", "run", "--data", str(tmp_path / "data"), *off,
-            "--no-people", "--port", "0", *extra]
+            "--no-people", "--port", "0", *wires, *extra]
 
 
 def start_run(tmp_path: Path, dialect: str | None, *extra: str) -> subprocess.Popen[str]:

@@ -18,6 +18,7 @@ from polynav.errors import ConfigError
 DEFAULT_HTTP_PORT = 3546
 DEFAULT_WS_PORT = 3547
 DEFAULT_UDP_PORT = 22002
+DEFAULT_MODBUS_PORT = 3551
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,6 +40,7 @@ class GalileoConfig:
             the data directory, stable across restarts.
         serial: the navigation serial port: a device path (``/dev/ttyUSB0``), ``"pty"`` for a
             new pseudo-terminal, ``None``: none (galileo-wire-protocols §1).
+        modbus_port: the Modbus TCP port (3551 on the robot, §3); 0: any; ``None``: none.
     """
 
     host: str = "127.0.0.1"
@@ -52,6 +54,7 @@ class GalileoConfig:
     announce_interval: float = 1.0
     robot_id: str | None = None
     serial: str | None = None
+    modbus_port: int | None = None
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -60,8 +63,10 @@ class GalileoConfig:
             value = getattr(self, key)
             if not 0 <= value <= 65535:
                 raise ConfigError(f"galileo.{key}", f"must be in [0, 65535], got {value}")
-        if self.ws_port is not None and not 0 <= self.ws_port <= 65535:
-            raise ConfigError("galileo.ws_port", f"must be in [0, 65535], got {self.ws_port}")
+        for key in ("ws_port", "modbus_port"):
+            value = getattr(self, key)
+            if value is not None and not 0 <= value <= 65535:
+                raise ConfigError(f"galileo.{key}", f"must be in [0, 65535], got {value}")
         if self.serial is not None and not self.serial:
             raise ConfigError("galileo.serial", "a device path, or 'pty'")
         if not 0.05 <= self.announce_interval <= 60.0:

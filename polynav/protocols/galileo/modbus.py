@@ -1,9 +1,8 @@
 """The Galileo Modbus TCP server (spec galileo-wire-protocols §3; default port 3551).
 
-Transport only: pymodbus's asyncio TCP server on an event loop of its own
-(:class:`~polynav.protocols.server_thread.ServerThread`), over a datastore that has no memory
-of its own: every read builds the tables from the runtime at that instant
-(:mod:`~polynav.protocols.galileo.modbus_registers`), every write becomes native commands
+Transport only: pymodbus's asyncio TCP server on the Galileo servers' event loop, over a
+datastore that has no memory of its own: every read builds the tables from the runtime at that
+instant (:mod:`~polynav.protocols.galileo.modbus_registers`), every write becomes native commands
 (:mod:`~polynav.protocols.galileo.modbus_writes`). Runtime calls run in a worker thread, so a
 slow one never stalls the other connections.
 
@@ -38,12 +37,8 @@ from polynav.protocols.galileo.modbus_writes import (
 )
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.status import galileo_status
-from polynav.protocols.server_thread import ServerThread, started
 
 log = logging.getLogger(__name__)
-
-#: The document's default port (§3.1).
-DEFAULT_PORT = 3551
 
 # Function code -> table (pymodbus routes every request through these codes).
 _DISCRETE_INPUTS, _COILS, _INPUT_REGISTERS, _HOLDING = "d", "c", "i", "h"
@@ -225,41 +220,3 @@ class ModbusListener:
         if self._server is not None:
             await self._server.shutdown()  # type: ignore[no-untyped-call]
             self._server = None
-
-
-class GalileoModbus:
-    """The Galileo Modbus TCP server of ``ctx``'s robot on its own thread (``polynav run
-    --galileo-modbus-port``).
-
-    Args:
-        ctx: the Galileo context (shared with the other Galileo servers of the robot).
-        host: the address to bind (127.0.0.1 unless the robot is to be reached from outside).
-        port: the port; 0 picks a free one (:attr:`port` tells which).
-    """
-
-    def __init__(self, ctx: Context, host: str = "127.0.0.1", port: int = DEFAULT_PORT) -> None:
-        self._ctx = ctx
-        self._host = host
-        self._port = port
-        self._thread: ServerThread[ModbusListener] | None = None
-
-    @property
-    def port(self) -> int:
-        """The port actually bound (after :meth:`start`)."""
-        if self._thread is None:
-            raise RuntimeError("the Galileo Modbus server is not started")
-        return self._thread.server.port
-
-    def start(self) -> None:
-        """Listen; raises OSError when the port is taken."""
-        if self._thread is not None:
-            return
-        listener = ModbusListener(self._ctx, self._host, self._port)
-        self._thread = ServerThread("galileo-modbus", lambda: started(listener))
-        log.info("galileo: Modbus TCP on %s:%d", self._host, self.port)
-
-    def stop(self) -> None:
-        """Close the server and its connections."""
-        if self._thread is not None:
-            self._thread.stop()
-            self._thread = None

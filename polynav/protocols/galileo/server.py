@@ -13,6 +13,7 @@ from polynav.protocols.galileo.config import GalileoConfig
 from polynav.protocols.galileo.context import Context
 from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
+from polynav.protocols.galileo.modbus import ModbusListener
 from polynav.protocols.galileo.native.serial_link import SerialLink
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
@@ -62,11 +63,17 @@ class GalileoServer:
         self._announcer: Announcer | None = None
         self._ws: WsListener | None = None
         self._serial: SerialLink | None = None
+        self._modbus: ModbusListener | None = None
 
     @property
     def ws_port(self) -> int | None:
         """The WebSocket port actually bound, if it serves."""
         return None if self._ws is None else self._ws.port
+
+    @property
+    def modbus_port(self) -> int | None:
+        """The Modbus TCP port actually bound, if it serves."""
+        return None if self._modbus is None else self._modbus.port
 
     @property
     def serial_path(self) -> str | None:
@@ -91,6 +98,11 @@ class GalileoServer:
             await ws.start()
             self._ws = ws
             log.info("galileo: WebSocket on %s:%d", self.config.host, ws.port)
+        if self.config.modbus_port is not None:
+            modbus = ModbusListener(self.ctx, self.config.host, self.config.modbus_port)
+            await modbus.start()
+            self._modbus = modbus
+            log.info("galileo: Modbus TCP on %s:%d", self.config.host, modbus.port)
         if self.config.serial is not None:
             device = None if self.config.serial == "pty" else self.config.serial
             self._serial = SerialLink(self.ctx, device).start()
@@ -112,6 +124,9 @@ class GalileoServer:
         if self._serial is not None:
             self._serial.stop()
             self._serial = None
+        if self._modbus is not None:
+            await self._modbus.close()
+            self._modbus = None
         if self._announcer is not None:
             await self._announcer.close()
             self._announcer = None
@@ -146,3 +161,7 @@ class GalileoThread(ServerThread[GalileoServer]):
     @property
     def serial_path(self) -> str | None:
         return self.server.serial_path
+
+    @property
+    def modbus_port(self) -> int | None:
+        return self.server.modbus_port

@@ -61,3 +61,31 @@ def test_run_serves_the_serial_protocol_on_a_pty(tmp_path: Path) -> None:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+def test_run_serves_modbus_tcp_unless_told_not_to(tmp_path: Path) -> None:
+    from pymodbus.client import ModbusTcpClient
+
+    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS)  # --galileo-modbus-port 0 (helper)
+    try:
+        lines = startup_lines(proc)
+        found = [m for line in lines if (m := re.search(r"Galileo Modbus TCP [\d.]+:(\d+)", line))]
+        assert len(found) == 1, lines
+        with ModbusTcpClient("127.0.0.1", port=int(found[0].group(1)), timeout=10) as client:
+            reply = client.read_discrete_inputs(0, count=2)  # navigation, mapping: both off
+            assert not reply.isError() and list(reply.bits[:2]) == [False, False]
+        stop_run(proc, lines)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS, "--no-galileo-modbus")
+    try:
+        lines = startup_lines(proc)
+        assert any("Galileo API" in line for line in lines), lines
+        assert not any("Modbus" in line for line in lines)
+        stop_run(proc, lines)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()

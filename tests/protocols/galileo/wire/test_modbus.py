@@ -21,11 +21,12 @@ from pymodbus.client import ModbusTcpClient
 from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ModbusPDU
 
-from polynav.protocols.galileo.modbus import GalileoModbus
 from polynav.protocols.galileo.native.control import native_control
+from polynav.protocols.galileo.server import GalileoThread
 from polynav.protocols.galileo.status import galileo_status
+from polynav.runtime.robot_runtime import RobotRuntime
 from tests.protocols.galileo import spec
-from tests.protocols.galileo.conftest import Harness
+from tests.protocols.galileo.conftest import Harness, galileo_config, serving
 
 READS = "test_every_register_reads_the_runtime"
 COVERED: dict[str, str] = {key: READS for key in spec.MODBUS}
@@ -60,7 +61,7 @@ class Bus:
 
     g: Harness
     client: ModbusTcpClient
-    server: GalileoModbus
+    port: int
 
     def ok(self, response: ModbusPDU) -> ModbusPDU:
         assert not response.isError(), f"exception {getattr(response, 'exception_code', None)}"
@@ -136,16 +137,16 @@ def _f32(value: float) -> float:
 
 
 @pytest.fixture
-def bus(galileo: Harness) -> Iterator[Bus]:
-    server = GalileoModbus(galileo.server.ctx, port=0)
-    server.start()
-    client = ModbusTcpClient("127.0.0.1", port=server.port, timeout=10, retries=0)
-    try:
-        assert client.connect()
-        yield Bus(galileo, client, server)
-    finally:
-        client.close()
-        server.stop()
+def bus(runtime: RobotRuntime) -> Iterator[Bus]:
+    with serving(runtime, galileo_config(modbus_port=0)) as galileo:
+        port = galileo.server.modbus_port
+        assert port is not None
+        client = ModbusTcpClient("127.0.0.1", port=port, timeout=10, retries=0)
+        try:
+            assert client.connect()
+            yield Bus(galileo, client, port)
+        finally:
+            client.close()
 
 
 def _start_navigation(bus: Bus) -> None:
@@ -476,7 +477,7 @@ def test_bad_values_get_exception_3_and_change_nothing(bus: Bus) -> None:
 
 
 def test_garbage_on_the_socket_is_no_crash(bus: Bus) -> None:
-    with socket.create_connection(("127.0.0.1", bus.server.port), timeout=5) as raw:
+    with socket.create_connection(("127.0.0.1", bus.port), timeout=5) as raw:
         raw.sendall(b"\x00\x01\x00\x00\x00\x06\x01\x63\x00\x00\x00\x01")  # function 0x63
         reply = raw.recv(64)
         assert reply[7] & 0x80 and reply[8] == 1  # pymodbus's answer: illegal function
@@ -485,7 +486,7 @@ def test_garbage_on_the_socket_is_no_crash(bus: Bus) -> None:
 
 
 def test_clients_at_once_and_a_taken_port(bus: Bus) -> None:
-    port = bus.server.port
+    port = bus.port
     errors: list[BaseException] = []
 
     def reads() -> None:
@@ -505,22 +506,20 @@ def test_clients_at_once_and_a_taken_port(bus: Bus) -> None:
         t.join(timeout=30)
     assert errors == []
 
-    taken = GalileoModbus(bus.g.server.ctx, port=port)
     with pytest.raises(OSError, match="cannot listen"):
-        taken.start()
+        GalileoThread(bus.g.runtime, galileo_config(modbus_port=port))
     assert len(bus.inputs(10001, 24)) == 24  # the first server is untouched
 
 
-def test_stop_closes_the_connections(galileo: Harness) -> None:
-    server = GalileoModbus(galileo.server.ctx, port=0)
-    server.start()
-    with ModbusTcpClient("127.0.0.1", port=server.port, timeout=2, retries=0) as client:
+def test_stop_closes_the_connections(runtime: RobotRuntime) -> None:
+    server = GalileoThread(runtime, galileo_config(modbus_port=0))
+    port = server.modbus_port
+    assert port is not None
+    with ModbusTcpClient("127.0.0.1", port=port, timeout=2, retries=0) as client:
         assert not client.read_coils(0).isError()
         server.stop()
         with pytest.raises(ModbusException):
             client.read_coils(0)
-    with pytest.raises(RuntimeError, match="not started"):
-        _ = server.port
 
 
 def test_every_modbus_entry_has_a_test() -> None:
