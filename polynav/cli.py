@@ -174,6 +174,8 @@ def _run(args: argparse.Namespace) -> int:
                 return exc.exit_code
             for one in served:
                 app.state.links.update(one.links)
+                if one.diagnostics is not None:
+                    app.state.diagnostics[one.name] = one.diagnostics
             base = f"http://{host}:{port}"
             if backend is not None:
                 print(f"polynav: driving robot {runtime.profile.name!r} over rosbridge at "

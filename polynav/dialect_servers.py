@@ -35,6 +35,8 @@ class Served:
     context: object = None
     #: Serial lines it serves (name -> device path), shown in ``GET /api/status``.
     links: dict[str, str] = field(default_factory=dict)
+    #: Its counters of refused input, shown in ``GET /api/diagnostics``.
+    diagnostics: Callable[[], dict[str, int]] | None = None
 
 
 Starter = Callable[[RobotRuntime, argparse.Namespace, str, list[Served]], Served]
@@ -85,6 +87,7 @@ def _yunji(runtime: RobotRuntime, args: argparse.Namespace, host: str,
 def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
              served: list[Served]) -> Served:
     from polynav.protocols.galileo import GalileoConfig
+    from polynav.protocols.galileo.diagnostics import diagnostics
     from polynav.protocols.galileo.server import GalileoThread
 
     try:
@@ -112,7 +115,9 @@ def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
     if galileo.serial_path is not None:
         lines.append(f"Galileo serial {galileo.serial_path} (115200 8N1)")
         links["galileo_serial"] = galileo.serial_path
-    return Served("galileo", galileo.stop, lines, context=galileo.server.ctx, links=links)
+    counters = diagnostics(galileo.server.ctx)
+    return Served("galileo", galileo.stop, lines, context=galileo.server.ctx, links=links,
+                  diagnostics=counters.snapshot)
 
 
 def _puwei(runtime: RobotRuntime, args: argparse.Namespace, host: str,

@@ -76,6 +76,8 @@ def create_app(
     app.state.fleet = fleet
     #: Serial lines the dialects serve (name -> path), filled by ``polynav run``.
     app.state.links = {}
+    #: Counters of refused input per dialect (name -> a reader), filled by ``polynav run``.
+    app.state.diagnostics = {}
     install_error_handlers(app)
     for module in ROUTERS:
         app.include_router(module.router)

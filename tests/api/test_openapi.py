@@ -16,6 +16,7 @@ from polynav.api.schemas import MAX_INTEGER
 # server, never of the input).
 DECLARED: dict[str, set[str]] = {
     "get_status": {"200", "500"},
+    "get_diagnostics": {"200", "500"},
     "list_maps": {"200", "500"},
     "get_map": {"200", "404", "422", "500"},
     "get_map_image": {"200", "404", "422", "500"},

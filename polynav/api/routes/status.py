@@ -30,3 +30,16 @@ def get_status(runtime: RuntimeDep, request: Request) -> JSONResponse:
     body = runtime.status().to_dict()
     body["links"] = dict(request.app.state.links)
     return JSONResponse(body)
+
+
+@router.get(
+    "/diagnostics",
+    operation_id="get_diagnostics",
+    response_model=dict[str, dict[str, int]],
+    summary="What the dialects' wires refused or ignored",
+)
+def get_diagnostics(request: Request) -> dict[str, dict[str, int]]:
+    """Per dialect, counters of malformed or refused input (garbage on a serial line, unknown
+    commands, commands ignored in the robot's state, Modbus exception answers, bad datagrams),
+    since start: what a log would show, counted. Empty for dialects that count nothing."""
+    return {name: read() for name, read in request.app.state.diagnostics.items()}

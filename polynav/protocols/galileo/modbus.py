@@ -29,6 +29,7 @@ from pymodbus.server import ModbusTcpServer
 from polynav.errors import PolynavError
 from polynav.protocols.galileo import modbus_registers as regs
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.modbus_writes import (
     IllegalValue,
     coil_actions,
@@ -124,7 +125,27 @@ class GalileoDatastore(ModbusServerContext):
     async def async_getValues(
         self, device_id: int, func_code: int, address: int, count: int = 1
     ) -> list[int] | list[bool] | ExcCodes:
-        """``count`` values of the table ``func_code`` reads, from PDU ``address``."""
+        """``count`` values of the table ``func_code`` reads, from PDU ``address``; an
+        exception answer is counted (``modbus.read_exception_<code>``)."""
+        result = await self._get_values(func_code, address, count)
+        if isinstance(result, ExcCodes):
+            diagnostics(self._ctx).count(f"modbus.read_exception_{int(result)}")
+        return result
+
+    async def async_setValues(
+        self, device_id: int, func_code: int, address: int,
+        values: Sequence[int] | Sequence[bool],
+    ) -> ExcCodes | None:
+        """Write ``values`` from PDU ``address`` of the table ``func_code`` writes; an
+        exception answer is counted (``modbus.write_exception_<code>``)."""
+        result = await self._set_values(func_code, address, values)
+        if result is not None:
+            diagnostics(self._ctx).count(f"modbus.write_exception_{int(result)}")
+        return result
+
+    async def _get_values(
+        self, func_code: int, address: int, count: int
+    ) -> list[int] | list[bool] | ExcCodes:
         task = asyncio.current_task()
         if func_code in _SINGLE_WRITES and task is not None and task in self._echo:
             return self._echo.pop(task)
@@ -138,11 +159,9 @@ class GalileoDatastore(ModbusServerContext):
         values = await asyncio.to_thread(self._read, table)
         return values[address:address + count]
 
-    async def async_setValues(
-        self, device_id: int, func_code: int, address: int,
-        values: Sequence[int] | Sequence[bool],
+    async def _set_values(
+        self, func_code: int, address: int, values: Sequence[int] | Sequence[bool],
     ) -> ExcCodes | None:
-        """Write ``values`` from PDU ``address`` of the table ``func_code`` writes."""
         table = _TABLES.get(func_code)
         if table not in (_COILS, _HOLDING):
             return ExcCodes.ILLEGAL_FUNCTION

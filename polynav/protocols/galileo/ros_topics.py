@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.native.ros_message import NATIVE_CMDS_TYPE, decode_native_cmds
 from polynav.protocols.galileo.status import galileo_status
@@ -36,6 +37,7 @@ def add_galileo_topics(graph: Graph, ctx: Context) -> Callable[[], None]:
         try:
             payload = decode_native_cmds(message)
         except ValueError as exc:
+            diagnostics(ctx).count("ros.bad_message")
             raise RosError(f"/galileo/cmds: {exc}") from None
         native_control(ctx).apply(payload)
 

@@ -32,6 +32,7 @@ from typing import Any
 
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.native.ros_message import decode_native_cmds
 from polynav.protocols.galileo.status import galileo_status
@@ -137,6 +138,7 @@ def _native_cmds(ctx: Context, message: Any) -> None:
     try:
         payload = decode_native_cmds(message)
     except ValueError as exc:
+        diagnostics(ctx).count("ros.bad_message")
         raise InvalidRequest("/galileo/cmds", str(exc)) from None
     native_control(ctx).apply(payload)
 

@@ -132,6 +132,7 @@ class FrameReader:
         self._buffer = bytearray()
         self._max_len = max_len
         self.dropped = 0  # frames with a bad length byte
+        self.skipped = 0  # bytes before a header (garbage)
 
     def feed(self, data: bytes) -> list[bytes]:
         self._buffer += data
@@ -141,9 +142,11 @@ class FrameReader:
             start = buf.find(HEADER)
             if start < 0:
                 keep = _partial_header(buf)
+                self.skipped += len(buf) - keep
                 del buf[:len(buf) - keep]
                 break
             if start:
+                self.skipped += start
                 del buf[:start]
             if len(buf) < 4:
                 break
@@ -157,6 +160,7 @@ class FrameReader:
             out.append(bytes(buf[4:4 + size]))
             del buf[:4 + size]
         if len(buf) > _MAX_PENDING:
+            self.skipped += len(buf) - _MAX_PENDING
             del buf[:-_MAX_PENDING]
         return out
 

@@ -40,6 +40,7 @@ from polynav.protocols.galileo import charge, goals, loop, mapping, navigation
 from polynav.protocols.galileo import session as sessions
 from polynav.protocols.galileo import task_objects as objects
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.messages import TargetStatus, VisualStatus
 from polynav.protocols.galileo.native.commands import NativeCommand, UnknownCommand, parse_command
 from polynav.protocols.galileo.native.marks import marks
@@ -125,6 +126,7 @@ class NativeControl:
             command = parse_command(payload)
         except UnknownCommand as exc:
             log.info("galileo native: ignored %s", exc)
+            diagnostics(self._ctx).count("native.unknown")
             return _ignored(str(exc))
         return self.run(command)
 
@@ -134,6 +136,7 @@ class NativeControl:
             outcome = self._commands[command.name](command)
         except PolynavError as exc:
             outcome = _ignored(str(exc))
+        diagnostics(self._ctx).count("native.run" if outcome.accepted else "native.ignored")
         if outcome.accepted:
             log.info("galileo native: %s %s", command.name, command.args or "")
         else:

@@ -25,6 +25,7 @@ from typing import Protocol
 import serial
 
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native.commands import FrameReader
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.native.status_frame import pack_status
@@ -196,6 +197,8 @@ class SerialLink:
 
     def _read_loop(self) -> None:
         control = native_control(self._ctx)
+        counters = diagnostics(self._ctx)
+        reader = self._reader
         while not self._stopping.is_set():
             try:
                 data = self._line.read()
@@ -205,6 +208,10 @@ class SerialLink:
                 log.warning("galileo serial: reading %s failed: %s", self.path, exc)
                 self._stopping.wait(_READ_WAIT)
                 continue
-            for payload in self._reader.feed(data):
+            skipped, dropped = reader.skipped, reader.dropped
+            payloads = reader.feed(data)
+            counters.count("serial.garbage_bytes", reader.skipped - skipped)
+            counters.count("serial.bad_length", reader.dropped - dropped)
+            for payload in payloads:
                 control.apply(payload)
                 self.commands += 1

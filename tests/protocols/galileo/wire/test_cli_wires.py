@@ -46,6 +46,11 @@ def test_run_serves_the_serial_protocol_on_a_pty(tmp_path: Path) -> None:
             assert json.loads(reply.read())["links"] == {"galileo_serial": path}
         with serial.Serial(path, 115200, timeout=0.1) as port:
             port.reset_input_buffer()
+            port.write(b"garbage" + c.frame(b"\x6d\x01"))  # and m 1, no command
+            time.sleep(0.3)
+            with urllib.request.urlopen(native + "/api/diagnostics", timeout=30) as reply:
+                counts = json.loads(reply.read())["galileo"]
+            assert counts["serial.garbage_bytes"] == 7 and counts["native.unknown"] == 1
             frames = _frames(port, 1.0)
             assert 20 <= len(frames) <= 40  # 30 Hz of the real-time simulation
             assert frames[-1]["navStatus"] == 0

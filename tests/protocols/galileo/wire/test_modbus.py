@@ -21,6 +21,7 @@ from pymodbus.client import ModbusTcpClient
 from pymodbus.exceptions import ModbusException
 from pymodbus.pdu import ModbusPDU
 
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.server import GalileoThread
 from polynav.protocols.galileo.status import galileo_status
@@ -449,6 +450,8 @@ def test_addresses_outside_the_map_get_exception_2(bus: Bus) -> None:
     assert bus.refused(c.write_register(14, 1)) == ILLEGAL_ADDRESS
     assert bus.refused(c.write_registers(12, [0, 0, 0])) == ILLEGAL_ADDRESS
     assert bus.inputs(10001, 24) == bus.inputs(10001, 24)  # still serving
+    counts = diagnostics(bus.g.server.ctx).snapshot()  # each refusal counted
+    assert counts["modbus.read_exception_2"] == 8 and counts["modbus.write_exception_2"] == 3
 
 
 def test_bad_values_get_exception_3_and_change_nothing(bus: Bus) -> None:
@@ -474,6 +477,7 @@ def test_bad_values_get_exception_3_and_change_nothing(bus: Bus) -> None:
     assert bus.g.runtime.status().goal is None
     assert native_control(ctx).loop_wait == 0
     assert bus.holding_words(40001, 14)[7:13] == [0] * 6  # the refused pose left nothing pending
+    assert diagnostics(ctx).snapshot()["modbus.write_exception_3"] == 10
 
 
 def test_garbage_on_the_socket_is_no_crash(bus: Bus) -> None:

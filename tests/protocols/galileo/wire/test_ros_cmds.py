@@ -16,6 +16,7 @@ import pytest
 import roslibpy
 from websockets.sync.client import connect
 
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native import commands as c
 from polynav.protocols.galileo.native.ros_message import (
     NATIVE_CMDS_TYPE,
@@ -64,6 +65,7 @@ def test_websocket_cmds_start_navigation_and_bad_messages_get_an_error(galileo: 
         ws.send(json.dumps({"length": 2, "data": [0x6D, 0x05, 0x01]}))  # length does not count
         error = json.loads(ws.recv(timeout=10))
         assert error["status"] == "error" and "does not count" in error["description"]
+        assert diagnostics(galileo.server.ctx).snapshot()["ros.bad_message"] == 1
         ws.send(json.dumps({"header": {"seq": 0, "stamp": {"secs": 0, "nsecs": 0},
                                        "frame_id": ""}, "length": 2, "data": [0x6D, 0]}))
         assert _until(galileo, lambda: galileo.runtime.status().mode == "navigating", 20.0)

@@ -375,3 +375,24 @@ def test_a_status_frame_decodes_by_offset_as_the_spec_tables_say(line: Line) -> 
     assert struct.unpack_from("<i", frame, 4)[0] == 1  # nav_status at frame offset 4
     assert struct.unpack_from("<f", frame, 72)[0] == pytest.approx(
         line.runtime.status().pose.x, abs=0.05)  # current_pose_x at 72
+
+
+def test_malformed_input_is_ignored_and_counted(line: Line) -> None:
+    from polynav.protocols.galileo.diagnostics import diagnostics
+
+    counters = diagnostics(line.g.server.ctx)
+    line.port.write(b"\x01\x02\x03garbage")  # no header at all
+    line.port.write(b"\xcd\xeb\xd7\x40" + bytes(10))  # LEN 64 > 20: dropped
+    # a short frame takes the next byte as its rest ('m' + 0xCD: no command), and the frame it
+    # cut lost its header: garbage, as on the reference receiver
+    line.send(c.pause(), garbage=b"\xcd\xeb\xd7\x02m")
+    line.send(c.pause())  # no goal: ignored
+    line.send(b"\x6d\x01")  # m 1: no such command
+    line.send(b"\xff" * 20)  # 20 unknown bytes
+    counts = counters.snapshot()
+    assert counts["serial.garbage_bytes"] >= 10
+    assert counts["serial.bad_length"] >= 1
+    assert counts["native.unknown"] >= 2
+    assert counts["native.ignored"] >= 1
+    _navigate(line)  # the line still works
+    assert counts.get("native.run", 0) < counters.snapshot()["native.run"]
