@@ -296,7 +296,7 @@ def _print(args: argparse.Namespace, figures: dict[str, Any]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    dialects = ("native", "yunji", "galileo", "puwei", "rosbridge")
+    dialects = ("native", "yunji", "galileo", "galileo-wire", "puwei", "rosbridge")
     pre = argparse.ArgumentParser(add_help=False)
     pre.add_argument("--dialect", choices=dialects)
     chosen, argv = pre.parse_known_args(argv)
@@ -305,6 +305,11 @@ def main(argv: list[str] | None = None) -> int:
         from api_galileo import main as galileo_main
 
         return galileo_main(argv)
+    if chosen.dialect == "galileo-wire":  # serial, Modbus, UDP fast (api_galileo_wire.py)
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from api_galileo_wire import main as galileo_wire_main
+
+        return galileo_wire_main(argv)
     if chosen.dialect == "puwei":  # its own load, login and reference (api_puwei.py)
         sys.path.insert(0, str(Path(__file__).resolve().parent))
         from api_puwei import main as puwei_main
@@ -320,7 +325,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="polynav bench api", description=__doc__.splitlines()[0])
     parser.add_argument("--dialect", choices=dialects,
                         help="one server (galileo, puwei: a status GET under 50 clients; "
-                             "rosbridge: 20 subscribers and get_time calls; their own "
+                             "rosbridge: 20 subscribers and get_time calls; galileo-wire: "
+                             "serial frames, Modbus reads, UDP fan-out; their own "
                              "options: --dialect galileo --help)")
     parser.add_argument("--only", nargs="+", choices=("native", "yunji"),
                         default=["native", "yunji"], help="which servers (default: all)")
