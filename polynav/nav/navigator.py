@@ -238,6 +238,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._tracked = None
         self._cleared_for_plan = False
         self._passages.reset()
+        self._replan.reset()
         self._closed_at.clear()
         self._steered_at.clear()
         self._back_out.reset()

@@ -67,6 +67,13 @@ class PeriodicReplan:
         self._last_full = -math.inf
         self._watch_until = -math.inf
 
+    def reset(self) -> None:
+        """A new goal: no whole-way plan made yet and no watch for people running. A watch
+        begun for the previous goal's detour says nothing about the new goal's route, and
+        kept, it would have the new goal's first re-plans plan the whole way."""
+        self._last_full = -math.inf
+        self._watch_until = -math.inf
+
     def watch(self, now: float) -> None:
         """People closed the route and the robot took a way round them (module docstring)."""
         self._watch_until = now + self.watch_for

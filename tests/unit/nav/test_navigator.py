@@ -59,11 +59,13 @@ class ScriptedPlanner:
 
     failures: list[PlanningError] = field(default_factory=list)
     calls: int = 0
+    goals: list[Pose2D] = field(default_factory=list)
 
     def plan(
         self, costmap: object, start: Pose2D, goal: Pose2D, *, goal_tolerance: float | None = None
     ) -> Path:
         self.calls += 1
+        self.goals.append(goal)
         if self.failures:
             raise self.failures.pop(0)
         return Path(np.array([[start.x, start.y], [goal.x, goal.y]]))
@@ -490,3 +492,27 @@ def test_someone_face_to_face_for_a_while_is_given_way() -> None:
     h.run(5.0, move=True)
     assert -0.55 <= h.pose.x <= -0.45  # once, by the give-way distance
     assert h.nav.state is NavigationState.RUNNING
+
+
+def test_a_new_goal_does_not_inherit_the_last_goal_s_watch_for_people() -> None:
+    # A way found past people makes every re-plan of that goal plan the whole way for a while
+    # (people_detour_watch). The next goal starts without that watch: its periodic re-plans
+    # plan the next stretch of its own route, as they would in a freshly started navigator.
+    planner = ScriptedPlanner([NoPath("door")])
+    h = Harness(planner, ScriptedController([ControlStatus.TRACKING]),
+                NavigatorConfig(blocked_wait=0.1, people_detour_watch=60.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(DT)
+    planner.failures = [NoPath("door")]
+    h.people = PeopleView((Person(3.0, 2.0),))
+    h.run(3.0)  # the wait finds a way past them: the watch begins
+    assert "NavigationWaiting" in h.kinds() and h.kinds()[-1] == "PathPlanned"
+    h.people = PeopleView()
+    goal = Pose2D(30.0, 0.0, 0.0)
+    h.nav.start(goal, h.now)
+    h.run(DT, move=True)
+    assert planner.goals[-1] == goal  # a goal's first plan is the whole way
+    first = len(planner.goals)
+    h.run(NavigatorConfig().replan_period + 0.2, move=True)
+    replans = planner.goals[first:]
+    assert replans and all(g.x < goal.x - 1.0 for g in replans)  # the next stretch only
