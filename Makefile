@@ -17,6 +17,7 @@ run: $(STAMP)
 	$(BIN)/polynav run
 
 test: $(STAMP)
+	bash tools/system_deps.sh
 	$(BIN)/ruff check polynav tests benchmarks tools
 	$(BIN)/mypy polynav
 	$(BIN)/python -m pytest -q -n 2

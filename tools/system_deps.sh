@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The system servers the tests start for real (DESIGN: real servers, not mocks): Debian's
+# mosquitto (the fleet's MQTT broker) and PostgreSQL (initdb/pg_ctl for the fleet's records).
+# Installs the missing ones with apt-get when it can (root, or sudo without a password);
+# otherwise says what to install and fails.
+set -euo pipefail
+missing=()
+command -v mosquitto >/dev/null 2>&1 || [ -x /usr/sbin/mosquitto ] || missing+=(mosquitto mosquitto-clients)
+if ! command -v initdb >/dev/null 2>&1 && ! ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1; then
+    missing+=(postgresql)
+fi
+[ ${#missing[@]} -eq 0 ] && exit 0
+if [ "$(id -u)" -eq 0 ]; then
+    sudo=()
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+    sudo=(sudo -n)
+else
+    echo "the tests need: ${missing[*]} (Debian packages); install them, e.g. sudo apt-get install ${missing[*]}" >&2
+    exit 1
+fi
+echo "installing ${missing[*]} (apt-get) for the tests" >&2
+"${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q >&2
+"${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
