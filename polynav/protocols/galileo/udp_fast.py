@@ -25,9 +25,11 @@ server does not know (a client of a previous run) is answered with CLOSE.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import logging
 import secrets
+import socket
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -65,6 +67,8 @@ INBOX_LIMIT = 64
 MAX_CLIENTS = 64
 #: The longest message sent (a larger one is logged and skipped): 32768 BINARY chunks.
 MAX_OUTBOUND_MESSAGE = 16 * 1024 * 1024
+#: [bytes] the socket's receive buffer asked for.
+RECEIVE_BUFFER = 1024 * 1024
 #: Datagrams sent back to back before the writer yields for BURST_PAUSE [s wall].
 BURST = 64
 BURST_PAUSE = 0.002
@@ -160,6 +164,10 @@ class UdpFastListener:
         transport, _ = await loop.create_datagram_endpoint(
             lambda: _Endpoint(self), local_addr=(self._host, self._requested_port))
         self._transport = transport
+        sock = transport.get_extra_info("socket")
+        if sock is not None:  # room for a client's burst of chunks (the kernel caps it)
+            with contextlib.suppress(OSError):
+                sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
         self._keepalive = asyncio.ensure_future(self._keepalive_loop())
 
     async def close(self) -> None:

@@ -138,8 +138,8 @@ def connect_reply(client_id: bytes | None, description: str | None = None) -> by
 class PackageCounter:
     """One client's ``package_index``: 0 first, +1 per BINARY frame, wrapping as a uint32."""
 
-    def __init__(self) -> None:
-        self._next = 0
+    def __init__(self, start: int = 0) -> None:
+        self._next = start & 0xFFFFFFFF
 
     def take(self) -> int:
         index = self._next
@@ -166,8 +166,8 @@ class MessageTooLong(ValueError):
 
 class Reassembler:
     """Joins BINARY chunks into messages: consecutive package indices, ended by a chunk shorter
-    than :data:`CHUNK`. A gap (a datagram lost or reordered) drops the message it broke; the
-    chunk after the gap starts a new one.
+    than :data:`CHUNK`. A gap (a datagram lost or reordered) drops the message it broke, up to
+    that message's short last chunk; the chunk after that starts a new one.
 
     Args:
         limit: the longest message; past it the message is dropped and
@@ -187,10 +187,13 @@ class Reassembler:
         Raises:
             MessageTooLong: the message grew past the limit (its remaining chunks are ignored).
         """
-        if self._next is not None and index != self._next:
-            self._reset()
-        self._next = (index + 1) & 0xFFFFFFFF
         last = len(chunk) < CHUNK
+        if self._next is not None and index != self._next:
+            # A chunk is missing: what came before and what follows up to the message's end
+            # are parts of a message that cannot be whole.
+            self._reset()
+            self._discarding = True
+        self._next = (index + 1) & 0xFFFFFFFF
         if self._discarding:
             if last:
                 self._reset()
