@@ -429,3 +429,36 @@ def test_bad_datagrams_are_dropped_and_the_server_serves_on(
     fresh = _client(clients, udp.port, "galileo/status")
     assert fresh.connect()["status"] is True
     assert "navStatus" in fresh.message()
+
+
+def test_a_client_flooding_a_slow_topic_is_told_busy(galileo: Harness, udp: GalileoUdpFast,
+                                                     clients: list[Client],
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    release = threading.Event()
+    applied: list[float] = []
+
+    def slow(linear: float, angular: float) -> None:
+        release.wait(WAIT)
+        applied.append(angular)
+
+    monkeypatch.setattr(galileo.runtime, "teleop", slow)
+    client = _client(clients, udp.port, "cmd_vel")
+    assert client.connect()["status"] is True
+    try:
+        for n in range(80):
+            twist = {"linear": {"x": 0.0}, "angular": {"z": n / 100}}
+            client.send_text(json.dumps(twist))
+            if n % 16 == 0:
+                client.sync()
+        client.sync()
+        replies = [json.loads(d[6:]) for d in client.datagrams if d[5] == TEXT]
+        assert len(replies) == 80 - 65
+        assert all(r["status"] == "error" and "busy" in r["description"] for r in replies)
+    finally:
+        release.set()
+    deadline = time.monotonic() + WAIT
+    while len(applied) < 65 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    time.sleep(0.1)
+    # One being published and 64 waiting; the rest were refused. Order is kept.
+    assert len(applied) == 65 and applied == sorted(applied) and applied[0] == 0.0
