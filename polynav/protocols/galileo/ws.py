@@ -15,7 +15,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
-import logging
 import socket
 from http import HTTPStatus
 from typing import Any
@@ -29,11 +28,8 @@ from websockets.http11 import Request, Response
 from polynav.errors import PolynavError
 from polynav.listen import tcp_listener
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.topic_feed import TopicFeed
 from polynav.protocols.galileo.topics import TOPICS, Topic
-
-log = logging.getLogger(__name__)
-
-MAP_CHECK_PERIOD = 1.0  # [s runtime] how often /map looks whether the map changed
 
 
 def _refuse(status: HTTPStatus, description: str) -> Response:
@@ -111,34 +107,14 @@ class WsListener:
             await connection.send(json.dumps({"status": "error", "description": str(exc)}))
 
     async def _send_loop(self, connection: ServerConnection, topic: Topic) -> None:
-        if topic.render is None:
+        feed = TopicFeed(self._ctx, topic)
+        if not feed.sends:
             return
-        runtime = self._ctx.runtime
-        seq = 0
-        due = runtime.now()
-        last_key: object = object()
-        period = 1.0 / topic.rate if topic.rate > 0 else MAP_CHECK_PERIOD
         while True:
-            now = runtime.now()
-            if now + 1e-9 >= due:
-                due = max(due + period, now)
-                send = True
-                if topic.changed is not None:
-                    key = topic.changed(self._ctx)
-                    send = key != last_key
-                    last_key = key
-                if send:
-                    try:
-                        message = await asyncio.to_thread(topic.render, self._ctx, seq)
-                    except PolynavError as exc:
-                        log.debug("galileo: ws %s: nothing to send: %s", topic.name, exc)
-                        message = None
-                    except Exception:  # the one broad except per stream: log, keep serving
-                        log.error("galileo: ws %s failed", topic.name, exc_info=True)
-                        message = None
-                    if message is not None:
-                        seq += 1
-                        await connection.send(json.dumps(message, allow_nan=False))
+            if feed.take_due():
+                text = await asyncio.to_thread(feed.render)
+                if text is not None:
+                    await connection.send(text)
             await asyncio.sleep(self._poll)
 
 

@@ -34,7 +34,7 @@ TODO_TASKS: set[str] = set()
 # ROS (the lead), Modbus (gw-modbus), UDP (gw-udp), SDK (the SDK client).
 TODO_SERIAL: set[str] = set()
 TODO_MODBUS: set[str] = set()
-TODO_UDP: set[str] = set(spec.UDP)
+TODO_UDP: set[str] = set()
 TODO_SDK: set[str] = set(spec.SDK)
 
 TODO = (TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS | TODO_SERIAL | TODO_MODBUS | TODO_UDP
