@@ -383,6 +383,11 @@ def build_parser() -> argparse.ArgumentParser:
                      help="Galileo Modbus TCP port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-galileo-modbus", action="store_true",
                      help="do not serve Galileo's Modbus TCP")
+    run.add_argument("--galileo-udp-fast-port", type=int, default=3547,
+                     help="Galileo UDP fast protocol (the WebSocket topics over UDP) port, 0 for "
+                          "any free one (default: %(default)s/udp)")
+    run.add_argument("--no-galileo-udp-fast", action="store_true",
+                     help="do not serve Galileo's UDP fast protocol")
     run.add_argument("--galileo-require-token", action="store_true",
                      help="check Galileo tokens whatever config.json's no_token_check says")
     run.add_argument("--no-yunji-http", action="store_true",

@@ -99,11 +99,13 @@ def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
             broadcast_address=args.galileo_broadcast,
             serial=args.galileo_serial,
             modbus_port=None if args.no_galileo_modbus else args.galileo_modbus_port,
+            udp_fast_port=None if args.no_galileo_udp_fast else args.galileo_udp_fast_port,
         ))
     except OSError as exc:
-        raise DialectStartError(f"cannot listen (Galileo, ports {args.galileo_port}, "
-                                f"{args.galileo_ws_port}, Modbus {args.galileo_modbus_port}, "
-                                f"serial {args.galileo_serial}): {exc}", 1) from exc
+        raise DialectStartError(
+            f"cannot listen (Galileo, ports {args.galileo_port}, {args.galileo_ws_port}, "
+            f"Modbus {args.galileo_modbus_port}, UDP fast {args.galileo_udp_fast_port}, "
+            f"serial {args.galileo_serial}): {exc}", 1) from exc
     except PolynavError as exc:  # a port out of range: the user's to fix
         raise DialectStartError(str(exc), 2) from exc
     lines = [f"Galileo API http://{host}:{galileo.port}/api/v1"]
@@ -111,6 +113,8 @@ def _galileo(runtime: RobotRuntime, args: argparse.Namespace, host: str,
         lines.append(f"Galileo WebSocket ws://{host}:{galileo.ws_port}/<topic>")
     if galileo.modbus_port is not None:
         lines.append(f"Galileo Modbus TCP {host}:{galileo.modbus_port}")
+    if galileo.udp_fast_port is not None:
+        lines.append(f"Galileo UDP fast udp://{host}:{galileo.udp_fast_port}/<topic>")
     links = {}
     if galileo.serial_path is not None:
         lines.append(f"Galileo serial {galileo.serial_path} (115200 8N1)")

@@ -28,8 +28,8 @@ class PolynavProcess:
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "polynav", "run", "--speed", "20", "--port", "0",
              "--yunji-port", "0", "--yunji-http-port", "0", "--galileo-port", "0",
-             "--galileo-ws-port", "0",
-             "--galileo-modbus-port", "0", "--galileo-udp-port", "0", "--puwei-port", "0",
+             "--galileo-ws-port", "0", "--galileo-modbus-port", "0",
+             "--galileo-udp-fast-port", "0", "--galileo-udp-port", "0", "--puwei-port", "0",
              "--puwei-discovery-port", "0", "--data", str(data),
              "--no-people"],
             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,

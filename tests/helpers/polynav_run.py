@@ -19,7 +19,7 @@ DIALECTS = {"yunji": "--no-yunji", "galileo": "--no-galileo", "puwei": "--no-puw
 
 
 #: The Galileo wires with a default port, on any free port (``extra`` may say otherwise).
-GALILEO_WIRES = ("--galileo-modbus-port", "0")
+GALILEO_WIRES = ("--galileo-modbus-port", "0", "--galileo-udp-fast-port", "0")
 
 
 def run_args(tmp_path: Path, dialect: str | None, *extra: str) -> list[str]:

@@ -41,6 +41,7 @@ class GalileoConfig:
         serial: the navigation serial port: a device path (``/dev/ttyUSB0``), ``"pty"`` for a
             new pseudo-terminal, ``None``: none (galileo-wire-protocols §1).
         modbus_port: the Modbus TCP port (3551 on the robot, §3); 0: any; ``None``: none.
+        udp_fast_port: the UDP fast protocol's port (3547/udp, §4); 0: any; ``None``: none.
     """
 
     host: str = "127.0.0.1"
@@ -55,6 +56,7 @@ class GalileoConfig:
     robot_id: str | None = None
     serial: str | None = None
     modbus_port: int | None = None
+    udp_fast_port: int | None = None
 
     def __post_init__(self) -> None:
         if not self.host:
@@ -63,7 +65,7 @@ class GalileoConfig:
             value = getattr(self, key)
             if not 0 <= value <= 65535:
                 raise ConfigError(f"galileo.{key}", f"must be in [0, 65535], got {value}")
-        for key in ("ws_port", "modbus_port"):
+        for key in ("ws_port", "modbus_port", "udp_fast_port"):
             value = getattr(self, key)
             if value is not None and not 0 <= value <= 65535:
                 raise ConfigError(f"galileo.{key}", f"must be in [0, 65535], got {value}")

@@ -15,6 +15,7 @@ from polynav.protocols.galileo.discovery import Announcer, announcement
 from polynav.protocols.galileo.http import create_app
 from polynav.protocols.galileo.modbus import ModbusListener
 from polynav.protocols.galileo.native.serial_link import SerialLink
+from polynav.protocols.galileo.udp_fast import UdpFastListener
 from polynav.protocols.galileo.ws import WsListener
 from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.server_thread import ServerThread, started
@@ -64,6 +65,7 @@ class GalileoServer:
         self._ws: WsListener | None = None
         self._serial: SerialLink | None = None
         self._modbus: ModbusListener | None = None
+        self._udp_fast: UdpFastListener | None = None
 
     @property
     def ws_port(self) -> int | None:
@@ -74,6 +76,11 @@ class GalileoServer:
     def modbus_port(self) -> int | None:
         """The Modbus TCP port actually bound, if it serves."""
         return None if self._modbus is None else self._modbus.port
+
+    @property
+    def udp_fast_port(self) -> int | None:
+        """The UDP fast protocol's port actually bound, if it serves."""
+        return None if self._udp_fast is None else self._udp_fast.port
 
     @property
     def serial_path(self) -> str | None:
@@ -103,6 +110,11 @@ class GalileoServer:
             await modbus.start()
             self._modbus = modbus
             log.info("galileo: Modbus TCP on %s:%d", self.config.host, modbus.port)
+        if self.config.udp_fast_port is not None:
+            udp_fast = UdpFastListener(self.ctx, self.config.host, self.config.udp_fast_port)
+            await udp_fast.start()
+            self._udp_fast = udp_fast
+            log.info("galileo: UDP fast protocol on %s:%d", self.config.host, udp_fast.port)
         if self.config.serial is not None:
             device = None if self.config.serial == "pty" else self.config.serial
             self._serial = SerialLink(self.ctx, device).start()
@@ -127,6 +139,9 @@ class GalileoServer:
         if self._modbus is not None:
             await self._modbus.close()
             self._modbus = None
+        if self._udp_fast is not None:
+            await self._udp_fast.close()
+            self._udp_fast = None
         if self._announcer is not None:
             await self._announcer.close()
             self._announcer = None
@@ -165,3 +180,7 @@ class GalileoThread(ServerThread[GalileoServer]):
     @property
     def modbus_port(self) -> int | None:
         return self.server.modbus_port
+
+    @property
+    def udp_fast_port(self) -> int | None:
+        return self.server.udp_fast_port

@@ -36,6 +36,7 @@ from typing import Any
 
 from polynav.errors import PolynavError
 from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.topic_feed import TopicFeed
 from polynav.protocols.galileo.topics import TOPICS, Topic
 from polynav.protocols.galileo.udp_fast_frames import (
@@ -53,7 +54,6 @@ from polynav.protocols.galileo.udp_fast_frames import (
     parse_data,
 )
 from polynav.protocols.outbox import Outbox, OutboxClosed
-from polynav.protocols.server_thread import ServerThread, started
 
 log = logging.getLogger(__name__)
 
@@ -190,12 +190,14 @@ class UdpFastListener:
         """One datagram from ``address``: whatever it holds, it never ends the server."""
         try:
             if not data:
+                self._count("udp.empty_datagram")
                 return
             if data[0] == CONNECT:
                 self._register(data, address)
             elif data[0] == DATA:
                 self._on_data(data, address)
-            # Anything else is not this protocol: dropped, as the example clients drop it.
+            else:  # not this protocol: dropped, as the example clients drop it
+                self._count("udp.unknown_frame_type")
         except Exception:  # the one broad except of the endpoint: log, keep serving
             log.error("galileo udp: datagram from %s:%d failed", *address, exc_info=True)
 
@@ -227,6 +229,7 @@ class UdpFastListener:
                  topic.name)
 
     def _refuse(self, address: Address, reason: str) -> None:
+        self._count("udp.registration_refused")
         log.info("galileo udp: registration from %s:%d refused: %s", *address, reason)
         self._send(connect_reply(None, reason), address)
 
@@ -240,13 +243,16 @@ class UdpFastListener:
     def _on_data(self, data: bytes, address: Address) -> None:
         frame = parse_data(data)
         if frame is None:
+            self._count("udp.malformed_frame")
             return
         client = self._clients.get(frame.client_id)
         if client is None:
+            self._count("udp.unknown_client")
             if frame.opcode != Opcode.CLOSE:  # a client of a previous run: it is not connected
                 self._send(header(frame.client_id, Opcode.CLOSE), address)
             return
         if client.address != address:  # someone else using this client's id
+            self._count("udp.foreign_address")
             log.debug("galileo udp: id %s from %s:%d ignored", frame.client_id.hex(), *address)
             return
         client.last_heard = time.monotonic()
@@ -262,6 +268,7 @@ class UdpFastListener:
             try:
                 message = client.inbound.feed(frame.package_index, frame.payload)
             except MessageTooLong as exc:
+                self._count("udp.message_too_long")
                 client.outbox.event(_error(str(exc)))
                 return
             if message is not None:
@@ -274,6 +281,7 @@ class UdpFastListener:
         try:
             client.inbox.put_nowait(message)
         except asyncio.QueueFull:
+            self._count("udp.busy")
             client.outbox.event(_error(f"busy: more than {INBOX_LIMIT} messages waiting; "
                                        "this one was dropped"))
 
@@ -289,6 +297,7 @@ class UdpFastListener:
                 data = json.loads(message)
                 await asyncio.to_thread(publish, self._ctx, data)
             except (ValueError, PolynavError) as exc:
+                self._count("udp.bad_message")
                 client.outbox.event(_error(str(exc)))
             except Exception:  # the one broad except per client: log, answer, keep serving
                 log.error("galileo udp: publishing on %s failed", client.topic.name,
@@ -338,6 +347,9 @@ class UdpFastListener:
 
     # --- helpers -----------------------------------------------------------------------------
 
+    def _count(self, name: str) -> None:
+        diagnostics(self._ctx).count(name)
+
     def _send(self, datagram: bytes, address: Address) -> None:
         if self._transport is not None and not self._transport.is_closing():
             self._transport.sendto(datagram, address)
@@ -355,45 +367,3 @@ class UdpFastListener:
         if notify:
             self._send(header(client.client_id, Opcode.CLOSE), client.address)
         log.info("galileo udp: client %s dropped: %s", client.client_id.hex(), reason)
-
-
-class GalileoUdpFast:
-    """The UDP fast server on an event loop of its own, in a daemon thread.
-
-    Args:
-        ctx: the Galileo context (shared with the other Galileo servers).
-        host: address to bind.
-        port: UDP port (:data:`DEFAULT_UDP_FAST_PORT`); 0: any free one.
-        options: :class:`UdpFastListener`'s keyword arguments (timings).
-    """
-
-    def __init__(self, ctx: Context, host: str = "127.0.0.1",
-                 port: int = DEFAULT_UDP_FAST_PORT, **options: float) -> None:
-        self._ctx = ctx
-        self._host = host
-        self._port = port
-        self._options = options
-        self._thread: ServerThread[UdpFastListener] | None = None
-
-    def start(self) -> GalileoUdpFast:
-        """Bind and serve (raises ``OSError`` when the port is taken); returns ``self``."""
-        if self._thread is None:
-            listener = UdpFastListener(self._ctx, self._host, self._port, **self._options)
-            self._thread = ServerThread("polynav-galileo-udp", lambda: started(listener))
-        return self
-
-    def stop(self) -> None:
-        """Close every client and the socket, then end the thread."""
-        if self._thread is not None:
-            self._thread.stop()
-            self._thread = None
-
-    @property
-    def listener(self) -> UdpFastListener:
-        assert self._thread is not None, "not started"
-        return self._thread.server
-
-    @property
-    def port(self) -> int:
-        """The port actually bound."""
-        return self.listener.port

@@ -157,7 +157,7 @@ class RunningPolynav:
             self.proc = subprocess.Popen(
                 [sys.executable, "-m", "polynav", "run", "--data", str(data), "--speed", "20",
                  "--port", "0", "--galileo-port", "0", "--galileo-ws-port", "0",
-                 "--galileo-modbus-port", "0",
+                 "--galileo-modbus-port", "0", "--galileo-udp-fast-port", "0",
                  "--galileo-udp-port", str(udp_port), "--galileo-require-token", "--no-yunji",
                  "--no-puwei", "--no-people"],
                 stdout=subprocess.PIPE, stderr=stderr, text=True,

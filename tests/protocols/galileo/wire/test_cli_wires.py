@@ -94,3 +94,25 @@ def test_run_serves_modbus_tcp_unless_told_not_to(tmp_path: Path) -> None:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+def test_run_serves_the_udp_fast_protocol(tmp_path: Path) -> None:
+    import socket
+
+    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS)  # --galileo-udp-fast-port 0 (helper)
+    try:
+        lines = startup_lines(proc)
+        found = [m for line in lines
+                 if (m := re.search(r"Galileo UDP fast udp://[\d.]+:(\d+)/<topic>", line))]
+        assert len(found) == 1, lines
+        port = int(found[0].group(1))
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            sock.settimeout(10)
+            sock.sendto(b"\x01udp://127.0.0.1:%d/galileo/status\x00" % port, ("127.0.0.1", port))
+            reply, _ = sock.recvfrom(2048)
+            assert json.loads(reply[6:])["status"] is True
+        stop_run(proc, lines)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()

@@ -23,11 +23,14 @@ from typing import Any
 
 import pytest
 
+from polynav.protocols.galileo.context import Context
+from polynav.protocols.galileo.diagnostics import diagnostics
 from polynav.protocols.galileo.native import commands as c
 from polynav.protocols.galileo.native.ros_message import encode_native_cmds
 from polynav.protocols.galileo.status import galileo_status
-from polynav.protocols.galileo.udp_fast import GalileoUdpFast
+from polynav.protocols.galileo.udp_fast import UdpFastListener
 from polynav.runtime.robot_runtime import RobotRuntime
+from tests.helpers.loop_thread import LoopThread
 from tests.helpers.wire_fuzz import garbage, tracebacks
 from tests.protocols.galileo import spec
 from tests.protocols.galileo.conftest import Harness, galileo_config, serving
@@ -149,9 +152,27 @@ class Client:
                 return message
 
 
+class UdpServer:
+    """The UDP fast listener on a loop thread of its own (``polynav run`` serves it on the
+    Galileo servers' loop), with the timings a test chooses."""
+
+    def __init__(self, ctx: Context, **options: float) -> None:
+        self.loop = LoopThread()
+        self.listener = UdpFastListener(ctx, "127.0.0.1", 0, **options)
+        self.loop.run(self.listener.start())
+
+    @property
+    def port(self) -> int:
+        return self.listener.port
+
+    def stop(self) -> None:
+        self.loop.run(self.listener.close())
+        self.loop.close()
+
+
 @pytest.fixture
-def udp(galileo: Harness) -> Iterator[GalileoUdpFast]:
-    server = GalileoUdpFast(galileo.server.ctx, "127.0.0.1", 0).start()
+def udp(galileo: Harness) -> Iterator[UdpServer]:
+    server = UdpServer(galileo.server.ctx)
     try:
         yield server
     finally:
@@ -190,7 +211,7 @@ def test_every_udp_entry_has_a_test() -> None:
 
 def test_registration_and_refusals(runtime: RobotRuntime, clients: list[Client]) -> None:
     with serving(runtime, galileo_config(require_token=True)) as g:
-        server = GalileoUdpFast(g.server.ctx, "127.0.0.1", 0).start()
+        server = UdpServer(g.server.ctx)
         try:
             port = server.port
             for path, token, why in (("galileo/status", "", "invalid token"),
@@ -226,7 +247,7 @@ def test_registration_and_refusals(runtime: RobotRuntime, clients: list[Client])
             server.stop()
 
 
-def test_status_topic_streams_the_runtime_state(galileo: Harness, udp: GalileoUdpFast,
+def test_status_topic_streams_the_runtime_state(galileo: Harness, udp: UdpServer,
                                                 clients: list[Client]) -> None:
     client = _client(clients, udp.port, "galileo/status")
     assert client.connect()["status"] is True
@@ -264,7 +285,7 @@ def test_status_topic_streams_the_runtime_state(galileo: Harness, udp: GalileoUd
     assert got.count(True) == 4, got
 
 
-def test_cmd_vel_text_turns_the_robot(galileo: Harness, udp: GalileoUdpFast,
+def test_cmd_vel_text_turns_the_robot(galileo: Harness, udp: UdpServer,
                                       clients: list[Client],
                                       monkeypatch: pytest.MonkeyPatch) -> None:
     applied = threading.Semaphore(0)
@@ -300,7 +321,7 @@ def test_cmd_vel_text_turns_the_robot(galileo: Harness, udp: GalileoUdpFast,
     assert client.message()["status"] == "error"
 
 
-def test_galileo_cmds_runs_a_native_command(galileo: Harness, udp: GalileoUdpFast,
+def test_galileo_cmds_runs_a_native_command(galileo: Harness, udp: UdpServer,
                                             clients: list[Client]) -> None:
     client = _client(clients, udp.port, "galileo/cmds")
     assert client.connect()["status"] is True
@@ -312,7 +333,7 @@ def test_galileo_cmds_runs_a_native_command(galileo: Harness, udp: GalileoUdpFas
     assert _until(galileo, lambda: galileo.runtime.status().mode == "navigating", 20.0)
 
 
-def test_long_messages_travel_as_binary_chunks(galileo: Harness, udp: GalileoUdpFast,
+def test_long_messages_travel_as_binary_chunks(galileo: Harness, udp: UdpServer,
                                                clients: list[Client]) -> None:
     galileo.ok("GET", "/navigation/start", params={"map": "floor1", "start_index": 1})
     galileo.runtime.advance(2.0)
@@ -341,7 +362,7 @@ def test_long_messages_travel_as_binary_chunks(galileo: Harness, udp: GalileoUdp
     assert len(map_client.datagrams) > 2000
 
 
-def test_ping_pong_both_ways(udp: GalileoUdpFast, clients: list[Client]) -> None:
+def test_ping_pong_both_ways(udp: UdpServer, clients: list[Client]) -> None:
     client = _client(clients, udp.port, "cmd_vel")  # a topic that sends nothing: only pings
     assert client.connect()["status"] is True
     client.send(PING)
@@ -357,8 +378,7 @@ def test_ping_pong_both_ways(udp: GalileoUdpFast, clients: list[Client]) -> None
 
 
 def test_close_and_keep_alive_timeout(galileo: Harness, clients: list[Client]) -> None:
-    server = GalileoUdpFast(galileo.server.ctx, "127.0.0.1", 0, client_timeout=0.6,
-                            ping_interval=0.05).start()
+    server = UdpServer(galileo.server.ctx, client_timeout=0.6, ping_interval=0.05)
     try:
         closing = _client(clients, server.port, "galileo/status")
         silent = _client(clients, server.port, "galileo/status")
@@ -396,7 +416,7 @@ def test_close_and_keep_alive_timeout(galileo: Harness, clients: list[Client]) -
 
 
 def test_bad_datagrams_are_dropped_and_the_server_serves_on(
-        galileo: Harness, udp: GalileoUdpFast, clients: list[Client],
+        galileo: Harness, udp: UdpServer, clients: list[Client],
         caplog: pytest.LogCaptureFixture) -> None:
     client = _client(clients, udp.port, "cmd_vel")
     assert client.connect()["status"] is True
@@ -426,12 +446,16 @@ def test_bad_datagrams_are_dropped_and_the_server_serves_on(
         other.sock.recvfrom(2048)
     assert udp.listener.clients == 1
     assert tracebacks(caplog) == []
+    counts = diagnostics(galileo.server.ctx).snapshot()  # each kind of bad input counted
+    for name in ("udp.empty_datagram", "udp.unknown_frame_type", "udp.malformed_frame",
+                 "udp.foreign_address", "udp.message_too_long"):
+        assert counts.get(name, 0) >= 1, (name, counts)
     fresh = _client(clients, udp.port, "galileo/status")
     assert fresh.connect()["status"] is True
     assert "navStatus" in fresh.message()
 
 
-def test_a_client_flooding_a_slow_topic_is_told_busy(galileo: Harness, udp: GalileoUdpFast,
+def test_a_client_flooding_a_slow_topic_is_told_busy(galileo: Harness, udp: UdpServer,
                                                      clients: list[Client],
                                                      monkeypatch: pytest.MonkeyPatch) -> None:
     release = threading.Event()
