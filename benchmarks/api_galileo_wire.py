@@ -168,22 +168,43 @@ def _load_modbus(port: int, clients: int, seconds: float) -> dict[str, Any]:
 
 
 def _load_udp(port: int, clients: int, seconds: float) -> dict[str, Any]:
-    from polynav.clients.galileo.udp_fast import UdpFastClient
+    """``clients`` UDP fast subscribers of ``/galileo/status`` (spec §4: register, then count the
+    TEXT frames, answering the server's pings) on one thread with ``select``."""
+    import select
+    import socket
 
-    counts = []
-    subscribers = [UdpFastClient("127.0.0.1", port, "/galileo/status") for _ in range(clients)]
-    try:
-        for s in subscribers:
-            s.connect()
-        time.sleep(0.5)
-        for s in subscribers:
-            s.received_texts()  # drop what came before the window
-        time.sleep(seconds)
-        counts = [len(s.received_texts()) for s in subscribers]
-    finally:
-        for s in subscribers:
-            s.close()
-    return {"per_client": counts, "seconds": seconds}
+    socks = []
+    for _ in range(clients):
+        sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        sock.sendto(b"\x01udp://127.0.0.1:%d/galileo/status\x00" % port, ("127.0.0.1", port))
+        socks.append(sock)
+    ids: dict[socket.socket, bytes] = {}
+    counts = {sock: 0 for sock in socks}
+    start = time.monotonic()
+    window = start + 0.5  # registration and the first messages first
+    end = window + seconds
+    while time.monotonic() < end:
+        ready, _, _ = select.select(socks, [], [], 0.05)
+        now = time.monotonic()
+        for sock in ready:
+            data = sock.recv(4096)
+            if len(data) < 6 or data[0] != 2:
+                continue
+            if sock not in ids:
+                if json.loads(data[6:]).get("status"):
+                    ids[sock] = data[1:5]
+                continue
+            opcode = data[5]
+            if opcode == 9:  # ping: pong
+                sock.sendto(b"\x02" + ids[sock] + b"\x0a", ("127.0.0.1", port))
+            elif opcode == 1 and now >= window:
+                counts[sock] += 1
+    for sock in socks:
+        if sock in ids:
+            sock.sendto(b"\x02" + ids[sock] + b"\x08", ("127.0.0.1", port))
+        sock.close()
+    return {"per_client": list(counts.values()), "seconds": seconds,
+            "registered": len(ids)}
 
 
 def _run_load(*argv: str, timeout: float) -> dict[str, Any]:
@@ -232,7 +253,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             result = _run_load("udp", str(galileo.udp_fast_port), str(args.udp_clients),
                                str(args.seconds), timeout=args.seconds + 60)
             rates = [n / result["seconds"] for n in result["per_client"]]
-            fan_out = {"clients": len(rates), "min_per_second": min(rates),
+            fan_out = {"clients": result["registered"], "min_per_second": min(rates),
                        "mean_per_second": sum(rates) / len(rates)}
     with _bare_modbus() as port:
         theirs = _modbus_figures(_run_load("modbus", str(port), str(args.modbus_clients),
