@@ -34,10 +34,14 @@ from polynav.errors import (
     PolynavError,
     StorageError,
 )
+from polynav.runtime.settings import BeyondProfile
 
 log = logging.getLogger(__name__)
 
 ERROR_TABLE: dict[type[BaseException], tuple[int, str]] = {
+    # A value the schema allows that the robot's profile forbids: the state of the robot refuses
+    # it (another profile takes it), so a conflict, not a malformed request.
+    BeyondProfile: (409, "beyond_profile"),
     NotFound: (404, "not_found"),
     NotLocalized: (409, "not_localized"),
     Conflict: (409, "conflict"),
@@ -96,7 +100,7 @@ LOOKUP = _errors({
 # A runtime command: refused in the robot's current state (409).
 STATE = _errors({
     409: "refused in the robot's current state (codes `conflict`, `invalid_request`, "
-         "`not_localized`)",
+         "`not_localized`, `beyond_profile`)",
 })
 # Any operation: a fault of the server (the disk, a bug), logged; never caused by the input.
 FAULT = _errors({500: "a fault of the server (codes `internal`, `storage_error`)"})

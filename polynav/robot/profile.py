@@ -426,6 +426,8 @@ def _section(cls: type[Any], raw: object, key: str,
     for name, value in doc.items():
         full = f"{key}.{aliases.get(name, name)}"
         if name == "beams":
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)  # 108.0 is an integer in JSON Schema's sense
             if isinstance(value, bool) or not isinstance(value, int):
                 raise ProfileError(full, f"expected an integer, got {value!r}")
             values[name] = value

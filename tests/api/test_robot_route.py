@@ -1,5 +1,5 @@
 """GET /api/robot shows the profile; POST /api/robot/check refuses bad profiles naming the field;
-PUT /api/settings is held to the profile (422 with the reason)."""
+PUT /api/settings is held to the profile (409 `beyond_profile` with the reason)."""
 
 from __future__ import annotations
 
@@ -40,13 +40,13 @@ def test_get_robot_shows_the_profile(client: httpx.Client) -> None:
     assert body["lidar"]["pose"]["x"] == pytest.approx(0.12)
 
 
-def test_settings_above_the_profile_or_below_the_body_are_422(client: httpx.Client) -> None:
-    r = client.put("/api/settings", json={"max_linear_velocity": 2.5})
-    assert r.status_code == 422
-    assert r.json()["error"]["code"] == "invalid_setting"
+def test_settings_above_the_profile_or_below_the_body_are_409(client: httpx.Client) -> None:
+    r = client.put("/api/settings", json={"max_linear_velocity": 2.5})  # schema-valid
+    assert r.status_code == 409
+    assert r.json()["error"]["code"] == "beyond_profile"
     assert "limits.max_linear_velocity" in r.json()["error"]["message"]
     r = client.put("/api/settings", json={"robot_radius": 0.1})
-    assert r.status_code == 422
+    assert r.status_code == 409
     assert "below the body" in r.json()["error"]["message"]
     # Within the profile it applies, and 2 m/s is allowed for this robot.
     r = client.put("/api/settings", json={"max_linear_velocity": 1.8, "robot_radius": 0.3})
@@ -64,6 +64,11 @@ def test_check_accepts_a_good_profile_with_defaults_filled_in(client: httpx.Clie
     assert r.status_code == 200
     assert r.json()["limits"]["max_linear_velocity"] == 1.5
     assert r.json()["lidar"]["beams"] == 360
+    # 108.0 is an integer in JSON Schema's sense (what Schemathesis found refused)
+    r = client.post("/api/robot/check", json=_profile(lidar={"beams": 108.0}))
+    assert r.status_code == 200 and r.json()["lidar"]["beams"] == 108
+    r = client.post("/api/robot/check", json=_profile(lidar={"beams": 108.5}))
+    assert r.status_code in (409, 422) and "beams" in r.json()["error"]["message"]
 
 
 @pytest.mark.parametrize(

@@ -45,8 +45,8 @@ def get_settings(runtime: RuntimeDep) -> dict[str, Any]:
 )
 def update_settings(runtime: RuntimeDep, changes: SettingsIn = SettingsBody) -> dict[str, Any]:
     """Change some settings; all or none apply. 422 for an unknown key, a wrong type or a value
-    out of range (the schema says each range), and (code `invalid_setting`) for a speed above
-    the robot profile's limits or a robot_radius below its body (GET /api/robot shows both);
-    409 for values that contradict the settings they are combined with. Answers with every
-    setting."""
+    out of range (the schema says each range); 409 (code `beyond_profile`) for a speed above the
+    robot profile's limits or a robot_radius below its body (GET /api/robot shows both: the
+    profile in use refuses what the schema allows), and for values that contradict the settings
+    they are combined with. Answers with every setting."""
     return _to_json(runtime.update_settings(dict(changes)))
