@@ -35,7 +35,7 @@ TODO_TASKS: set[str] = set()
 TODO_SERIAL: set[str] = set()
 TODO_MODBUS: set[str] = set()
 TODO_UDP: set[str] = set()
-TODO_SDK: set[str] = set(spec.SDK)
+TODO_SDK: set[str] = set()
 
 TODO = (TODO_HTTP_A | TODO_HTTP_B | TODO_WS | TODO_TASKS | TODO_SERIAL | TODO_MODBUS | TODO_UDP
         | TODO_SDK)
