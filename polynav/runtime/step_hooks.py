@@ -12,6 +12,7 @@ import heapq
 import itertools
 import logging
 from collections.abc import Callable
+from typing import Protocol
 
 from polynav.errors import PolynavError
 
@@ -58,3 +59,25 @@ class StepHooks:
                 listener(now)
             except Exception:  # a server's fault must not stop the robot
                 log.exception("a step listener failed")
+
+
+class _Clocked(Protocol):
+    def now(self) -> float: ...
+
+    def add_step_listener(self, listener: Callable[[float], None]) -> Callable[[], None]: ...
+
+
+def every(runtime: _Clocked, period: float, fn: Callable[[], None]) -> Callable[[], None]:
+    """Call ``fn`` every ``period`` seconds of the runtime's clock, at the first step on or
+    after each due time (the first at once); after a jump of the clock one call catches up,
+    not a burst. Returns the function that stops it."""
+    due = runtime.now()
+
+    def on_step(now: float) -> None:
+        nonlocal due
+        if now < due - _EPS:
+            return
+        due = max(due + period, now)
+        fn()
+
+    return runtime.add_step_listener(on_step)

@@ -19,13 +19,13 @@ from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.native.ros_message import NATIVE_CMDS_TYPE, decode_native_cmds
 from polynav.protocols.galileo.status import galileo_status
 from polynav.protocols.ros_graph import Graph, Message, RosError, Subscription, Topic
+from polynav.runtime.step_hooks import every
 
 #: The topic and its type as Galileo's ROS package names them (galileo-wire-protocols §2.1).
 STATUS = Topic("/galileo/status", "galileo_msg/GalileoStatus")
 #: Messages per second of the runtime's clock, as on the Galileo WebSocket.
 STATUS_RATE = 10.0
 
-_EPS = 1e-9
 
 
 def add_galileo_topics(graph: Graph, ctx: Context) -> Callable[[], None]:
@@ -42,15 +42,5 @@ def add_galileo_topics(graph: Graph, ctx: Context) -> Callable[[], None]:
         native_control(ctx).apply(payload)
 
     graph.add_subscription(Subscription("/galileo/cmds", NATIVE_CMDS_TYPE, on_cmds))
-    runtime = ctx.runtime
-    period = 1.0 / STATUS_RATE
-    due = runtime.now()
-
-    def on_step(now: float) -> None:
-        nonlocal due
-        if now < due - _EPS:
-            return
-        due = max(due + period, now)  # after a jump of the clock, one message, not a burst
-        graph.publish(STATUS.name, galileo_status(ctx))
-
-    return runtime.add_step_listener(on_step)
+    return every(ctx.runtime, 1.0 / STATUS_RATE,
+                 lambda: graph.publish(STATUS.name, galileo_status(ctx)))

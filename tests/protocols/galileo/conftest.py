@@ -9,6 +9,7 @@ every run sees the same simulated history whatever the machine's speed.
 from __future__ import annotations
 
 import contextlib
+import time
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
@@ -65,15 +66,18 @@ class Harness:
         assert response.status_code == 200, (method, path, response.status_code, response.text)
         return response.json()
 
-    def advance_until(self, done: Callable[[], bool], timeout: float, step: float = 0.1
-                      ) -> bool:
+    def advance_until(self, done: Callable[[], bool], timeout: float, step: float = 0.1,
+                      pause: float = 0.0) -> bool:
         """Advance simulated time until ``done()``, checked between ``step`` s steps (a check
-        that makes HTTP requests would be slow at every physics step)."""
+        that makes HTTP requests would be slow at every physics step), with ``pause`` s of wall
+        time between steps for what a socket carries meanwhile."""
         deadline = self.runtime.now() + timeout
         while not done():
             if self.runtime.now() >= deadline:
                 return False
             self.runtime.advance(step)
+            if pause:
+                time.sleep(pause)
         return True
 
 

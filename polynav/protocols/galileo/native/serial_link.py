@@ -30,6 +30,7 @@ from polynav.protocols.galileo.native.commands import FrameReader
 from polynav.protocols.galileo.native.control import native_control
 from polynav.protocols.galileo.native.status_frame import pack_status
 from polynav.protocols.galileo.status import galileo_status
+from polynav.runtime.step_hooks import every
 
 log = logging.getLogger(__name__)
 
@@ -39,7 +40,6 @@ STATUS_RATE = 30.0
 #: Status frames waiting for the writer (2 s of them); older ones are dropped first.
 _QUEUE = 64
 _READ_WAIT = 0.1  # [s] a read returns at least this often, so stop() is prompt
-_EPS = 1e-9
 
 
 class _Line(Protocol):
@@ -139,20 +139,8 @@ class SerialLink:
         return self._line.path
 
     def start(self) -> SerialLink:
-        runtime = self._ctx.runtime
-        period = 1.0 / STATUS_RATE
-        due = runtime.now()
-
-        def on_step(now: float) -> None:
-            nonlocal due
-            if now < due - _EPS:
-                return
-            due += period
-            if due < now:  # after a jump of the clock, one frame, not a burst
-                due = now + period
-            self._queue(self._status_frame())
-
-        self._detach = runtime.add_step_listener(on_step)
+        self._detach = every(self._ctx.runtime, 1.0 / STATUS_RATE,
+                             lambda: self._queue(self._status_frame()))
         for name, target in (("read", self._read_loop), ("write", self._write_loop)):
             thread = threading.Thread(target=target, name=f"galileo-serial-{name}",
                                       daemon=True)

@@ -34,15 +34,6 @@ COVERED = {
 }
 
 
-def _until(g: Harness, done: Any, timeout: float) -> bool:
-    deadline = g.runtime.now() + timeout
-    while not done():
-        if g.runtime.now() >= deadline:
-            return False
-        g.runtime.advance(0.2)
-        time.sleep(0.01)
-    return True
-
 
 def test_the_message_codec_takes_lists_and_base64_and_refuses_the_rest() -> None:
     message = encode_native_cmds(c.go_to_goal(4), seq=3, stamp=12.25)
@@ -68,7 +59,8 @@ def test_websocket_cmds_start_navigation_and_bad_messages_get_an_error(galileo: 
         assert diagnostics(galileo.server.ctx).snapshot()["ros.bad_message"] == 1
         ws.send(json.dumps({"header": {"seq": 0, "stamp": {"secs": 0, "nsecs": 0},
                                        "frame_id": ""}, "length": 2, "data": [0x6D, 0]}))
-        assert _until(galileo, lambda: galileo.runtime.status().mode == "navigating", 20.0)
+        assert galileo.advance_until(lambda: galileo.runtime.status().mode == "navigating",
+                                     20.0, step=0.2, pause=0.01)
 
 
 @pytest.fixture
@@ -106,13 +98,14 @@ def test_rosbridge_cmds_and_status_with_roslibpy(galileo: Harness,
             with lock:
                 return statuses[-1] if statuses else {}
 
-        assert _until(galileo, lambda: newest().get("navStatus") == 1
-                      and newest().get("visualStatus") == 1, 30.0)
+        assert galileo.advance_until(lambda: newest().get("navStatus") == 1
+                      and newest().get("visualStatus") == 1, 30.0, step=0.2, pause=0.01)
         cmds.publish(roslibpy.Message({"length": 2,  # data as base64, as rosbridge sends uint8[]
                                        "data": base64.b64encode(c.go_to_goal(1)).decode()}))
-        assert _until(galileo, lambda: newest().get("targetNumID") == 1
-                      and newest().get("targetStatus") == 1, 10.0)
-        assert _until(galileo, lambda: newest().get("targetStatus") == 0, 120.0)
+        assert galileo.advance_until(lambda: newest().get("targetNumID") == 1
+                      and newest().get("targetStatus") == 1, 10.0, step=0.2, pause=0.01)
+        assert galileo.advance_until(lambda: newest().get("targetStatus") == 0, 120.0,
+                                     step=0.2, pause=0.01)
         pose = galileo.runtime.simulation.true_pose
         assert abs(pose.x - 5.5) < 0.15 and abs(pose.y - 12.5) < 0.15  # target 1: the lobby
         last = newest()

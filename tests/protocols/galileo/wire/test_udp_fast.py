@@ -194,15 +194,6 @@ def _client(made: list[Client], port: int, path: str, token: str = "") -> Client
     return client
 
 
-def _until(g: Harness, done: Any, timeout: float) -> bool:
-    deadline = g.runtime.now() + timeout
-    while not done():
-        if g.runtime.now() >= deadline:
-            return False
-        g.runtime.advance(0.2)
-        time.sleep(0.01)
-    return True
-
 
 def test_every_udp_entry_has_a_test() -> None:
     assert sorted(set(spec.UDP) - set(COVERED)) == []
@@ -330,7 +321,8 @@ def test_galileo_cmds_runs_a_native_command(galileo: Harness, udp: UdpServer,
     assert error["status"] == "error" and "does not count" in error["description"]
     assert galileo.runtime.status().mode != "navigating"
     client.send_text(json.dumps(encode_native_cmds(c.start_navigation())))
-    assert _until(galileo, lambda: galileo.runtime.status().mode == "navigating", 20.0)
+    assert galileo.advance_until(lambda: galileo.runtime.status().mode == "navigating", 20.0,
+                                 step=0.2, pause=0.01)
 
 
 def test_long_messages_travel_as_binary_chunks(galileo: Harness, udp: UdpServer,
