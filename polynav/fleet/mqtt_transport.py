@@ -313,6 +313,12 @@ class MqttTransport:
         with self._lock:
             return self._lock.wait_for(lambda: self._connected, timeout)
 
+    def wait_disconnected(self, timeout: float) -> bool:
+        """Block until the connection is down (lost, or not yet back), up to ``timeout`` [s];
+        True if it is down."""
+        with self._lock:
+            return self._lock.wait_for(lambda: not self._connected, timeout)
+
     def wait_subscribed(self, timeout: float) -> bool:
         """Block until connected and the broker has acknowledged every subscription on this
         connection, up to ``timeout`` [s]; True if so. Messages published before that may not

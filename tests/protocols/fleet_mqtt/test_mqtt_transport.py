@@ -20,6 +20,7 @@ import pytest
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.fleet import codec
 from polynav.fleet import messages as m
+from polynav.fleet.interface import Transport
 from polynav.fleet.mqtt_transport import (
     BrokerUnreachable,
     MqttTransport,
@@ -67,12 +68,13 @@ def test_every_codec_message_kind_crosses_the_broker_as_the_codec_bytes(
 ) -> None:
     assert {type(message) for message in MESSAGES} == set(m.TOPICS)
     fleet, robot = connect("fleet"), connect("robot-r1")
+    as_transport: Transport = fleet  # what RobotAgent and MasterControl take (checked by mypy)
     inboxes = {kind: robot.subscribe(m.topic("r1", kind)) for kind in m.TOPICS}
     raw = robot.subscribe_raw("uagv/v2/polynav/r1/#")
     assert robot.wait_subscribed(WAIT)
 
     for message in MESSAGES:
-        fleet.publish(m.topic("r1", type(message)), message)
+        as_transport.publish(m.topic("r1", type(message)), message)
 
     for message in MESSAGES:
         inbox = inboxes[type(message)]
@@ -316,3 +318,22 @@ def test_bad_topics_filters_and_qos_are_invalid_requests(connect: TransportFacto
     with pytest.raises(ConfigError):
         connect("robot-r2", will=("uagv/+/connection", b"{}", 1, True))
     assert robot.stats().published == 0
+
+
+def test_while_the_broker_is_away_qos0_is_lost_and_the_retained_connection_arrives_later(
+    broker: Mosquitto, connect: TransportFactory
+) -> None:
+    robot, master = connect("robot-r1"), connect("master")
+    connections = master.subscribe_raw(CONNECTION_TOPIC, version="2.1.0")
+    assert master.wait_subscribed(WAIT)
+    broker.stop()
+    assert robot.wait_disconnected(WAIT)
+
+    robot.publish(m.topic("r1", m.State), STATE)  # QoS 0: lost, and counted as such
+    robot.publish_raw(CONNECTION_TOPIC, connection("ONLINE"))  # QoS 1: queued for the broker
+    assert (robot.stats().published, robot.stats().unsent) == (1, 1)
+
+    broker.restart()
+    assert robot.wait_subscribed(WAIT) and master.wait_subscribed(WAIT)
+    assert connections.wait(WAIT)  # live, or from the retained store if the master came later
+    assert _states(connections.drain()) == ["ONLINE"]
