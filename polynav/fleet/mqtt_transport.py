@@ -22,12 +22,16 @@ logged, counted and dropped: one bad publisher must not stop a robot from hearin
 Messages the codec does not cover (``connection``, ``factsheet``, ``visualization`` in their
 VDA form) go through :meth:`MqttTransport.publish_raw` and :meth:`MqttTransport.subscribe_raw`.
 
+A client that closes while messages are still arriving for it may, rarely, have its socket
+reset by the kernel instead of closed, and the broker then publishes its will.
+
 Overlapping subscriptions (``a/+/state`` and ``a/r1/state``) may make the broker deliver a
 message once per subscription; keep one subscription per topic pattern.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import threading
 import time
@@ -193,6 +197,8 @@ class MqttTransport:
         reconnect_delay: the first and the longest wait between reconnection attempts [s],
             doubling in between.
         max_queued: QoS 1 and 2 messages kept while the broker is away; more are lost.
+        close_timeout: how long :meth:`close` waits for the broker to acknowledge the QoS 1
+            and 2 messages still in flight [s].
 
     Raises:
         ConfigError: a URL that is not ``mqtt://host[:port]``, or a bad will.
@@ -209,6 +215,7 @@ class MqttTransport:
         keepalive: int = 30,
         reconnect_delay: tuple[int, int] = (1, 30),
         max_queued: int = 1000,
+        close_timeout: float = 2.0,
     ) -> None:
         self.url = url
         self.client_id = client_id
@@ -225,6 +232,8 @@ class MqttTransport:
         self._connected = False
         self._closed = False
         self._refused: str | None = None
+        self._close_timeout = close_timeout
+        self._in_flight: list[paho.MQTTMessageInfo] = []
         self._published = self._unsent = self._received = self._dropped = self._connects = 0
 
         client = paho.Client(CallbackAPIVersion.VERSION2, client_id=client_id,
@@ -334,11 +343,25 @@ class MqttTransport:
                                   self._connects)
 
     def close(self) -> None:
-        """Disconnect cleanly (the broker then discards the will) and stop the network thread."""
+        """Disconnect cleanly (the broker then discards the will) and stop the network thread.
+
+        QoS 1 and 2 messages still in flight are given ``close_timeout`` to be acknowledged
+        first: a vehicle's OFFLINE just before it leaves must arrive, and an acknowledgement
+        landing after the socket is closed makes the kernel reset the connection, which the
+        broker takes for a lost client, publishing the will after all.
+        """
         with self._lock:
             if self._closed:
                 return
             self._closed = True
+            in_flight, self._in_flight = self._in_flight, []
+        deadline = time.monotonic() + self._close_timeout
+        for info in in_flight:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            with contextlib.suppress(ValueError, RuntimeError):  # never sent: nothing to wait for
+                info.wait_for_publish(remaining)
         self._client.disconnect()
         self._client.loop_stop()
         log.info("MQTT client %s closed", self.client_id)
@@ -393,6 +416,9 @@ class MqttTransport:
             wire.debug("-> %s q%d%s %s", topic, qos, " retained" if retain else "", payload)
             with self._lock:
                 self._published += 1
+                if qos > 0:
+                    self._in_flight = [i for i in self._in_flight if not _settled(i)]
+                    self._in_flight.append(info)
             return
         with self._lock:
             self._unsent += 1
@@ -503,6 +529,13 @@ class MqttTransport:
                       exc_info=True)
             with self._lock:
                 self._dropped += 1
+
+
+def _settled(info: paho.MQTTMessageInfo) -> bool:
+    try:
+        return info.is_published()
+    except (ValueError, RuntimeError):  # refused by paho: it will never be acknowledged
+        return True
 
 
 def _parse_url(url: str) -> tuple[str, int]:
