@@ -94,6 +94,11 @@ class PostgresServer:
         secret = f":{password}" if password else ""
         return f"postgresql://{SUPERUSER}{secret}@127.0.0.1:{self.port}/{database}"
 
+    @property
+    def pid(self) -> int | None:
+        """The server process's id while it runs."""
+        return None if self._proc is None else self._proc.pid
+
     def start(self, port: int | None = None) -> None:
         """Start the server on ``port`` (a free one if None) and wait until it answers.
 
@@ -139,6 +144,13 @@ class PostgresServer:
         with psycopg.connect(self.url(), autocommit=True) as conn:
             conn.execute(f'CREATE DATABASE "{name}"')
         return name
+
+    def empty_database(self, name: str) -> None:
+        """Drop everything in database ``name`` (its public schema), as new but faster than
+        CREATE DATABASE (half a second each)."""
+        with psycopg.connect(self.url(name), autocommit=True) as conn:
+            conn.execute("DROP SCHEMA public CASCADE")
+            conn.execute("CREATE SCHEMA public")
 
     def drop_database(self, name: str) -> None:
         with psycopg.connect(self.url(), autocommit=True) as conn:
@@ -187,9 +199,15 @@ def postgres_server() -> Iterator[PostgresServer]:
         yield server
 
 
+@pytest.fixture(scope="session")
+def postgres_database(postgres_server: PostgresServer) -> str:
+    """A database of the session's server for tests, emptied by :func:`postgres_url`."""
+    return postgres_server.create_database()
+
+
 @pytest.fixture
-def postgres_url(postgres_server: PostgresServer) -> Iterator[str]:
-    """The URL of a fresh database on the session's server, dropped after the test."""
-    name = postgres_server.create_database()
-    yield postgres_server.url(name)
-    postgres_server.drop_database(name)
+def postgres_url(postgres_server: PostgresServer, postgres_database: str) -> str:
+    """The URL of an empty database on the session's server (emptied before each test: the
+    tests of one process run one after the other)."""
+    postgres_server.empty_database(postgres_database)
+    return postgres_server.url(postgres_database)

@@ -127,7 +127,7 @@ class RecordsDatabase:
         config = config or RecordsConfig()
         engine = _engine(url, config, application_name)
         db = cls(engine, url, config)
-        deadline = time.monotonic() + config.connect_wait
+        started = time.monotonic()
         pause = config.backoff_initial
         while True:
             try:
@@ -135,15 +135,16 @@ class RecordsDatabase:
                 if set(inspect(engine).get_table_names()) >= set(metadata.tables):
                     return db
             except DBAPIError as exc:
-                if _fatal(exc) or time.monotonic() + pause > deadline:
+                waited = time.monotonic() - started
+                if _fatal(exc) or waited >= config.connect_wait:
                     engine.dispose()
                     raise FleetRecordsError(
                         f"fleet records database {redacted(url)} unreachable after "
-                        f"{config.connect_wait:g} s: {_reason(exc)}") from exc
+                        f"{waited:.1f} s: {_reason(exc)}") from exc
                 # Not up yet, or another fleet manager creating the same tables right now.
                 log.info("fleet records database %s not ready (%s); retrying",
                          redacted(url), _reason(exc))
-            time.sleep(pause)
+            time.sleep(min(pause, max(0.0, started + config.connect_wait - time.monotonic())))
             pause = min(pause * 2.0, config.backoff_max)
 
     def close(self) -> None:
@@ -181,11 +182,11 @@ class RecordsDatabase:
                     lost_since = now
                     log.warning("fleet records database %s lost (%s); retrying for %g s",
                                 redacted(self.url), _reason(exc), self.config.retry_for)
-                if now - lost_since + pause > self.config.retry_for:
+                if now - lost_since >= self.config.retry_for:
                     raise FleetRecordsError(
                         f"fleet records database {redacted(self.url)} unreachable for "
                         f"{now - lost_since:.1f} s: {_reason(exc)}") from exc
-                time.sleep(pause)
+                time.sleep(min(pause, lost_since + self.config.retry_for - now))
                 pause = min(pause * 2.0, self.config.backoff_max)
 
     def _once(self, work: Callable[[Connection], T], isolation: Isolation) -> T:
@@ -277,9 +278,19 @@ def _classify(exc: DBAPIError, is_postgres: bool) -> _Failure | None:
     return None
 
 
+# A server that is up but not yet (or no longer) serving answers FATAL too: wait for it.
+_PASSING_FATALS = ("starting up", "shutting down", "in recovery", "too many")
+
+
 def _fatal(exc: DBAPIError) -> bool:
+    """Whether the server answered and refused us for good (no such database or role, a
+    wrong password), so waiting longer cannot help."""
     state = getattr(exc.orig, "sqlstate", None) or ""
-    return state.startswith(_FATAL_STATE_CLASSES)
+    if state.startswith(_FATAL_STATE_CLASSES):
+        return True
+    # At connection start libpq reports no SQLSTATE, only the server's FATAL message.
+    text = str(exc.orig)
+    return "FATAL:" in text and not any(words in text for words in _PASSING_FATALS)
 
 
 def _reason(exc: DBAPIError) -> str:

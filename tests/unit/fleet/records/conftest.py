@@ -1,4 +1,4 @@
-"""Each behaviour test runs on both backends: a SQLite file, and a fresh database on a real
+"""Each behaviour test runs on both backends: a SQLite file, and an empty database on a real
 PostgreSQL server (tests/helpers/postgres.py)."""
 
 from __future__ import annotations
@@ -9,20 +9,21 @@ from pathlib import Path
 import pytest
 
 from polynav.fleet.records import FleetRecords, RecordsConfig
-from tests.helpers.postgres import PostgresServer, postgres_server  # noqa: F401
+from tests.helpers.postgres import (  # noqa: F401
+    postgres_database,
+    postgres_server,
+    postgres_url,
+)
 
 QUICK = RecordsConfig(connect_wait=5.0, retry_for=5.0)
 
 
 @pytest.fixture(params=["sqlite", "postgresql"])
-def records_url(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[str]:
+def records_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
     if request.param == "sqlite":
-        yield f"sqlite:///{tmp_path / 'fleet.db'}"
-        return
-    server: PostgresServer = request.getfixturevalue("postgres_server")
-    name = server.create_database()
-    yield server.url(name)
-    server.drop_database(name)
+        return f"sqlite:///{tmp_path / 'fleet.db'}"
+    url: str = request.getfixturevalue("postgres_url")
+    return url
 
 
 @pytest.fixture
