@@ -15,9 +15,11 @@ Two backends through one SQLAlchemy Core engine:
 A transaction is a function of the connection, so it can be run again from the start:
 
 - after a *race* (serialization failure, deadlock, a unique constraint hit by a concurrent
-  writer, SQLite's lock still busy), at once with a short random pause;
-- after a *lost connection* (the server restarted, the network dropped), with exponential
-  backoff for at most :attr:`RecordsConfig.retry_for`; past that, :class:`FleetRecordsError`.
+  writer), at once with a short random pause, at most :attr:`RecordsConfig.race_attempts`
+  times;
+- after a *lost connection* (the server restarted, the network dropped), or a SQLite file
+  still locked by another process past the busy timeout, with exponential backoff for at most
+  :attr:`RecordsConfig.retry_for`; past that, :class:`FleetRecordsError`.
 
 A transaction whose COMMIT was lost may have committed; run again, it must find its own work
 done, so every operation of the store is written to be idempotent (it checks before it writes).
@@ -27,10 +29,12 @@ This is I/O: its waits are real time (``time.monotonic``, ``time.sleep``), never
 
 from __future__ import annotations
 
+import contextlib
 import enum
 import logging
 import random
 import sqlite3
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -114,6 +118,9 @@ class RecordsDatabase:
         self.url = url
         self.config = config
         self.is_postgres = engine.dialect.name == "postgresql"
+        # An in-memory SQLite database is one connection: threads take turns on it.
+        self._one_at_a_time = (threading.Lock() if isinstance(engine.pool, StaticPool)
+                               else contextlib.nullcontext())
 
     @classmethod
     def open(cls, url: str, config: RecordsConfig | None = None,
@@ -180,7 +187,8 @@ class RecordsDatabase:
                 now = time.monotonic()
                 if lost_since is None:
                     lost_since = now
-                    log.warning("fleet records database %s lost (%s); retrying for %g s",
+                    log.warning("fleet records database %s lost or busy (%s); retrying for "
+                                "%g s",
                                 redacted(self.url), _reason(exc), self.config.retry_for)
                 if now - lost_since >= self.config.retry_for:
                     raise FleetRecordsError(
@@ -190,7 +198,7 @@ class RecordsDatabase:
                 pause = min(pause * 2.0, self.config.backoff_max)
 
     def _once(self, work: Callable[[Connection], T], isolation: Isolation) -> T:
-        with self.engine.connect() as conn:
+        with self._one_at_a_time, self.engine.connect() as conn:
             if self.is_postgres:
                 conn = conn.execution_options(isolation_level=isolation.value)
             with conn.begin():
@@ -271,10 +279,11 @@ def _classify(exc: DBAPIError, is_postgres: bool) -> _Failure | None:
         if isinstance(exc, OperationalError) and state is None:
             return _Failure.LOST  # no answer from the server at all (refused, reset)
         return None
-    # SQLite: BEGIN IMMEDIATE lets no other writer in, so a constraint failure is no race.
+    # SQLite: BEGIN IMMEDIATE lets no other writer in, so a constraint failure is no race;
+    # a lock still held past the busy timeout is another process's long transaction: wait.
     if isinstance(orig, sqlite3.OperationalError) and any(
             word in str(orig) for word in ("locked", "busy")):
-        return _Failure.RACE
+        return _Failure.LOST
     return None
 
 
