@@ -1,0 +1,558 @@
+"""The fleet manager's records: missions, orders, leases and the audit trail, in SQLite or
+PostgreSQL (DESIGN §9), for one fleet manager or several sharing one PostgreSQL.
+
+Nothing here is kept in process memory between calls: each method is one transaction on the
+database (:mod:`polynav.fleet.records.database`), so two fleet-manager processes see one queue
+of missions and one book of leases, and a manager that restarts finds both as they were.
+
+The leases follow the rules of the in-memory :class:`~polynav.fleet.lease.LeaseBook`: a lease
+is live while ``now < expires_at``, the holder extends it with :meth:`FleetRecords.renew`
+(refused once it has lapsed), asking again while holding gives the same lease back, and a
+resource of capacity N has at most N live holders. What the records add is that the database,
+not memory, enforces the capacity: see :mod:`polynav.fleet.records.schema`. What they leave to
+the caller is the waiting: a refused request is answered ``None`` and asked again (the lease
+book's queue, flows and ``max_hold`` stay in the fleet manager).
+
+Every change is written to the audit trail in the transaction that makes it, so the trail
+never tells of a change that did not happen, nor misses one that did.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import uuid
+from collections.abc import Mapping, Sequence
+from types import TracebackType
+from typing import Any
+
+from sqlalchemy import Connection, Row, delete, insert, select, update
+
+from polynav.errors import Conflict, InvalidRequest, NotFound
+from polynav.fleet.errors import LeaseNotHeld
+from polynav.fleet.lease import Lease
+from polynav.fleet.records import schema as s
+from polynav.fleet.records.database import Isolation, RecordsConfig, RecordsDatabase
+from polynav.fleet.records.values import AuditEntry, Mission, MissionState, Order, OrderState
+
+log = logging.getLogger(__name__)
+
+_SER = Isolation.SERIALIZABLE
+_RC = Isolation.READ_COMMITTED
+
+
+class FleetRecords:
+    """The records of one site's fleet (see the module docstring). Open with :meth:`open`;
+    every method takes the site time ``now`` [s] where it changes something."""
+
+    def __init__(self, db: RecordsDatabase, name: str) -> None:
+        """Use :meth:`open`."""
+        self._db = db
+        self.name = name
+
+    @classmethod
+    def open(cls, url: str, *, name: str = "fleet",
+             config: RecordsConfig | None = None) -> FleetRecords:
+        """Open the records at ``url`` (``sqlite:///path`` or ``postgresql://user@host/db``),
+        creating the tables that are missing.
+
+        Args:
+            url: the database; ``postgresql://`` is driven by psycopg 3.
+            name: this fleet manager's name, the ``actor`` of its audit entries.
+            config: how long to wait for the database.
+
+        Raises:
+            FleetRecordsError: an unsupported URL, or the database not reached within
+                ``config.connect_wait`` (the message names the URL without its password).
+            InvalidRequest: an empty name.
+        """
+        _check_name("name", name)
+        return cls(RecordsDatabase.open(url, config, application_name=f"polynav-{name}"), name)
+
+    @property
+    def is_postgres(self) -> bool:
+        return self._db.is_postgres
+
+    def close(self) -> None:
+        self._db.close()
+
+    def __enter__(self) -> FleetRecords:
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ missions
+
+    def add_mission(self, stops: Sequence[Mapping[str, Any]], *, now: float,
+                    mission_id: str | None = None) -> Mission:
+        """Queue a mission through ``stops`` (each a JSON object naming at least its
+        ``point``); returns it. Adding the same id with the same stops again returns the
+        mission as it is (a retried request); with other stops it is a conflict.
+
+        Raises:
+            InvalidRequest: no stops, a stop without a point, stops not JSON, a bad id or time.
+            Conflict: ``mission_id`` is taken by a mission with other stops.
+        """
+        now = _check_time(now)
+        stop_list = _check_stops(stops)
+        mid = uuid.uuid4().hex if mission_id is None else mission_id
+        _check_name("mission_id", mid)
+
+        def work(conn: Connection) -> Mission:
+            row = conn.execute(select(s.missions).where(s.missions.c.id == mid)).first()
+            if row is not None:
+                if list(row.stops) != stop_list:
+                    raise Conflict(f"mission {mid!r} exists with other stops")
+                return _mission(row)
+            conn.execute(insert(s.missions).values(
+                id=mid, state=MissionState.QUEUED.value, stops=stop_list, robot=None,
+                created=now, updated=now, attempts=0))
+            self._audit(conn, now, "mission.added", mission=mid, stops=stop_list)
+            return self._mission_in(conn, mid)
+
+        return self._db.run(work, _RC)
+
+    def claim_mission(self, robot: str, *, now: float) -> Mission | None:
+        """Give ``robot`` the oldest queued mission (a requeued one keeps its place by when it
+        was added), or None when none is queued. A robot does one mission at a time: while it
+        has an active one, that one is returned (so a retried claim takes no second mission).
+
+        On PostgreSQL the oldest queued row is taken ``FOR UPDATE SKIP LOCKED``: two managers
+        claiming at once for two robots get two missions, neither waits for the other.
+
+        Raises:
+            InvalidRequest: an empty robot name or a bad time.
+        """
+        _check_name("robot", robot)
+        now = _check_time(now)
+        m = s.missions.c
+
+        def work(conn: Connection) -> Mission | None:
+            active = conn.execute(select(s.missions).where(
+                m.robot == robot, m.state == MissionState.ACTIVE.value)).first()
+            if active is not None:
+                return _mission(active)
+            oldest = conn.execute(
+                select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
+                .order_by(m.created, m.seq).limit(1)
+                .with_for_update(skip_locked=True)).first()
+            if oldest is None:
+                return None
+            conn.execute(update(s.missions).where(m.id == oldest.id).values(
+                state=MissionState.ACTIVE.value, robot=robot, updated=now,
+                attempts=oldest.attempts + 1))
+            self._audit(conn, now, "mission.claimed", mission=oldest.id, robot=robot,
+                        attempt=oldest.attempts + 1)
+            return self._mission_in(conn, oldest.id)
+
+        return self._db.run(work, _RC)
+
+    def requeue_mission(self, mission_id: str, *, now: float) -> bool:
+        """Put an active mission back in the queue (its robot gave up or was lost); returns
+        whether it was active.
+
+        Raises:
+            NotFound: no such mission.
+        """
+        now = _check_time(now)
+
+        def work(conn: Connection) -> bool:
+            mission = self._mission_in(conn, mission_id)
+            if mission.state is not MissionState.ACTIVE:
+                return False
+            self._requeue(conn, mission, now)
+            return True
+
+        return self._db.run(work, _RC)
+
+    def requeue_robot(self, robot: str, *, now: float) -> tuple[str, ...]:
+        """Put ``robot``'s active mission back in the queue (its last will arrived); returns
+        the ids requeued (none or one)."""
+        _check_name("robot", robot)
+        now = _check_time(now)
+        m = s.missions.c
+
+        def work(conn: Connection) -> tuple[str, ...]:
+            rows = conn.execute(select(s.missions).where(
+                m.robot == robot, m.state == MissionState.ACTIVE.value)).all()
+            for row in rows:
+                self._requeue(conn, _mission(row), now)
+            return tuple(row.id for row in rows)
+
+        return self._db.run(work, _RC)
+
+    def finish_mission(self, mission_id: str, *, now: float, failed: bool = False) -> Mission:
+        """End an active mission as done (or failed); returns it. Finishing it the same way
+        again returns it unchanged.
+
+        Raises:
+            NotFound: no such mission.
+            Conflict: it is queued, or was finished the other way.
+        """
+        now = _check_time(now)
+        outcome = MissionState.FAILED if failed else MissionState.DONE
+
+        def work(conn: Connection) -> Mission:
+            mission = self._mission_in(conn, mission_id)
+            if mission.state is outcome:
+                return mission
+            if mission.state is not MissionState.ACTIVE:
+                raise Conflict(f"mission {mission_id!r} is {mission.state.value}, not active")
+            conn.execute(update(s.missions).where(s.missions.c.id == mission_id).values(
+                state=outcome.value, updated=now))
+            self._audit(conn, now, f"mission.{outcome.value}", mission=mission_id,
+                        robot=mission.robot)
+            return self._mission_in(conn, mission_id)
+
+        return self._db.run(work, _RC)
+
+    def mission(self, mission_id: str) -> Mission:
+        """The mission called ``mission_id``.
+
+        Raises:
+            NotFound: no such mission.
+        """
+        return self._db.run(lambda conn: self._mission_in(conn, mission_id), _RC)
+
+    def missions(self, state: MissionState | None = None) -> tuple[Mission, ...]:
+        """Every mission (or those in ``state``), oldest first."""
+        query = select(s.missions).order_by(s.missions.c.created, s.missions.c.seq)
+        if state is not None:
+            query = query.where(s.missions.c.state == state.value)
+        return self._db.run(lambda conn: tuple(map(_mission, conn.execute(query))), _RC)
+
+    # ------------------------------------------------------------------ orders
+
+    def order_sent(self, order_id: str, update_id: int, *, robot: str, now: float,
+                   mission: str | None = None) -> Order:
+        """Record that order update (``order_id``, ``update_id``) was sent to ``robot``; sending
+        it again moves its ``sent_at`` and counts the send. Earlier updates of the order not
+        yet confirmed are superseded (re-sending them would be wrong)."""
+        _check_name("order_id", order_id)
+        _check_name("robot", robot)
+        if mission is not None:
+            _check_name("mission", mission)
+        if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
+            raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
+        now = _check_time(now)
+        o = s.orders.c
+
+        def work(conn: Connection) -> Order:
+            key = (o.order_id == order_id) & (o.update_id == update_id)
+            row = conn.execute(select(s.orders).where(key)).first()
+            if row is None:
+                conn.execute(insert(s.orders).values(
+                    order_id=order_id, update_id=update_id, robot=robot, mission=mission,
+                    state=OrderState.SENT.value, sent_at=now, confirmed_at=None, sends=1))
+                conn.execute(update(s.orders).where(
+                    o.order_id == order_id, o.update_id < update_id,
+                    o.state == OrderState.SENT.value).values(state=OrderState.SUPERSEDED.value))
+                what = "order.sent"
+            else:
+                conn.execute(update(s.orders).where(key).values(sent_at=now,
+                                                                sends=row.sends + 1))
+                what = "order.resent"
+            self._audit(conn, now, what, order_id=order_id, update_id=update_id, robot=robot,
+                        mission=mission)
+            return _order(conn.execute(select(s.orders).where(key)).one())
+
+        return self._db.run(work, _RC)
+
+    def order_confirmed(self, order_id: str, update_id: int, *, now: float) -> int:
+        """Record that a robot's state named order ``order_id`` at update ``update_id``: that
+        update, and any earlier one still waiting, is confirmed. Returns how many were."""
+        _check_name("order_id", order_id)
+        now = _check_time(now)
+        o = s.orders.c
+
+        def work(conn: Connection) -> int:
+            waiting = conn.execute(select(o.update_id, o.robot).where(
+                o.order_id == order_id, o.update_id <= update_id,
+                o.state == OrderState.SENT.value)).all()
+            for row in waiting:
+                conn.execute(update(s.orders).where(
+                    o.order_id == order_id, o.update_id == row.update_id).values(
+                    state=OrderState.CONFIRMED.value, confirmed_at=now))
+                self._audit(conn, now, "order.confirmed", order_id=order_id,
+                            update_id=row.update_id, robot=row.robot)
+            return len(waiting)
+
+        return self._db.run(work, _RC)
+
+    def unconfirmed_orders(self, older_than: float) -> tuple[Order, ...]:
+        """The order updates sent before ``older_than`` [s] that no state has confirmed (nor a
+        later update superseded): the ones to send again. Oldest first."""
+        older_than = _check_time(older_than)
+        o = s.orders.c
+        query = (select(s.orders)
+                 .where(o.state == OrderState.SENT.value, o.sent_at < older_than)
+                 .order_by(o.sent_at, o.order_id, o.update_id))
+        return self._db.run(lambda conn: tuple(map(_order, conn.execute(query))), _RC)
+
+    def order(self, order_id: str, update_id: int) -> Order:
+        """One order update as recorded.
+
+        Raises:
+            NotFound: never sent.
+        """
+        o = s.orders.c
+
+        def work(conn: Connection) -> Order:
+            row = conn.execute(select(s.orders).where(
+                o.order_id == order_id, o.update_id == update_id)).first()
+            if row is None:
+                raise NotFound("order", f"{order_id}/{update_id}")
+            return _order(row)
+
+        return self._db.run(work, _RC)
+
+    # ------------------------------------------------------------------ leases
+
+    def grant_lease(self, resource: str, holder: str, *, now: float, duration: float,
+                    capacity: int = 1) -> Lease | None:
+        """Grant ``holder`` a lease on ``resource`` until ``now + duration``, or None when the
+        resource already has ``capacity`` live holders. A holder that asks while holding gets
+        its lease back unchanged (extend it with :meth:`renew`). Leases of the resource that
+        have lapsed are expired first.
+
+        Never grants more than ``capacity`` live leases, even to fleet managers racing on one
+        database: the transaction is serializable (PostgreSQL) or holds the write lock
+        (SQLite), and each lease takes one of ``capacity`` slots the database keeps unique.
+
+        Raises:
+            InvalidRequest: an empty name, a duration not > 0, a capacity below 1, a bad time.
+        """
+        _check_name("resource", resource)
+        _check_name("holder", holder)
+        now = _check_time(now)
+        duration = _check_duration(duration)
+        if isinstance(capacity, bool) or not isinstance(capacity, int) or capacity < 1:
+            raise InvalidRequest("capacity", f"must be an integer >= 1, got {capacity!r}")
+        c = s.leases.c
+
+        def work(conn: Connection) -> Lease | None:
+            rows = conn.execute(select(s.leases).where(c.resource == resource)).all()
+            live = []
+            for row in rows:
+                if row.expires_at <= now:
+                    self._drop_lease(conn, row, now, "lease.expired")
+                else:
+                    live.append(row)
+            for row in live:
+                if row.holder == holder:
+                    return _lease(row)
+            free = sorted(set(range(capacity)) - {row.slot for row in live})
+            if len(live) >= capacity or not free:
+                return None
+            inserted = conn.execute(insert(s.leases).values(
+                resource=resource, slot=free[0], capacity=capacity, holder=holder,
+                granted_at=now, expires_at=now + duration)).inserted_primary_key
+            assert inserted is not None
+            lease_id = int(inserted[0])
+            self._audit(conn, now, "lease.granted", lease_id=lease_id, resource=resource,
+                        holder=holder, slot=free[0], granted_at=now, expires_at=now + duration)
+            return Lease(lease_id=lease_id, resource=resource, holder=holder,
+                         granted_at=now, expires_at=now + duration)
+
+        return self._db.run(work, _SER)
+
+    def renew(self, resource: str, holder: str, *, now: float, duration: float) -> Lease:
+        """Extend ``holder``'s live lease on ``resource`` to ``now + duration`` (never
+        shortened); returns the renewed lease.
+
+        Raises:
+            LeaseNotHeld: the holder has no live lease (never granted, released, revoked or
+                lapsed): it has lost the resource and must ask again.
+            InvalidRequest: an empty name, a duration not > 0 or a bad time.
+        """
+        _check_name("resource", resource)
+        _check_name("holder", holder)
+        now = _check_time(now)
+        duration = _check_duration(duration)
+        c = s.leases.c
+
+        def work(conn: Connection) -> Lease:
+            row = conn.execute(select(s.leases).where(
+                c.resource == resource, c.holder == holder)).first()
+            if row is None or row.expires_at <= now:
+                raise LeaseNotHeld(resource, holder, "no live lease (never granted, released, "
+                                                     "revoked or expired)")
+            expires_at = max(row.expires_at, now + duration)
+            conn.execute(update(s.leases).where(c.lease_id == row.lease_id).values(
+                expires_at=expires_at))
+            self._audit(conn, now, "lease.renewed", lease_id=row.lease_id, resource=resource,
+                        holder=holder, expires_at=expires_at)
+            return Lease(lease_id=row.lease_id, resource=resource, holder=holder,
+                         granted_at=row.granted_at, expires_at=expires_at)
+
+        return self._db.run(work, _SER)
+
+    def release(self, resource: str, holder: str, *, now: float) -> bool:
+        """Give back ``holder``'s live lease on ``resource``; returns whether it had one
+        (releasing twice is harmless: messages may arrive more than once)."""
+        _check_name("resource", resource)
+        _check_name("holder", holder)
+        now = _check_time(now)
+        c = s.leases.c
+
+        def work(conn: Connection) -> bool:
+            row = conn.execute(select(s.leases).where(
+                c.resource == resource, c.holder == holder)).first()
+            if row is None:
+                return False
+            live: bool = row.expires_at > now
+            self._drop_lease(conn, row, now, "lease.released" if live else "lease.expired")
+            return live
+
+        return self._db.run(work, _SER)
+
+    def revoke_all(self, holder: str, *, now: float) -> tuple[Lease, ...]:
+        """Take every live lease of ``holder`` back (its last will arrived: it will not release
+        them itself); returns them, by resource."""
+        _check_name("holder", holder)
+        now = _check_time(now)
+
+        def work(conn: Connection) -> tuple[Lease, ...]:
+            rows = conn.execute(select(s.leases).where(s.leases.c.holder == holder)
+                                .order_by(s.leases.c.resource)).all()
+            revoked = []
+            for row in rows:
+                live = row.expires_at > now
+                self._drop_lease(conn, row, now, "lease.revoked" if live else "lease.expired")
+                if live:
+                    revoked.append(_lease(row))
+            return tuple(revoked)
+
+        return self._db.run(work, _SER)
+
+    def expire(self, now: float) -> tuple[Lease, ...]:
+        """Remove every lease lapsed by ``now`` (``expires_at <= now``); returns them, by
+        expiry."""
+        now = _check_time(now)
+        c = s.leases.c
+
+        def work(conn: Connection) -> tuple[Lease, ...]:
+            rows = conn.execute(select(s.leases).where(c.expires_at <= now)
+                                .order_by(c.expires_at, c.lease_id)).all()
+            for row in rows:
+                self._drop_lease(conn, row, now, "lease.expired")
+            return tuple(map(_lease, rows))
+
+        return self._db.run(work, _SER)
+
+    def live_leases(self, now: float, resource: str | None = None) -> tuple[Lease, ...]:
+        """The leases live at ``now`` (on ``resource``, or on all), by resource and grant."""
+        now = _check_time(now)
+        c = s.leases.c
+        query = select(s.leases).where(c.expires_at > now).order_by(c.resource, c.lease_id)
+        if resource is not None:
+            query = query.where(c.resource == resource)
+        return self._db.run(lambda conn: tuple(map(_lease, conn.execute(query))), _RC)
+
+    # ------------------------------------------------------------------ audit
+
+    def note(self, what: str, *, now: float, **detail: Any) -> None:
+        """Add an entry of the fleet manager's own to the audit trail (``detail`` is JSON)."""
+        _check_name("what", what)
+        now = _check_time(now)
+        _check_json("detail", detail)
+        self._db.run(lambda conn: self._audit(conn, now, what, **detail), _RC)
+
+    def audit(self, *, after: int = 0, limit: int | None = None) -> tuple[AuditEntry, ...]:
+        """The audit entries with ids above ``after``, by id (at most ``limit``)."""
+        a = s.audit.c
+        query = select(s.audit).where(a.id > after).order_by(a.id)
+        if limit is not None:
+            query = query.limit(limit)
+        return self._db.run(lambda conn: tuple(
+            AuditEntry(entry_id=row.id, at=row.at, actor=row.actor, what=row.what,
+                       detail=row.detail) for row in conn.execute(query)), _RC)
+
+    # ------------------------------------------------------------------ internals
+
+    def _audit(self, conn: Connection, now: float, what: str, **detail: Any) -> None:
+        conn.execute(insert(s.audit).values(at=now, actor=self.name, what=what, detail=detail))
+        log.info("%s %s %s", self.name, what, detail)
+
+    def _mission_in(self, conn: Connection, mission_id: str) -> Mission:
+        row = conn.execute(select(s.missions).where(s.missions.c.id == mission_id)).first()
+        if row is None:
+            raise NotFound("mission", mission_id)
+        return _mission(row)
+
+    def _requeue(self, conn: Connection, mission: Mission, now: float) -> None:
+        conn.execute(update(s.missions).where(s.missions.c.id == mission.mission_id).values(
+            state=MissionState.QUEUED.value, robot=None, updated=now))
+        self._audit(conn, now, "mission.requeued", mission=mission.mission_id,
+                    robot=mission.robot)
+
+    def _drop_lease(self, conn: Connection, row: Row[Any], now: float, what: str) -> None:
+        conn.execute(delete(s.leases).where(s.leases.c.lease_id == row.lease_id))
+        self._audit(conn, now, what, lease_id=row.lease_id, resource=row.resource,
+                    holder=row.holder, granted_at=row.granted_at, expires_at=row.expires_at)
+
+
+def _mission(row: Row[Any]) -> Mission:
+    return Mission(mission_id=row.id, state=MissionState(row.state),
+                   stops=tuple(row.stops), robot=row.robot, created=row.created,
+                   updated=row.updated, attempts=row.attempts)
+
+
+def _order(row: Row[Any]) -> Order:
+    return Order(order_id=row.order_id, update_id=row.update_id, robot=row.robot,
+                 mission=row.mission, state=OrderState(row.state), sent_at=row.sent_at,
+                 confirmed_at=row.confirmed_at, sends=row.sends)
+
+
+def _lease(row: Row[Any]) -> Lease:
+    return Lease(lease_id=row.lease_id, resource=row.resource, holder=row.holder,
+                 granted_at=row.granted_at, expires_at=row.expires_at)
+
+
+def _check_name(field: str, value: object) -> None:
+    if not isinstance(value, str) or not value.strip():
+        raise InvalidRequest(field, f"must be a non-empty name, got {value!r}")
+    if len(value) > s.NAME:
+        raise InvalidRequest(field, f"longer than {s.NAME} characters")
+
+
+def _check_time(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value):
+        raise InvalidRequest("now", f"must be a finite time in seconds, got {value!r}")
+    return float(value)
+
+
+def _check_duration(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value) or value <= 0.0:
+        raise InvalidRequest("duration", f"must be > 0 s, got {value!r}")
+    return float(value)
+
+
+def _check_json(field: str, value: object) -> None:
+    try:
+        json.dumps(value, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise InvalidRequest(field, f"not JSON: {exc}") from exc
+
+
+def _check_stops(stops: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """The stops as a list of plain JSON objects, each naming its point."""
+    if isinstance(stops, (str, bytes)) or not isinstance(stops, Sequence) or not stops:
+        raise InvalidRequest("stops", "a mission needs a list of at least one stop")
+    out = []
+    for k, stop in enumerate(stops):
+        if not isinstance(stop, Mapping):
+            raise InvalidRequest(f"stops[{k}]", f"must be an object, got {stop!r}")
+        point = stop.get("point")
+        if not isinstance(point, str) or not point.strip():
+            raise InvalidRequest(f"stops[{k}].point", f"must be a non-empty name, got {point!r}")
+        out.append(dict(stop))
+    _check_json("stops", out)
+    # As the database gives it back (JSON round trip), so a repeated add compares equal.
+    loaded: list[dict[str, Any]] = json.loads(json.dumps(out))
+    return loaded
