@@ -7,6 +7,7 @@ import logging
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
 
+from polynav.api.auth_gate import install_login
 from polynav.api.config import ApiConfig
 from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
@@ -81,4 +82,6 @@ def create_app(
     install_error_handlers(app)
     for module in ROUTERS:
         app.include_router(module.router)
+    if config.login_required:  # beyond loopback (or forced): docs/auth.md
+        install_login(app, config)
     return app

@@ -131,6 +131,28 @@ MIGRATIONS: tuple[Migration, ...] = (
             " created REAL NOT NULL)",
         ),
     ),
+    Migration(
+        4,
+        "users of the native API and their login tokens",
+        (
+            # password_hash: an argon2 string (never a password); role: viewer | operator;
+            # created: ISO date-time.
+            "CREATE TABLE users ("
+            " name TEXT PRIMARY KEY,"
+            " role TEXT NOT NULL CHECK (role IN ('viewer', 'operator')),"
+            " password_hash TEXT NOT NULL,"
+            " created TEXT NOT NULL)",
+            # token_hash: SHA-256 (hex) of the token handed out; created, expires: seconds
+            # since the epoch.
+            "CREATE TABLE tokens ("
+            " token_hash TEXT PRIMARY KEY,"
+            " user_name TEXT NOT NULL REFERENCES users(name) ON DELETE CASCADE"
+            " ON UPDATE CASCADE,"
+            " created REAL NOT NULL,"
+            " expires REAL NOT NULL)",
+            "CREATE INDEX tokens_by_user ON tokens (user_name)",
+        ),
+    ),
 )
 
 SCHEMA_VERSION = MIGRATIONS[-1].version

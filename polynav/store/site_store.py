@@ -3,7 +3,7 @@
 Layout of ``data_dir``::
 
     site.db            SQLite: floors, maps, points, keepouts, routes, connections, settings,
-                       tasks, schedules, automation tasks
+                       tasks, schedules, automation tasks, the native API's users and tokens
     site.db-wal, -shm  SQLite's write-ahead log (WAL mode)
     maps/<slug>-<n>.yaml + .png   one ROS map per map row, named by a serial that never repeats
 
@@ -60,6 +60,7 @@ from polynav.store.rows import (
     to_json,
 )
 from polynav.store.task_tables import TaskTables
+from polynav.store.user_tables import UserTables
 
 log = logging.getLogger(__name__)
 
@@ -67,7 +68,7 @@ DB_FILE = "site.db"
 _SEEDED_KEY = "seeded_from"
 
 
-class SiteStore(MapTables, PointTables, TaskTables):
+class SiteStore(MapTables, PointTables, TaskTables, UserTables):
     """Floors, maps, points, keepouts, routes, connections, settings, tasks, schedules and
     automation tasks of one site.
 
@@ -77,7 +78,8 @@ class SiteStore(MapTables, PointTables, TaskTables):
     :class:`~polynav.errors.Conflict` (a name already taken, an ambiguous name, a map in use)
     or :class:`~polynav.errors.StorageError` (the disk or database failed). Its tables live by
     subject in :mod:`~polynav.store.map_tables`, :mod:`~polynav.store.point_tables` and
-    :mod:`~polynav.store.task_tables`, over
+    :mod:`~polynav.store.task_tables` and :mod:`~polynav.store.user_tables` (the native
+    API's users), over
     :mod:`~polynav.store.database`.
     """
 

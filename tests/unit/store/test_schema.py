@@ -13,7 +13,7 @@ from polynav.store.schema import MIGRATIONS, SCHEMA_VERSION, Migration, migrate,
 from tests.unit.store.grids import small_map
 
 TABLES = ["automations", "connections", "floors", "keepouts", "maps", "meta", "points", "routes",
-          "schedules", "settings", "tasks"]
+          "schedules", "settings", "tasks", "tokens", "users"]
 
 
 def _connect(path: Path) -> sqlite3.Connection:
@@ -27,7 +27,7 @@ def _tables(conn: sqlite3.Connection) -> list[str]:
 
 def test_migrations_are_numbered_from_one() -> None:
     assert [m.version for m in MIGRATIONS] == list(range(1, len(MIGRATIONS) + 1))
-    assert SCHEMA_VERSION == len(MIGRATIONS) == 3
+    assert SCHEMA_VERSION == len(MIGRATIONS) == 4
 
 
 def test_open_records_the_schema_version_and_creates_the_tables(tmp_path: Path) -> None:
