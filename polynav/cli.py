@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from polynav import users_cli
 from polynav.errors import PolynavError
 from polynav.mapping import cli as mapping_cli
 from polynav.site import PointKind
@@ -98,6 +99,7 @@ def _run(args: argparse.Namespace) -> int:
     import uvicorn
 
     from polynav.api import ApiConfig, create_app
+    from polynav.api.auth_gate import login_refusal
     from polynav.dialect_servers import DialectStartError, start_dialects, stop_dialects
     from polynav.listen import tcp_listener
     from polynav.robot.profile import load_profile
@@ -141,6 +143,10 @@ def _run(args: argparse.Namespace) -> int:
         return EXIT_BAD_INPUT
     store = SiteStore.open(args.data, seed_world=world)
     try:
+        refusal = login_refusal(api_config, store)
+        if refusal is not None:  # before binding anything
+            print(f"polynav run: {refusal}", file=sys.stderr)
+            return EXIT_BAD_INPUT
         for warning in site_mismatches(store, world):
             print(f"polynav run: warning: {warning}", file=sys.stderr)
         backend = None
@@ -445,6 +451,7 @@ def build_parser() -> argparse.ArgumentParser:
     _data_options(points_rm)
     mapping_cli.add_parser(sub)
     world_cli.add_parser(sub)
+    users_cli.add_parser(sub, default_data_dir())
     bench = sub.add_parser(
         "bench",
         help="run a benchmark (planner, sim, api, slam, nav, fleet); extra arguments go to the "
@@ -472,6 +479,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _map_command(args)
         if args.command == "points":
             return _points_command(args)
+        if args.command == "users":
+            return users_cli.main(args)
         if args.command == "slam":
             return mapping_cli.main(args)
         if args.command == "world":

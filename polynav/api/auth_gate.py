@@ -32,6 +32,7 @@ from polynav.api.auth import SESSION_COOKIE, LoginService, presented_token
 from polynav.api.config import ApiConfig
 from polynav.api.errors import error_body
 from polynav.api.routes import auth as auth_routes
+from polynav.store.site_store import SiteStore
 from polynav.store.user_tables import UserRecord
 
 log = logging.getLogger(__name__)
@@ -147,3 +148,12 @@ def install_login(app: FastAPI, config: ApiConfig) -> None:
         return app.openapi_schema
 
     app.openapi = openapi  # type: ignore[method-assign]
+
+
+def login_refusal(config: ApiConfig, store: SiteStore) -> str | None:
+    """Why ``polynav run`` must not start: it would ask for a login nobody can give."""
+    if not config.login_required or store.user_count() > 0:
+        return None
+    return (f"--host {config.host} is not loopback, so the native API asks for a login, and "
+            f"the site in {store.data_dir} has no user yet; add one first: polynav users add "
+            f"NAME --role operator --data {store.data_dir}")

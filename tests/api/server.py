@@ -47,10 +47,12 @@ class ServerThread:
 
 
 @contextlib.contextmanager
-def native_client(runtime: Any, *, timeout: float = 10.0) -> Iterator[httpx.Client]:
+def native_client(
+    runtime: Any, *, timeout: float = 10.0, auth: bool | None = None
+) -> Iterator[httpx.Client]:
     """An HTTP client of the native API served around ``runtime`` (a real one or a fake) on
-    an ephemeral port, for as long as the block runs."""
-    server = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
+    an ephemeral port, for as long as the block runs (``auth=True``: asking for a login)."""
+    server = ServerThread(create_app(runtime, ApiConfig(port=0, auth=auth))).start()
     try:
         with httpx.Client(base_url=server.url, timeout=timeout) as client:
             yield client
