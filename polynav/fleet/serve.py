@@ -58,6 +58,13 @@ def run(args: argparse.Namespace) -> int:
         print(f"polynav run: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     store = SiteStore.open(args.data, seed_world=world)
+    from polynav.api.auth_gate import login_refusal
+
+    refusal = login_refusal(ApiConfig(host=args.host, port=0), store)
+    if refusal is not None:  # before binding anything
+        print(f"polynav run: {refusal}", file=sys.stderr)
+        store.close()
+        return 2
     servers: list[_Server] = []
     stop_requested: list[int] = []
 

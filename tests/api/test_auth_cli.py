@@ -128,3 +128,16 @@ def test_the_store_keeps_only_hashes_and_checks_its_input(tmp_path: Path) -> Non
         assert not store.remove_token("a" * 64)
         store.remove_user("eve")
         assert store.token_user("b" * 64, 21.0) is None  # went with its user
+
+
+def test_a_building_off_loopback_without_a_user_refuses_too(tmp_path: Path) -> None:
+    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    done = subprocess.run(
+        [sys.executable, "-m", "polynav", "run", "--robots", "2", "--host", "0.0.0.0",
+         "--port", "0", "--yunji-port", "0", "--yunji-http-port", "0",
+         "--data", str(tmp_path / "data")],
+        capture_output=True, text=True, timeout=120, env=env, cwd=tmp_path,
+    )
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert "--host 0.0.0.0 is not loopback" in done.stderr
+    assert "native API" not in done.stdout
