@@ -29,6 +29,9 @@ log = logging.getLogger(__name__)
 # Odometry readings kept to pair scans with (control ticks; a scan is at most a few old).
 _ODOMETRY_KEPT = 16
 
+AREA_PERIOD = 1.0
+"""How often the mapped area is counted again [s of the runtime's clock], when scans came in."""
+
 
 class MappingSession:
     """Feeds :class:`~polynav.mapping.slam.Slam` and keeps the pose and the live map.
@@ -39,12 +42,18 @@ class MappingSession:
         name: the map's name when it extends an existing map, else ``None``.
         prior: that map (its frame is the new map's; ``start`` is the robot's pose on it).
         config: the SLAM's parameters.
+        started_at: when the session started [s, runtime clock].
     """
 
     def __init__(self, floor: str | None, start: Pose2D, *, name: str | None = None,
-                 prior: Map | None = None, config: SlamConfig | None = None) -> None:
+                 prior: Map | None = None, config: SlamConfig | None = None,
+                 started_at: float = 0.0) -> None:
         self.floor = floor
         self.name = name
+        self.started_at = started_at
+        self._area = 0.0
+        self._area_nodes = -1
+        self._area_due = -math.inf
         self._slam = Slam(config, prior=prior)
         self._start = start
         self._offset: Pose2D | None = None  # odometry frame -> map frame, from the first scan
@@ -116,6 +125,21 @@ class MappingSession:
                 grid = Map(MapInfo(resolution, 1, 1, origin), np.full((1, 1), -1, dtype=np.int8))
             self._rendered = (nodes, grid)
         return self._rendered[1]
+
+    def mapped_area(self, now: float) -> float:
+        """Known cells (free or occupied) of the live map x the cell's area [m²].
+
+        Counted again at most once per :data:`AREA_PERIOD` of the runtime's clock and only
+        after new scans made new nodes; otherwise the last count (the status asks every tick).
+        """
+        nodes = self._slam.node_count
+        if now >= self._area_due and nodes != self._area_nodes:
+            self._area_due = now + AREA_PERIOD
+            self._area_nodes = nodes
+            grid = self.live_map()
+            known = int(np.count_nonzero(grid.data >= 0)) if nodes else 0
+            self._area = known * grid.info.resolution ** 2
+        return self._area
 
     def finish(self) -> Map:
         """Optimise the whole graph once more and render the final map."""
