@@ -23,14 +23,12 @@ from polynav.mapping.config import SlamConfig
 from polynav.mapping.slam import Slam
 from polynav.maps.map import Map, MapInfo
 from polynav.robot.interface import LaserScan, Odometry
+from polynav.runtime.mapping_area import MappedArea
 
 log = logging.getLogger(__name__)
 
 # Odometry readings kept to pair scans with (control ticks; a scan is at most a few old).
 _ODOMETRY_KEPT = 16
-
-AREA_PERIOD = 1.0
-"""How often the mapped area is counted again [s of the runtime's clock], when scans came in."""
 
 
 class MappingSession:
@@ -51,10 +49,8 @@ class MappingSession:
         self.floor = floor
         self.name = name
         self.started_at = started_at
-        self._area = 0.0
-        self._area_nodes = -1
-        self._area_due = -math.inf
         self._slam = Slam(config, prior=prior)
+        self._area = MappedArea(self._slam.config, prior)
         self._start = start
         self._offset: Pose2D | None = None  # odometry frame -> map frame, from the first scan
         self._pose = start
@@ -84,8 +80,11 @@ class MappingSession:
         self._last_stamp = scan.stamp
         at_scan = self._odometry_at(scan.stamp)
         odom = self._offset.compose(at_scan)
+        nodes = self._slam.node_count
         estimate = self._slam.add_scan(odom, scan.ranges, scan.angles, scan.stamp,
                                        sensor_pose=scan.sensor_pose)
+        if self._slam.node_count != nodes:
+            self._area.insert(estimate, scan)
         self._scan_odom = at_scan
         self._scan_pose = estimate
         self._pose = self._pose_now(odometry.pose)
@@ -127,19 +126,9 @@ class MappingSession:
         return self._rendered[1]
 
     def mapped_area(self, now: float) -> float:
-        """Known cells (free or occupied) of the live map x the cell's area [m²].
-
-        Counted again at most once per :data:`AREA_PERIOD` of the runtime's clock and only
-        after new scans made new nodes; otherwise the last count (the status asks every tick).
-        """
-        nodes = self._slam.node_count
-        if now >= self._area_due and nodes != self._area_nodes:
-            self._area_due = now + AREA_PERIOD
-            self._area_nodes = nodes
-            grid = self.live_map()
-            known = int(np.count_nonzero(grid.data >= 0)) if nodes else 0
-            self._area = known * grid.info.resolution ** 2
-        return self._area
+        """Known cells x the cell's area [m²], counted at most once a second of the runtime's
+        clock (:class:`~polynav.runtime.mapping_area.MappedArea`)."""
+        return self._area.area(now)
 
     def finish(self) -> Map:
         """Optimise the whole graph once more and render the final map."""
