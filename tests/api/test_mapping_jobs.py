@@ -5,11 +5,12 @@ the map is still being finished, the robot is ``busy`` and its control loop keep
 second stop is refused (409), and the job reaches ``saved`` with the map listed. A failing save:
 a taken name is a 409 at once (no job); a disk that cannot be written is a ``failed`` job and
 the robot maps on, nothing lost. The dialects' synchronous stop is the same job on the caller's
-thread.
+thread. The WebSocket's status carries the same ``mapping``.
 """
 
 from __future__ import annotations
 
+import json
 import threading
 import time
 from collections.abc import Iterator
@@ -18,6 +19,7 @@ from typing import Any
 
 import httpx
 import pytest
+from websockets.sync.client import connect
 
 from polynav.errors import StorageError
 from polynav.maps.map import Map
@@ -103,6 +105,13 @@ def test_stop_answers_at_once_and_the_robot_keeps_its_loop_while_it_saves(
         assert http.post("/api/mapping/cancel").status_code == 409
         assert http.post("/api/navigation/stop").status_code == 409
         assert http.post("/api/navigation/start", json={"map": "f"}).status_code == 409
+        # The WebSocket's status is the same snapshot: the session and its job while busy.
+        ws_url = str(http.base_url).replace("http://", "ws://") + "/api/ws?rate=5"
+        with connect(ws_url) as ws:
+            while (message := json.loads(ws.recv(timeout=20.0)))["type"] != "status":
+                pass
+        assert message["data"]["mode"] == "busy"
+        assert message["data"]["mapping"]["job"] == job
         assert http.post("/api/teleop", json={"linear": 0.2, "angular": 0.0}).status_code == 409
         assert "west" not in [m["name"] for m in http.get("/api/maps").json()]
         held.set()
@@ -182,3 +191,21 @@ def test_the_synchronous_stop_is_the_same_job(runtime: RobotRuntime) -> None:
     job = runtime.mapping_job("1")
     assert (job.name, job.kind.value, job.state.value) == ("west", "stop", "saved")
     assert runtime.store.map_record("west").width > 20
+
+
+def test_updating_a_map_shows_it_and_saves_under_its_own_name(
+    runtime: RobotRuntime, http: httpx.Client
+) -> None:
+    runtime.advance(0.2)
+    started = http.post("/api/mapping/start", json={"map": "f", "point": "initial"})
+    assert started.status_code == 200, started.text
+    runtime.advance(1.0)
+    mapping = _status(http)["mapping"]
+    assert (mapping["kind"], mapping["map"], mapping["exploration"]) == ("update", "f", "off")
+    # The saved map's known cells count from the start: both rooms, though one is in view.
+    assert mapping["mapped_area_m2"] > 60.0
+    answer = http.post("/api/mapping/stop", json={"name": "f"})  # its own name: no overwrite
+    assert answer.status_code == 202, answer.text
+    _wait(lambda: http.get(f"/api/mapping/jobs/{answer.json()['id']}").json()["state"]
+          == "saved")
+    assert _status(http)["mode"] == "free"
