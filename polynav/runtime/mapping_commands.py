@@ -8,6 +8,12 @@ FREE, the robot's pose on it given or found by global relocalization, or from NA
 map, where the robot is tracked; the new map keeps the old one's frame, so its points, paths
 and keepouts stay valid. The robot is driven by teleop, local moves or exploration meanwhile,
 and :meth:`stop_mapping` saves before it stops, as the vendors document.
+
+Saving is a job (:mod:`~polynav.runtime.mapping_jobs`): checked and begun between ticks, its
+heavy part (a stop's last optimisation of the whole graph, rendering, writing the files) on
+another thread, so that the control loop never waits for it; the outcome is applied between
+ticks. The native API starts jobs and answers at once (:meth:`stop_mapping_job`); the dialects'
+synchronous :meth:`stop_mapping` and :meth:`save_mapping` run the same job on their own thread.
 """
 
 from __future__ import annotations
