@@ -21,6 +21,7 @@ from pydantic import (
 )
 from typing_extensions import TypedDict
 
+from polynav.api.schemas_mapping import MappingStatusOut
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import PRECISE_POSITION_UNCERTAINTY, GoalOptions
 from polynav.runtime.goal_commands import GoalFrame
@@ -246,6 +247,9 @@ class StatusOut(BaseModel):
     estop: EStopOut
     localization: LocalizationOut
     navigation: NavigationOut
+    mapping: MappingStatusOut | None = Field(
+        description="the mapping session while mapping, or while a stop job saves the map"
+    )
     stamp: float
     links: dict[str, str] = Field(
         default_factory=dict,

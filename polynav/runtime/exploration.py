@@ -101,6 +101,11 @@ class Exploration:
         self.start = start
         self.stage = Stage.EXPLORING
         self.targets = 0
+        self.reached = 0
+        """Frontier targets driven to and reached."""
+        self.frontiers_left: int | None = None
+        """Frontier clusters the last search found worth a visit (``None`` before the first;
+        0 once none is left or the time is up)."""
         self._navigator: Navigator | None = None
         self._costmap: Costmap | None = None
         self._planner = GridPlanner(GridPlannerConfig())
@@ -130,6 +135,8 @@ class Exploration:
             attempt = navigator.attempt
             if attempt is not None:
                 self._failed.append((attempt.goal.x, attempt.goal.y))
+            if navigator.state is NavigationState.SUCCEEDED:
+                self.reached += 1
         if finished or now >= self._next_plan:
             if self.stage is Stage.RETURNING and finished and navigator is not None:
                 home = navigator.state is NavigationState.SUCCEEDED
@@ -159,6 +166,7 @@ class Exploration:
             if target is None and keep and self._navigator is not None:
                 return  # the current target is still worth reaching
         if target is None and self.stage is Stage.EXPLORING:
+            self.frontiers_left = 0  # none reachable, or no time left to visit them
             log.info("no frontier left after %d targets: going back to the start", self.targets)
             self.stage = Stage.RETURNING
             target = self.start
@@ -201,11 +209,15 @@ class Exploration:
                 self._failed.append((x, y))
                 continue
             candidates.append((float(d[k]), Pose2D(x, y, math.atan2(y - pose.y, x - pose.x))))
+        left = len(candidates)
         for _, goal in sorted(candidates, key=lambda c: c[0])[:5]:
             try:
                 self._planner.plan(costmap, pose, goal)
             except PlanningError:
                 self._failed.append((goal.x, goal.y))
+                left -= 1
                 continue
+            self.frontiers_left = left
             return goal
+        self.frontiers_left = 0
         return None

@@ -27,6 +27,7 @@ from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.direct_motion import DirectMotion
 from polynav.runtime.events import RuntimeEvent
 from polynav.runtime.exploration import Exploration
+from polynav.runtime.mapping_jobs import MappingJobs
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.patrols import Patrols
@@ -76,6 +77,7 @@ class RuntimeParts(abc.ABC):
     tasks: TaskCommands
     _mapping: MappingSession | None
     _exploration: Exploration | None
+    _mapping_jobs: MappingJobs
 
     def _map_start(self, map_name: str, point: str | None, pose: Pose2D | None) -> MapStart:
         """Read map ``map_name`` to start on, placed by ``point`` or ``pose`` (not both).

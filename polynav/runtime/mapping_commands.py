@@ -8,14 +8,22 @@ FREE, the robot's pose on it given or found by global relocalization, or from NA
 map, where the robot is tracked; the new map keeps the old one's frame, so its points, paths
 and keepouts stay valid. The robot is driven by teleop, local moves or exploration meanwhile,
 and :meth:`stop_mapping` saves before it stops, as the vendors document.
+
+Saving is a job (:mod:`~polynav.runtime.mapping_jobs`): checked and begun between ticks, its
+heavy part (a stop's last optimisation of the whole graph, rendering, writing the files) on
+another thread, so that the control loop never waits for it; the outcome is applied between
+ticks. The native API starts jobs and answers at once (:meth:`stop_mapping_job`); the dialects'
+synchronous :meth:`stop_mapping` and :meth:`save_mapping` run the same job on their own thread.
 """
 
 from __future__ import annotations
 
 import abc
 import logging
+import threading
+from dataclasses import dataclass
 
-from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized
+from polynav.errors import Conflict, InvalidRequest, NotFound, NotLocalized, PolynavError
 from polynav.geometry import Pose2D
 from polynav.localization.interface import LocalizationState
 from polynav.mapping.relocalization import Relocalizer
@@ -23,12 +31,18 @@ from polynav.maps.map import Map
 from polynav.runtime.config import Mode
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.internals import RuntimeParts
+from polynav.runtime.loop import CommandLoop
+from polynav.runtime.mapping_jobs import JobKind, MappingJob
 from polynav.runtime.mapping_session import MappingSession
+from polynav.runtime.mapping_status import MappingStatus, mapping_status
+from polynav.store.rows import check_name
 
 log = logging.getLogger(__name__)
 
 
 class MappingCommands(RuntimeParts):
+    _loop: CommandLoop
+
     def start_mapping(self, map_name: str | None = None, *, point: str | None = None,
                       pose: Pose2D | None = None) -> None:
         """Start a new map where the robot stands (its pose now is the new map's frame), or
@@ -66,7 +80,9 @@ class MappingCommands(RuntimeParts):
             raise Conflict(f"mapping starts from free (mode {self._mode.value}): "
                            "stop navigation first")
         self._halt_motion()
-        self._mapping = MappingSession(self._floor_now(), self._status_pose())
+        self._mapping = MappingSession(self._floor_now(), self._status_pose(),
+                                       started_at=self.now())
+        self._mapping_jobs.new_session()
         self._set_mode(Mode.MAPPING)
         log.info("mapping started on floor %s", self._mapping.floor)
 
@@ -99,7 +115,8 @@ class MappingCommands(RuntimeParts):
                                    f"(score {found.score:.2f}); give its point or pose")
             initial = found.pose
         try:
-            session = MappingSession(floor, initial, name=name, prior=grid)
+            session = MappingSession(floor, initial, name=name, prior=grid,
+                                     started_at=self.now())
         except ValueError as exc:
             raise InvalidRequest("map", f"map {name!r} cannot be extended: {exc}") from exc
         self._place.place(floor, initial)  # may raise before anything changed
@@ -107,6 +124,7 @@ class MappingCommands(RuntimeParts):
             self._stop_navigation()
         self._halt_motion()
         self._mapping = session
+        self._mapping_jobs.new_session()
         self._set_mode(Mode.MAPPING)
         log.info("updating map %r on floor %s from %s", name, floor, initial)
 
@@ -149,30 +167,61 @@ class MappingCommands(RuntimeParts):
         goes on. Returns the saved map's record. A map being updated may be saved under its
         own name without ``overwrite`` (its points and keepouts stay: the frame is the same).
 
+        The map is rendered between ticks and written on the calling thread; the job it is
+        (:meth:`save_mapping_job`) shows in the status meanwhile.
+
         Raises:
-            Conflict: not mapping; ``name`` exists and ``overwrite`` is not set.
+            Conflict: not mapping; ``name`` exists and ``overwrite`` is not set; a save runs.
             InvalidRequest: a bad name.
+            StorageError: the files could not be written (the job failed).
         """
-        return self._call(lambda: self._save(self._require_mapping().live_map(), name,
-                                             overwrite))
+        return self._run_job(self._call(lambda: self._begin_job(JobKind.SAVE, name, overwrite)))
 
     def stop_mapping(self, name: str, *, overwrite: bool = False) -> object:
         """Finish the map (a last optimisation of the whole graph), save it under ``name``, and
-        become FREE. Nothing changes when saving fails.
+        become FREE; returns the saved map's record. Nothing is lost when saving fails: the
+        robot maps on.
+
+        The dialects' synchronous form: the finish and the save run on the calling thread (off
+        the loop thread, unless called from it), the robot BUSY meanwhile; the native API
+        starts the same work as a job (:meth:`stop_mapping_job`) and answers at once.
 
         Raises:
-            Conflict: not mapping; ``name`` exists and ``overwrite`` is not set.
+            Conflict: not mapping; ``name`` exists and ``overwrite`` is not set; a save runs.
+            InvalidRequest: a bad name.
+            StorageError: the files could not be written (the job failed; mapping goes on).
+        """
+        return self._run_job(self._call(lambda: self._begin_job(JobKind.STOP, name, overwrite)))
+
+    def save_mapping_job(self, name: str, *, overwrite: bool = False) -> MappingJob:
+        """Start saving the map so far under ``name`` on a worker thread; mapping goes on.
+        Returns the job (``saving``); :meth:`mapping_job` and the status follow it.
+
+        Raises (at once, before any job):
+            Conflict: not mapping; ``name`` exists and ``overwrite`` is not set; a save runs.
             InvalidRequest: a bad name.
         """
+        return self._spawn(self._call(lambda: self._begin_job(JobKind.SAVE, name, overwrite)))
 
-        def run() -> object:
-            session = self._require_mapping()
-            self._check_name_free(name, overwrite)
-            record = self._save(session.finish(), name, overwrite)
-            self._end_mapping()
-            return record
+    def stop_mapping_job(self, name: str, *, overwrite: bool = False) -> MappingJob:
+        """Start finishing the map and saving it under ``name`` on a worker thread, the robot
+        BUSY (halted, its control loop running) until it is saved, then FREE; a failed save
+        leaves it MAPPING again, nothing lost. Returns the job (``saving``).
 
-        return self._call(run)
+        Raises (at once, before any job):
+            Conflict: not mapping (a stop job runs: the robot is BUSY); ``name`` exists and
+                ``overwrite`` is not set; a save runs.
+            InvalidRequest: a bad name.
+        """
+        return self._spawn(self._call(lambda: self._begin_job(JobKind.STOP, name, overwrite)))
+
+    def mapping_job(self, job_id: str) -> MappingJob:
+        """A save job as it is now (any thread, never waits).
+
+        Raises:
+            NotFound: no such job (only the last few are kept).
+        """
+        return self._mapping_jobs.get(job_id)
 
     def cancel_mapping(self) -> None:
         """Drop the map being built and become FREE.
@@ -188,13 +237,88 @@ class MappingCommands(RuntimeParts):
         self._call(run)
 
     def _require_mapping(self) -> MappingSession:
+        if self._mapping_jobs.finishing is not None:
+            job = self._mapping_jobs.session_job()
+            what = "" if job is None else f": map {job.name!r} is being saved (job {job.id})"
+            raise Conflict(f"mapping is stopping{what}")
         if self._mode is not Mode.MAPPING or self._mapping is None:
             raise Conflict(f"not mapping (mode {self._mode.value}): start mapping first")
         return self._mapping
 
-    def _check_name_free(self, name: str, overwrite: bool) -> None:
-        updating = self._mapping is not None and self._mapping.name == name
-        if overwrite or updating:
+    def _mapping_status(self, now: float) -> MappingStatus | None:
+        """The status's ``mapping`` part (between ticks): the session, or the session a stop
+        job finishes; ``None`` otherwise."""
+        jobs = self._mapping_jobs
+        if self._mapping is not None:
+            return mapping_status(self._mapping, self._exploration, now, jobs.session_job())
+        if jobs.finishing is not None:
+            return jobs.finishing.with_job(jobs.session_job())
+        return None
+
+    # -- save jobs: checked and begun between ticks, the heavy part on a worker thread ---------
+
+    def _begin_job(self, kind: JobKind, name: str, overwrite: bool) -> _Work:
+        """Check everything that can be checked at once, then begin the job (between ticks).
+        A save renders the map here (it changes with every scan: the worker cannot read it);
+        a stop takes the session off the loop for the worker to finish, the robot BUSY."""
+        session = self._require_mapping()
+        check_name("name", name)
+        self._check_name_free(session, name, overwrite)
+        job = self._mapping_jobs.begin(kind, name, self.now())
+        if kind is JobKind.SAVE:
+            return _Work(job, session, overwrite, session.live_map())
+        self._mapping_jobs.finishing = mapping_status(session, self._exploration, self.now(),
+                                                      job)
+        self._halt_motion()
+        self._mapping = None
+        self._exploration = None
+        self._set_mode(Mode.BUSY)
+        log.info("mapping stops: finishing map %r (job %s)", name, job.id)
+        return _Work(job, session, overwrite, None)
+
+    def _spawn(self, work: _Work) -> MappingJob:
+        """Run ``work`` on a worker thread; its job as it begins."""
+
+        def run() -> None:
+            try:
+                self._run_job(work)
+            except Exception:  # recorded in the job (and logged) by _run_job
+                pass
+
+        # Not a daemon: a map being written is finished before the process exits.
+        threading.Thread(target=run, name=f"polynav-mapping-job-{work.job.id}").start()
+        return work.job
+
+    def _run_job(self, work: _Work) -> object:
+        """The heavy part (finish, render, write the files) on this thread, then the outcome
+        applied between ticks; returns the saved map's record or raises what failed."""
+        try:
+            grid = work.grid if work.grid is not None else work.session.finish()
+            record = self._write_map(work.session, grid, work.job.name, work.overwrite)
+        except Exception as exc:
+            if not isinstance(exc, PolynavError):
+                log.exception("mapping job %s failed", work.job.id)
+            error = str(exc) or type(exc).__name__
+            self._loop.call(lambda: self._end_job(work, error))
+            raise
+        self._loop.call(lambda: self._end_job(work, None))
+        return record
+
+    def _end_job(self, work: _Work, error: str | None) -> None:
+        """The job's outcome, between ticks: a stop that saved ends mapping (FREE); one that
+        failed hands the session back to the loop (MAPPING, driven by hand again)."""
+        self._mapping_jobs.end(work.job.id, self.now(), error)
+        if work.job.kind is not JobKind.STOP:
+            return
+        self._mapping_jobs.finishing = None
+        if error is None:
+            self._end_mapping()
+            return
+        self._mapping = work.session
+        self._set_mode(Mode.MAPPING)
+
+    def _check_name_free(self, session: MappingSession, name: str, overwrite: bool) -> None:
+        if overwrite or session.name == name:
             return
         try:
             self.store.map_record(name)
@@ -202,9 +326,11 @@ class MappingCommands(RuntimeParts):
             return
         raise Conflict(f"a map called {name!r} exists: give another name, or overwrite it")
 
-    def _save(self, grid: Map, name: str, overwrite: bool) -> object:
-        self._check_name_free(name, overwrite)
-        floor = self._mapping.floor if self._mapping is not None else None
+    def _write_map(self, session: MappingSession, grid: Map, name: str,
+                   overwrite: bool) -> object:
+        """Save ``grid`` in the site store (any thread: the store has its own lock)."""
+        self._check_name_free(session, name, overwrite)  # taken since the job began?
+        floor = session.floor
         if floor is not None:
             try:
                 self.store.floor(floor)
@@ -223,3 +349,13 @@ class MappingCommands(RuntimeParts):
         self._mapping = None
         self._exploration = None
         self._set_mode(Mode.FREE)
+
+
+@dataclass(frozen=True, slots=True)
+class _Work:
+    """A begun job and what its worker needs: the session, and for a save the map rendered."""
+
+    job: MappingJob
+    session: MappingSession
+    overwrite: bool
+    grid: Map | None

@@ -23,6 +23,7 @@ from polynav.mapping.config import SlamConfig
 from polynav.mapping.slam import Slam
 from polynav.maps.map import Map, MapInfo
 from polynav.robot.interface import LaserScan, Odometry
+from polynav.runtime.mapping_area import MappedArea
 
 log = logging.getLogger(__name__)
 
@@ -39,13 +40,17 @@ class MappingSession:
         name: the map's name when it extends an existing map, else ``None``.
         prior: that map (its frame is the new map's; ``start`` is the robot's pose on it).
         config: the SLAM's parameters.
+        started_at: when the session started [s, runtime clock].
     """
 
     def __init__(self, floor: str | None, start: Pose2D, *, name: str | None = None,
-                 prior: Map | None = None, config: SlamConfig | None = None) -> None:
+                 prior: Map | None = None, config: SlamConfig | None = None,
+                 started_at: float = 0.0) -> None:
         self.floor = floor
         self.name = name
+        self.started_at = started_at
         self._slam = Slam(config, prior=prior)
+        self._area = MappedArea(self._slam.config, prior)
         self._start = start
         self._offset: Pose2D | None = None  # odometry frame -> map frame, from the first scan
         self._pose = start
@@ -75,8 +80,11 @@ class MappingSession:
         self._last_stamp = scan.stamp
         at_scan = self._odometry_at(scan.stamp)
         odom = self._offset.compose(at_scan)
+        nodes = self._slam.node_count
         estimate = self._slam.add_scan(odom, scan.ranges, scan.angles, scan.stamp,
                                        sensor_pose=scan.sensor_pose)
+        if self._slam.node_count != nodes:
+            self._area.insert(estimate, scan)
         self._scan_odom = at_scan
         self._scan_pose = estimate
         self._pose = self._pose_now(odometry.pose)
@@ -116,6 +124,11 @@ class MappingSession:
                 grid = Map(MapInfo(resolution, 1, 1, origin), np.full((1, 1), -1, dtype=np.int8))
             self._rendered = (nodes, grid)
         return self._rendered[1]
+
+    def mapped_area(self, now: float) -> float:
+        """Known cells x the cell's area [m²], counted at most once a second of the runtime's
+        clock (:class:`~polynav.runtime.mapping_area.MappedArea`)."""
+        return self._area.area(now)
 
     def finish(self) -> Map:
         """Optimise the whole graph once more and render the final map."""

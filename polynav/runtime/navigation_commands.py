@@ -167,11 +167,16 @@ class NavigationCommands(RuntimeParts):
             self._end_mapping()
         self._cancel_goal()
         self._halt_motion()
+        if self._mapping_jobs.finishing is not None:
+            log.warning("a map is being finished and saved: the robot is free once it is saved")
+            return
         self._stop_navigation()
 
     def _stop_navigation(self) -> None:
         if self._mode is Mode.MAPPING:
             raise Conflict("mapping is running: stop mapping instead")
+        if self._mapping_jobs.finishing is not None:
+            raise Conflict("mapping is stopping: the robot is free once the map is saved")
         if self._mode is Mode.FREE:
             return
         self._set_mode(Mode.BUSY)

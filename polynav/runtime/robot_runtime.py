@@ -83,6 +83,7 @@ from polynav.runtime.loop import CommandLoop
 from polynav.runtime.map_exchange import MapExchange
 from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
+from polynav.runtime.mapping_jobs import MappingJobs
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_commands import NavigationCommands
@@ -160,6 +161,7 @@ class RobotRuntime(
         self._recovery = LostRecovery(self._restart_localization)
         self._mapping: MappingSession | None = None
         self._exploration: Exploration | None = None
+        self._mapping_jobs = MappingJobs()  # saves of the map being built (mapping_commands)
         # Attempt bookkeeping (the runtime's ids, see the module docstring).
         self._attempts = AttemptBook()
         # Goals on other maps (lift_commands): the running and the last route, the router.

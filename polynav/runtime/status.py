@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from polynav.geometry import Pose2D
 from polynav.localization.interface import PoseUncertainty
 from polynav.runtime.events import pose_dict
+from polynav.runtime.mapping_status import MappingStatus
 
 log = logging.getLogger(__name__)
 
@@ -52,6 +53,8 @@ class StatusSnapshot:
         phase: that attempt's phase (``leave_charger``, ``navigate``, ``dock``).
         patrol_state: the current or last patrol's state (``running``, ``succeeded``,
             ``failed``, ``canceled``); ``None`` when the last task was a single goal.
+        mapping: the mapping session (exploration, mapped area, save job) while mapping or
+            while a stop job finishes the map; ``None`` otherwise.
     """
 
     mode: str
@@ -82,6 +85,7 @@ class StatusSnapshot:
     route: dict[str, object] | None = None
     """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
     frame: str = "map"
+    mapping: MappingStatus | None = None
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
@@ -114,6 +118,7 @@ class StatusSnapshot:
                 "retries": int(self.retries),
                 "arrival_uncertainty": uncertainty_dict(self.arrival_uncertainty),
             },
+            "mapping": None if self.mapping is None else self.mapping.to_dict(),
             "stamp": float(self.stamp),
         }
         if self.route is not None:

@@ -12,6 +12,7 @@ from polynav.errors import NotFound
 from polynav.geometry import Pose2D
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.internals import RuntimeParts
+from polynav.runtime.mapping_status import MappingStatus
 from polynav.runtime.status import StatusSnapshot
 
 
@@ -19,6 +20,10 @@ class StatusReport(RuntimeParts):
     """The runtime's part that builds its :class:`StatusSnapshot`."""
 
     _mapless: bool
+
+    @abc.abstractmethod
+    def _mapping_status(self, now: float) -> MappingStatus | None:
+        """The mapping session as the status shows it (mapping commands)."""
 
     @abc.abstractmethod
     def _route_overlay(self, snapshot: StatusSnapshot) -> StatusSnapshot:
@@ -71,6 +76,7 @@ class StatusReport(RuntimeParts):
             patrol_state=self._patrols.state,
             floor_level=self._floor_level(self._place.floor),
             frame=(GoalFrame.ODOM if self._mapless else GoalFrame.MAP).value,
+            mapping=self._mapping_status(now),
         ))
 
     def _floor_level(self, floor: str | None) -> int | None:

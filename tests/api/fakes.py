@@ -25,6 +25,8 @@ from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.goal_commands import GoalFrame
+from polynav.runtime.mapping_jobs import JobKind, MappingJob, MappingJobs
+from polynav.runtime.mapping_status import MappingStatus
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.status import StatusSnapshot
@@ -83,6 +85,8 @@ class FakeRuntime:
         self.local_moves: list[tuple[float | None, float | None]] = []
         self.lost_in_a_hall = False
         self.mapping_started: tuple[str | None, str | None, Pose2D | None] | None = None
+        self.jobs = MappingJobs()
+        self._saving: MappingJob | None = None
         world = load_world("demo")
         levels = {f.name: f.level for f in world.floors}
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
@@ -127,6 +131,7 @@ class FakeRuntime:
                 self.nav_state = "succeeded"
                 self._publish(events.NavigationSucceeded(self.now, self.attempt, 1.0))
             self.velocity = (0.0, 0.0)
+            self._finish_job()
 
     # -- contract
     def status(self) -> StatusSnapshot:
@@ -139,6 +144,7 @@ class FakeRuntime:
             localization_quality=1.0, navigation_state=self.nav_state, stamp=self.now,
             attempt_id=self.attempt or None, goal=self.goal, goal_point=self.goal_point,
             frame="odom" if self.map == "odom" else "map",
+            mapping=self._mapping_status(),
         )
 
     def settings(self) -> RobotSettings:
@@ -197,6 +203,7 @@ class FakeRuntime:
         if map_name is not None:
             self.store.map_record(map_name)  # NotFound
         self.mapping_started = (map_name, point, pose)
+        self.jobs.new_session()
         self._set_mode("mapping")
 
     def _need_mapping(self) -> None:
@@ -205,6 +212,9 @@ class FakeRuntime:
 
     def mapping_map(self) -> Map:
         self._need_mapping()
+        return self.mapping_map_now()
+
+    def mapping_map_now(self) -> Map:
         data = np.full((4, 6), -1, dtype=np.int8)
         data[1:3, 1:5] = 0
         data[0, :] = 100
@@ -220,6 +230,48 @@ class FakeRuntime:
         record = self.save_mapping(name, overwrite=overwrite)
         self._set_mode("free")
         return record
+
+    # -- save jobs: begun at once (the real runtime's checks), written on the next advance
+
+    def _begin_job(self, kind: JobKind, name: str, overwrite: bool) -> MappingJob:
+        if self.mode == "busy" and self._saving is not None:
+            raise Conflict("mapping is stopping")
+        self._need_mapping()
+        if not overwrite and name in {m.name for m in self.store.maps()}:
+            raise Conflict(f"a map called {name!r} exists")
+        job = self.jobs.begin(kind, name, self.now)
+        self._saving = job
+        if kind is JobKind.STOP:
+            self._set_mode("busy")
+        return job
+
+    def save_mapping_job(self, name: str, *, overwrite: bool = False) -> MappingJob:
+        return self._begin_job(JobKind.SAVE, name, overwrite)
+
+    def stop_mapping_job(self, name: str, *, overwrite: bool = False) -> MappingJob:
+        return self._begin_job(JobKind.STOP, name, overwrite)
+
+    def mapping_job(self, job_id: str) -> MappingJob:
+        return self.jobs.get(job_id)
+
+    def _finish_job(self) -> None:
+        job, self._saving = self._saving, None
+        if job is None:
+            return
+        self.store.save_map(job.name, self.mapping_map_now())
+        self.jobs.end(job.id, self.now)
+        if job.kind is JobKind.STOP:
+            self._set_mode("free")
+
+    def _mapping_status(self) -> MappingStatus | None:
+        if self.mode != "mapping" and self._saving is None:
+            return None
+        grid = self.mapping_map_now()
+        area = float(np.count_nonzero(grid.data >= 0)) * grid.info.resolution ** 2
+        kind = "new" if self.mapping_started is None or self.mapping_started[0] is None else (
+            "update")
+        return MappingStatus(kind, None if kind == "new" else self.mapping_started[0], "off",
+                             None, 0, area, 0, 0.0, self.jobs.session_job())
 
     def explore(self) -> None:
         self._need_mapping()

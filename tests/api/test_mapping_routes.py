@@ -1,5 +1,6 @@
-"""/api/mapping over HTTP: start, the live map as grid JSON and PNG, save (409 on a taken name
-unless overwrite), stop (saves, free), cancel; 409 in the wrong mode."""
+"""/api/mapping over HTTP: start, the live map as grid JSON and PNG, save and stop as jobs (202
+at once; 409 at once on a taken name unless overwrite), the job and the session in the status,
+cancel; 409 in the wrong mode."""
 
 from __future__ import annotations
 
@@ -21,17 +22,41 @@ def test_mapping_start_watch_save_stop(client: httpx.Client, fake_runtime: FakeR
     png = client.get("/api/mapping/map.png")
     assert png.status_code == 200 and png.headers["content-type"] == "image/png"
     assert png.content.startswith(b"\x89PNG")
+    mapping = client.get("/api/status").json()["mapping"]
+    assert mapping["kind"] == "new" and mapping["map"] is None and mapping["job"] is None
+    assert mapping["mapped_area_m2"] == 8 * 0.05 ** 2 + 6 * 0.05 ** 2  # the fake's known cells
     saved = client.post("/api/mapping/save", json={"name": "draft"})
-    assert saved.status_code == 200 and saved.json()["name"] == "draft"
+    assert saved.status_code == 202, saved.text
+    job = saved.json()
+    assert (job["name"], job["kind"], job["state"], job["finished_at"]) == (
+        "draft", "save", "saving", None)
+    assert client.get("/api/status").json()["mapping"]["job"] == job
+    # One save at a time; the map appears when the job has written it.
+    assert client.post("/api/mapping/save", json={"name": "other"}).status_code == 409
+    assert "draft" not in [m["name"] for m in client.get("/api/maps").json()]
+    fake_runtime.advance(0.1)
+    done = client.get(f"/api/mapping/jobs/{job['id']}").json()
+    assert (done["state"], done["error"], done["finished_at"]) == ("saved", None, 0.1)
+    assert client.get("/api/status").json()["mapping"]["job"] == done
+    assert client.get("/api/status").json()["mode"] == "mapping"  # a save: mapping goes on
+    assert "draft" in [m["name"] for m in client.get("/api/maps").json()]
     taken = client.post("/api/mapping/save", json={"name": "draft"})
     assert taken.status_code == 409 and "exists" in taken.json()["error"]["message"]
-    assert client.post("/api/mapping/save",
-                       json={"name": "draft", "overwrite": True}).status_code == 200
+    again = client.post("/api/mapping/save", json={"name": "draft", "overwrite": True})
+    assert again.status_code == 202 and again.json()["id"] != job["id"]
+    fake_runtime.advance(0.1)
     assert client.post("/api/mapping/stop", json={"name": "floor1"}).status_code == 409
     stopped = client.post("/api/mapping/stop", json={"name": "hall"})
-    assert stopped.status_code == 200 and stopped.json()["width"] == 6
-    assert client.get("/api/status").json()["mode"] == "free"
+    assert stopped.status_code == 202 and stopped.json()["state"] == "saving"
+    status = client.get("/api/status").json()
+    assert status["mode"] == "busy" and status["mapping"]["job"]["kind"] == "stop"
+    assert client.post("/api/mapping/stop", json={"name": "hall2"}).status_code == 409
+    fake_runtime.advance(0.1)
+    assert client.get(f"/api/mapping/jobs/{stopped.json()['id']}").json()["state"] == "saved"
+    status = client.get("/api/status").json()
+    assert status["mode"] == "free" and status["mapping"] is None
     assert "hall" in [m["name"] for m in client.get("/api/maps").json()]
+    assert client.get("/api/mapping/jobs/99").status_code == 404
 
 
 def test_mapping_cancel_and_bad_bodies(client: httpx.Client) -> None:

@@ -24,7 +24,8 @@ def _error(response: httpx.Response, status: int, code: str) -> str:
 def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
     body = client.get("/api/status").json()
     assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
-                         "estop", "localization", "navigation", "stamp", "frame", "links"}
+                         "estop", "localization", "navigation", "mapping", "stamp", "frame",
+                         "links"}
     assert body["links"] == {}  # no serial line served
     assert set(body["pose"]) == {"x", "y", "theta"}
     assert set(body["navigation"]) == {
@@ -33,6 +34,7 @@ def test_status_has_exactly_the_contract_keys(client: httpx.Client) -> None:
     assert set(body["localization"]) == {"state", "quality", "uncertainty"}
     assert body["mode"] == "free"
     assert body["navigation"]["state"] == "idle"
+    assert body["mapping"] is None  # not mapping
 
 
 def test_maps_list_metadata_and_image(client: httpx.Client) -> None:
