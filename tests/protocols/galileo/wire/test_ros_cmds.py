@@ -113,4 +113,4 @@ def test_rosbridge_cmds_and_status_with_roslibpy(galileo: Harness,
         cmds.unadvertise()
         status.unsubscribe()
     finally:
-        ros.terminate()
+        ros.close()  # not terminate(): Twisted's reactor cannot start again in this process
