@@ -38,7 +38,8 @@ from polynav.robot.sim.scene import Scene
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime.config import RuntimeConfig, SiteData
 from polynav.runtime.loop import CommandLoop
-from polynav.runtime.robot_runtime import RobotRuntime, warm_up
+from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.runtime.warm_up import warm_up
 from polynav.site import Point, PointKind
 from polynav.worlds.world import World
 

@@ -53,15 +53,11 @@ from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
 from polynav.errors import Conflict
 from polynav.geometry import Pose2D, Twist
-from polynav.localization import pose_tracker
 from polynav.localization.interface import LocalizationState
-from polynav.maps import costmap
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
 from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
-from polynav.planning import registry as planning_registry
-from polynav.robot import sim as sim_kernels
 from polynav.robot.interface import Backend, Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
@@ -97,6 +93,7 @@ from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
 from polynav.runtime.step_hooks import StepHooks
 from polynav.runtime.task_commands import TaskCommands
+from polynav.runtime.warm_up import warm_up
 from polynav.runtime.watchers import BatteryWatcher, EStopWatcher, LocalizationWatcher
 from polynav.worlds.world import World
 
@@ -583,15 +580,6 @@ class RobotRuntime(
 _LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,
              events.NavigationCanceled)
 """A route's legs start and end inside its one attempt: those events are the route's own."""
-
-
-def warm_up() -> None:
-    """Compile (or load from numba's cache) every kernel the runtime ticks, before the first
-    tick, so that the first goal is not late by seconds of compilation."""
-    costmap.warm_up()
-    planning_registry.warm_up()
-    pose_tracker.warm_up()
-    sim_kernels.warm_up()
 
 
 def _first_floor(store: SiteData) -> str:
