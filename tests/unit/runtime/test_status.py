@@ -22,7 +22,7 @@ def _snapshot(**changes: object) -> StatusSnapshot:
 def test_to_dict_has_exactly_the_contract_keys() -> None:
     body = _snapshot().to_dict()
     assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
-                         "estop", "localization", "navigation", "stamp", "frame"}
+                         "estop", "localization", "navigation", "stamp", "frame", "mapping"}
     assert set(body["pose"]) == {"x", "y", "theta"}  # type: ignore[arg-type]
     assert set(body["velocity"]) == {"linear", "angular"}  # type: ignore[arg-type]
     assert set(body["battery"]) == {"percent", "charging"}  # type: ignore[arg-type]
@@ -57,7 +57,7 @@ def test_to_dict_values_for_a_running_goal_to_a_named_point() -> None:
                        "goal": {"x": 5.5, "y": 12.5, "theta": 0.0, "point": "lobby"},
                        "reason": None, "distance_remaining": 4.5, "phase": None,
                        "retries": 0, "arrival_uncertainty": None},
-        "stamp": 12.5,
+        "stamp": 12.5, "mapping": None,
     }
 
 
