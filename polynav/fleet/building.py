@@ -17,6 +17,7 @@ Robots start on the site's free start points (:func:`start_points`), one robot p
 
 from __future__ import annotations
 
+import datetime as dt
 import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -155,7 +156,9 @@ class Building:
             on_failure=self._brake,
         )
         self.transport = InProcessTransport()
-        self.master = MasterControl(self.transport, LeaseBook(leases))
+        # One calendar for every header in the building: site time 0 is now.
+        epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
+        self.master = MasterControl(self.transport, LeaseBook(leases), epoch=epoch)
         zone_config = ZoneConfig(robot_radius=sim_config.robot_radius)
         self.zones: dict[str, ZoneMap] = {
             name: find_zones(name, store.load_map(name), zone_config) for name in floors
@@ -174,11 +177,16 @@ class Building:
             self.runtimes.append(runtime)
             self.master.add_robot(serial)
             self.agents.append(RobotAgent(serial, runtime, self.transport, self.zones,
-                                          traffic=traffic))
+                                          traffic=traffic, epoch=epoch))
         self._fleet_period = 1.0 / config.control_rate
         self._next_fleet = self.scene.clock.now()
         for runtime, point in zip(self.runtimes, self.starts, strict=True):
             runtime.start_navigation(point.map_name, pose=point.pose)
+        # Each robot says where it is before the first order: an order starts where it stands.
+        now = self.scene.clock.now()
+        for agent in self.agents:
+            agent.publish_state(now)
+        self.master.tick(now)
         log.info("building of %d robots on world %r", robots, world.name)
 
     # -- reads ---------------------------------------------------------------------------------
@@ -210,6 +218,7 @@ class Building:
             status = agent.runtime.status()  # mode is not in VDA's state; read the snapshot
             position = state.agv_position if state is not None else None
             errors = tuple(e.error_description for e in state.errors) if state else ()
+            stamp = self.master.state_time(serial)
             out.append(FleetEntry(
                 robot_id=serial,
                 ports=dict(self.ports.get(serial, {})),
@@ -223,9 +232,9 @@ class Building:
                 order_state=_order_state(state),
                 waiting_for=state.waiting_for if state is not None else None,
                 zones=state.zones if state is not None else (),
-                battery_percent=(state.battery_charge if state is not None
+                battery_percent=(state.battery_state.battery_charge if state is not None
                                  else status.battery_percent),
-                stamp=state.timestamp if state is not None else None,
+                stamp=stamp,
                 errors=errors,
             ))
         return out
