@@ -16,7 +16,8 @@ turns them into runtime commands and reports back:
   state (FINISHED or FAILED with the reason) in the next state;
 - the robot's **state** (§6.10: order progress, node and edge states, pose, velocity, battery,
   errors, action states) is published at once on every event (an order taken, rejected, a node
-  passed, an action) and otherwise every ``state_period``; **visualization** (pose and
+  passed, an action, a change of driving, paused, charging, map or e-stop) and otherwise every
+  ``state_period``; **visualization** (pose and
   velocity) every ``visualization_period`` if set;
 - the **traffic rule** (:mod:`polynav.fleet.traffic`) is kept here: a zone on the path ahead is
   asked for before the robot gets to it, the robot stops short of it until it is granted, holds
@@ -93,6 +94,9 @@ class RobotAgent:
         epoch: the UTC moment site time 0 stands for (headers' timestamps); now by default.
         on_factsheet_request: called for a factsheetRequest (publishes the factsheet); None
             fails the action (no factsheet on this transport).
+        fleet_leases: whether polynav's fleet answers zone requests and lends lift cars; a
+            vehicle under another master control (a lone robot on a broker) asks for none
+            and rides lifts as a lone robot does.
     """
 
     def __init__(
@@ -109,6 +113,7 @@ class RobotAgent:
         manufacturer: str = m.DEFAULT_MANUFACTURER,
         epoch: dt.datetime | None = None,
         on_factsheet_request: Callable[[], None] | None = None,
+        fleet_leases: bool = True,
     ) -> None:
         self.serial_number = serial_number
         self.manufacturer = manufacturer
@@ -118,11 +123,12 @@ class RobotAgent:
         self._orders = transport.subscribe(self.topic(m.Order))
         self._actions = transport.subscribe(self.topic(m.InstantActions))
         self._responses = transport.subscribe(self.topic(m.ZoneResponse))
-        self.traffic = TrafficRule(serial_number, zones, traffic or TrafficConfig(),
-                                   self._send_zone_request)
+        self.traffic = TrafficRule(serial_number, zones if fleet_leases else {},
+                                   traffic or TrafficConfig(), self._send_zone_request)
         # Lift sessions are leases on lift:<car> in the same book, asked for the same way.
         self.lift_sessions = FleetLiftSessions(serial_number, self._send_zone_request)
-        runtime.use_lift_sessions(self.lift_sessions)
+        if fleet_leases:
+            runtime.use_lift_sessions(self.lift_sessions)
         self._state_period = state_period
         self._visualization_period = visualization_period
         self._next_state = runtime.now()
@@ -134,6 +140,7 @@ class RobotAgent:
         self._action_states: deque[m.ActionState] = deque(maxlen=ACTION_STATES_KEPT)
         self._on_factsheet_request = on_factsheet_request
         self._state_dirty = True
+        self._seen: tuple[object, ...] = ()
         self._outcomes: dict[str, str] = {}
 
     def topic(self, kind: type | str) -> str:
@@ -185,6 +192,13 @@ class RobotAgent:
                 self._refused(order)
         self._follow_order()
         self.traffic.tick(now, self.runtime)
+        status = self.runtime.status()
+        # §6.10: a state also on a change of driving, paused, charging, the map or the e-stop.
+        seen = (_driving(status), status.navigation_state == "paused", status.charging,
+                status.map, status.estop_hardware or status.estop_software)
+        if seen != self._seen:
+            self._seen = seen
+            self._state_dirty = True
         if self._state_dirty or now >= self._next_state:
             self.publish_state(now)
         if self._visualization_period is not None and now >= self._next_visualization:
@@ -429,7 +443,7 @@ class RobotAgent:
             node_states=tuple(m.NodeState(n.node_id, n.sequence_id, n.released,
                                           _with_theta(n.node_position)) for n in nodes),
             edge_states=tuple(m.EdgeState(e.edge_id, e.sequence_id, e.released) for e in edges),
-            driving=abs(status.linear) > 1e-3 or abs(status.angular) > 1e-3,
+            driving=_driving(status),
             operating_mode="AUTOMATIC",
             battery_state=m.BatteryState(float(status.battery_percent), status.charging),
             paused=self._paused or status.navigation_state == "paused",
@@ -467,6 +481,10 @@ class RobotAgent:
             m.ZoneRequest(self._zone_headers, self.serial_number, request_id, zone_id,
                           request_type, duration, flow))
         self._state_dirty = True
+
+
+def _driving(status: StatusSnapshot) -> bool:
+    return abs(status.linear) > 1e-3 or abs(status.angular) > 1e-3
 
 
 class _ActionFailed(PolynavError):
