@@ -4,21 +4,20 @@ The fleet never calls a robot (DESIGN §9); it sends messages, and the agent on 
 turns them into runtime commands and reports back:
 
 - an **order** (VDA 5050 §6.6) is checked whole first (:mod:`polynav.fleet.order_check`) and
-  rejected with the standard's error in the state if it cannot be driven; taken, its first
-  node is where the robot stands, and each further released node becomes one goal, in order
-  (a node named after a site point on its map is that point, lifts and chargers included;
+  rejected with the standard's error in the state if it cannot be driven; taken, its first node is
+  where the robot stands, and each further released node becomes one goal, in order (a node named
+  after a site point on its map, within 0.5 m of it, is that point, lifts and chargers included;
   another node its position). The order is done when its last node is reached, failed (an
   ``orderFailed`` error in the state) when a goal fails. An update with the same orderId and a
-  higher orderUpdateId is stitched on at the running order's last released node; a re-sent
-  order (same ids) is ignored; a message that breaks its schema gets a ``validationError``;
+  higher orderUpdateId is stitched on at the running order's last released node; a re-sent order
+  (same ids) is ignored; a message that breaks its schema gets a ``validationError``;
 - **instant actions** (§6.8: cancelOrder, startPause, stopPause, initPosition, stateRequest,
   factsheetRequest, startCharging, stopCharging) are carried out at once, each with its action
   state (FINISHED or FAILED with the reason) in the next state;
 - the robot's **state** (§6.10: order progress, node and edge states, pose, velocity, battery,
   errors, action states) is published at once on every event (an order taken, rejected, a node
   passed, an action, a change of driving, paused, charging, map or e-stop) and otherwise every
-  ``state_period``; **visualization** (pose and
-  velocity) every ``visualization_period`` if set;
+  ``state_period``; **visualization** (pose and velocity) every ``visualization_period`` if set;
 - the **traffic rule** (:mod:`polynav.fleet.traffic`) is kept here: a zone on the path ahead is
   asked for before the robot gets to it, the robot stops short of it until it is granted, holds
   the lease (renewed) while it is inside, and gives it back once it has left;
@@ -34,6 +33,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as dt
 import logging
+import math
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -51,6 +51,10 @@ from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.runtime.status import StatusSnapshot
 
 log = logging.getLogger(__name__)
+
+POINT_MATCH = 0.5
+"""How close [m] a node must be to the site's point of its name to be driven to as that point
+(docked onto if a charger, through the lifts' routes as a named goal)."""
 
 ACTION_STATES_KEPT = 20
 """How many instant actions' states the state lists (the latest)."""
@@ -296,7 +300,7 @@ class RobotAgent:
             position = node.node_position
             assert position is not None  # checked when the order was taken
             try:
-                if self._is_point(position.map_id, node.node_id):
+                if self._is_point(node.node_id, position):
                     run.attempt_id = self.runtime.go_to(point=node.node_id,
                                                         map_name=position.map_id)
                 else:
@@ -315,12 +319,14 @@ class RobotAgent:
             return False
         return True
 
-    def _is_point(self, map_name: str, name: str) -> bool:
+    def _is_point(self, name: str, position: m.NodePosition) -> bool:
+        """Whether the node is the site's point ``name``: one of that name on its map within
+        :data:`POINT_MATCH` of its position (the node's position is what the master means)."""
         try:
-            self.runtime.store.point(map_name, name)
+            point = self.runtime.store.point(position.map_id, name)
         except PolynavError:
             return False
-        return True
+        return math.hypot(point.pose.x - position.x, point.pose.y - position.y) <= POINT_MATCH
 
     def _fail(self, run: _OrderRun, why: str, kind: str = "orderFailed") -> None:
         run.failed = why

@@ -78,3 +78,23 @@ def test_a_building_over_the_broker_runs_orders_as_in_process(
     finally:
         building.close()
     assert retained(broker, "uagv/v2/polynav/robot2/connection")["connectionState"] == "OFFLINE"
+
+
+def test_a_vehicle_killed_leaves_its_will_connectionbroken(
+        broker: Mosquitto, tmp_path: Path) -> None:
+    proc = start_run(tmp_path, None, "--broker", broker.url, "--vda-serial", "agv9")
+    lines = startup_lines(proc)
+    assert any("vehicle on" in line for line in lines), lines
+    assert retained(broker, "uagv/v2/polynav/agv9/connection")["connectionState"] == "ONLINE"
+    proc.kill()  # no OFFLINE, no clean DISCONNECT: the broker publishes the will
+    proc.communicate(timeout=30)
+    deadline = time.monotonic() + 10.0
+    state = None
+    while time.monotonic() < deadline:
+        will = retained(broker, "uagv/v2/polynav/agv9/connection")
+        validation.validate("connection", "2.0.0", will)
+        state = will["connectionState"]
+        if state == "CONNECTIONBROKEN":
+            break
+        time.sleep(0.1)
+    assert state == "CONNECTIONBROKEN"
