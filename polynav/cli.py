@@ -172,7 +172,16 @@ def _run(args: argparse.Namespace) -> int:
             uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
         )
         runtime.start()
+        vehicle = None
         try:
+            if args.broker is not None:  # a VDA 5050 vehicle: polynav/fleet/vehicle.py
+                from polynav.fleet.vehicle import LoneVehicle, config_from_args
+
+                try:
+                    vehicle = LoneVehicle(runtime, args.vda_serial, config_from_args(args))
+                except PolynavError as exc:
+                    print(f"polynav run: {exc}", file=sys.stderr)
+                    return 1
             try:
                 served = start_dialects(runtime, args, host)
             except DialectStartError as exc:
@@ -195,6 +204,9 @@ def _run(args: argparse.Namespace) -> int:
             for one in served:
                 for line in one.lines:
                     print(f"polynav: {line}", flush=True)
+            if vehicle is not None:
+                print(f"polynav: VDA 5050 {args.vda_version} vehicle on {args.broker} as "
+                      f"uagv/v2/{args.vda_manufacturer}/{args.vda_serial}/", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             try:
                 if not stop_requested:
@@ -202,6 +214,8 @@ def _run(args: argparse.Namespace) -> int:
             finally:
                 stop_dialects(served)
         finally:
+            if vehicle is not None:
+                vehicle.close()
             runtime.stop()
             if backend is not None:
                 backend.close()
@@ -365,6 +379,18 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--robots", type=int, default=None,
                      help="simulate N robots in one building, robot i on every port + i "
                      "(default: one robot)")
+    run.add_argument("--broker", default=None, metavar="mqtt://HOST[:PORT]",
+                     help="be a VDA 5050 vehicle on this MQTT broker, each robot one client "
+                          "(with --robots, the fleet's master control too; docs/fleet.md)")
+    run.add_argument("--vda-version", default="2.0.0", choices=("2.0.0", "2.1.0"),
+                     help="VDA 5050 version spoken on the broker (default: %(default)s)")
+    run.add_argument("--vda-manufacturer", default="polynav",
+                     help="the manufacturer in the VDA 5050 topics (default: %(default)s)")
+    run.add_argument("--vda-serial", default="robot1",
+                     help="a lone robot's VDA 5050 serial number (default: %(default)s; with "
+                          "--robots, robot1..robotN)")
+    run.add_argument("--vda-visualization-rate", type=float, default=1.0, metavar="HZ",
+                     help="visualization messages per second, 0 for none (default: %(default)s)")
     run.add_argument("--yunji-port", type=int, default=31001,
                      help="Yunji TCP API port, 0 for any free one (default: %(default)s)")
     run.add_argument("--no-yunji", action="store_true", help="do not serve the Yunji TCP API")

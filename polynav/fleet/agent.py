@@ -1,13 +1,23 @@
-"""The robot agent: one per robot, between the fleet's messages and the robot's runtime.
+"""The robot agent: one per robot, the VDA 5050 vehicle between the fleet and the robot's runtime.
 
 The fleet never calls a robot (DESIGN §9); it sends messages, and the agent on the robot's side
 turns them into runtime commands and reports back:
 
-- an **order** (VDA 5050) becomes one goal per node, in order; the order is done when the last
-  node is reached, failed (an ``orderFailed`` error in the state) when a goal fails;
-- **instant actions** cancel the order, pause or resume it;
-- the robot's **state** (order progress, pose, map and floor, battery, errors, the zones it holds
-  or waits for) is published every ``state_period`` and at once when the order changes;
+- an **order** (VDA 5050 §6.6) is checked whole first (:mod:`polynav.fleet.order_check`) and
+  rejected with the standard's error in the state if it cannot be driven; taken, its first node is
+  where the robot stands, and each further released node becomes one goal, in order (a node named
+  after a site point on its map, within 0.5 m of it, is that point, lifts and chargers included;
+  another node its position). The order is done when its last node is reached, failed (an
+  ``orderFailed`` error in the state) when a goal fails. An update with the same orderId and a
+  higher orderUpdateId is stitched on at the running order's last released node; a re-sent order
+  (same ids) is ignored; a message that breaks its schema gets a ``validationError``;
+- **instant actions** (§6.8: cancelOrder, startPause, stopPause, initPosition, stateRequest,
+  factsheetRequest, startCharging, stopCharging) are carried out at once, each with its action
+  state (FINISHED or FAILED with the reason) in the next state;
+- the robot's **state** (§6.10: order progress, node and edge states, pose, velocity, battery,
+  errors, action states) is published at once on every event (an order taken, rejected, a node
+  passed, an action, a change of driving, paused, charging, map or e-stop) and otherwise every
+  ``state_period``; **visualization** (pose and velocity) every ``visualization_period`` if set;
 - the **traffic rule** (:mod:`polynav.fleet.traffic`) is kept here: a zone on the path ahead is
   asked for before the robot gets to it, the robot stops short of it until it is granted, holds
   the lease (renewed) while it is inside, and gives it back once it has left;
@@ -20,38 +30,60 @@ commands to the runtime run at once and never wait.
 
 from __future__ import annotations
 
-import itertools
+import dataclasses
+import datetime as dt
 import logging
+import math
+from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from polynav.errors import PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
 from polynav.fleet.lift_sessions import FleetLiftSessions
+from polynav.fleet.order_check import Verdict, check_order
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import ZoneMap
+from polynav.geometry import Pose2D
 from polynav.runtime.config import Mode
 from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.runtime.status import StatusSnapshot
 
 log = logging.getLogger(__name__)
+
+POINT_MATCH = 0.5
+"""How close [m] a node must be to the site's point of its name to be driven to as that point
+(docked onto if a charger, through the lifts' routes as a named goal)."""
+
+ACTION_STATES_KEPT = 20
+"""How many instant actions' states the state lists (the latest)."""
 
 
 @dataclass(slots=True)
 class _OrderRun:
     order: m.Order
-    next_index: int = 0
+    next_index: int = 1  # node 0 is where the robot stood when the order was taken
     attempt_id: int | None = None
-    last_node_id: str = ""
     failed: str | None = None
     paused_by_fleet: bool = False
 
     @property
-    def remaining(self) -> tuple[str, ...]:
-        return tuple(n.node_id for n in self.order.nodes[self.next_index:])
+    def last_node(self) -> m.Node:
+        return self.order.nodes[self.next_index - 1]
+
+    @property
+    def remaining(self) -> tuple[m.Node, ...]:
+        return self.order.nodes[self.next_index:]
+
+    @property
+    def driving_on(self) -> bool:
+        """Released nodes are left to drive to and nothing failed."""
+        return self.failed is None and any(n.released for n in self.remaining)
 
 
 class RobotAgent:
-    """The fleet's side of one robot (see the module docstring).
+    """The fleet's side of one robot, a VDA 5050 vehicle (see the module docstring).
 
     Args:
         serial_number: the robot's id in the fleet (VDA 5050 ``serialNumber``).
@@ -59,7 +91,16 @@ class RobotAgent:
         transport: where the fleet's messages come from and the state goes.
         zones: the traffic zones of each map, by map name.
         traffic: the traffic rule's distances and timings.
-        state_period: how often the state is published [s].
+        state_period: the longest between two states [s] (VDA 5050: at most 30 s).
+        visualization_period: how often the visualization is published [s]; None for never.
+        version: the VDA 5050 version spoken (``"2.0.0"`` or ``"2.1.0"``).
+        manufacturer: the robot's manufacturer, the third level of its topics.
+        epoch: the UTC moment site time 0 stands for (headers' timestamps); now by default.
+        on_factsheet_request: called for a factsheetRequest (publishes the factsheet); None
+            fails the action (no factsheet on this transport).
+        fleet_leases: whether polynav's fleet answers zone requests and lends lift cars; a
+            vehicle under another master control (a lone robot on a broker) asks for none
+            and rides lifts as a lone robot does.
     """
 
     def __init__(
@@ -71,30 +112,48 @@ class RobotAgent:
         *,
         traffic: TrafficConfig | None = None,
         state_period: float = 1.0,
+        visualization_period: float | None = None,
+        version: str = m.DEFAULT_VERSION,
+        manufacturer: str = m.DEFAULT_MANUFACTURER,
+        epoch: dt.datetime | None = None,
+        on_factsheet_request: Callable[[], None] | None = None,
+        fleet_leases: bool = True,
     ) -> None:
         self.serial_number = serial_number
+        self.manufacturer = manufacturer
         self.runtime = runtime
         self._transport = transport
-        self._orders = transport.subscribe(m.topic(serial_number, m.Order))
-        self._actions = transport.subscribe(m.topic(serial_number, m.InstantActions))
-        self._responses = transport.subscribe(m.topic(serial_number, m.ZoneResponse))
-        self.traffic = TrafficRule(serial_number, zones, traffic or TrafficConfig(),
-                                   self._send_zone_request)
+        self.headers = m.Headers(version, manufacturer, runtime.now, epoch)
+        self._orders = transport.subscribe(self.topic(m.Order))
+        self._actions = transport.subscribe(self.topic(m.InstantActions))
+        self._responses = transport.subscribe(self.topic(m.ZoneResponse))
+        self.traffic = TrafficRule(serial_number, zones if fleet_leases else {},
+                                   traffic or TrafficConfig(), self._send_zone_request)
         # Lift sessions are leases on lift:<car> in the same book, asked for the same way.
         self.lift_sessions = FleetLiftSessions(serial_number, self._send_zone_request)
-        runtime.use_lift_sessions(self.lift_sessions)
+        if fleet_leases:
+            runtime.use_lift_sessions(self.lift_sessions)
         self._state_period = state_period
+        self._visualization_period = visualization_period
         self._next_state = runtime.now()
-        self._headers = itertools.count(1)
+        self._next_visualization = runtime.now()
+        self._zone_headers = 0
         self._run: _OrderRun | None = None
-        self._last_order_id = ""
-        self._last_update_id = 0
+        self._paused = False
+        self._errors: list[m.ErrorEntry] = []
+        self._action_states: deque[m.ActionState] = deque(maxlen=ACTION_STATES_KEPT)
+        self._on_factsheet_request = on_factsheet_request
         self._state_dirty = True
+        self._seen: tuple[object, ...] = ()
         self._outcomes: dict[str, str] = {}
 
+    def topic(self, kind: type | str) -> str:
+        """This robot's topic for messages of ``kind``."""
+        return m.topic(self.serial_number, kind, self.manufacturer)
+
     def outcome_of(self, order_id: str) -> str | None:
-        """How order ``order_id`` ended (``"succeeded"``, ``"failed: <why>"``), None until it
-        has (or if this robot never had it)."""
+        """How order ``order_id`` ended (``"succeeded"``, ``"failed: <why>"``, a rejected
+        order ``"failed: <why>"`` too), None until it has (or if this robot never had it)."""
         run = self._run
         if run is not None and run.order.order_id == order_id:
             return self.outcome
@@ -102,14 +161,13 @@ class RobotAgent:
 
     @property
     def busy(self) -> bool:
-        """Whether an order runs (not finished, not failed)."""
-        run = self._run
-        return run is not None and run.failed is None and bool(run.remaining)
+        """Whether an order runs (released nodes left, not failed)."""
+        return self._run is not None and self._run.driving_on
 
     @property
     def outcome(self) -> str | None:
         """How the last order ended: ``"succeeded"``, ``"failed: <why>"``, or None while it
-        runs (or before the first)."""
+        runs, waits for its horizon to be released (or before the first)."""
         run = self._run
         if run is None:
             return None
@@ -120,132 +178,327 @@ class RobotAgent:
     def tick(self, now: float) -> None:
         """Read the fleet's messages, follow the order and the traffic rule, report the state."""
         for response in self._responses.drain():
-            assert isinstance(response, m.ZoneResponse)
-            self.traffic.on_response(response)
-            self.lift_sessions.on_response(response)
+            if isinstance(response, m.ZoneResponse):
+                self.traffic.on_response(response)
+                self.lift_sessions.on_response(response)
+            else:
+                log.warning("%s: a zone response not used: %s", self.serial_number, response)
         for actions in self._actions.drain():
-            assert isinstance(actions, m.InstantActions)
-            for action in actions.actions:
-                self._instant_action(action)
+            if isinstance(actions, m.InstantActions):
+                for action in actions.actions:
+                    self._instant_action(action)
+            else:
+                self._refused(actions)
         for order in self._orders.drain():
-            assert isinstance(order, m.Order)
-            self._start_order(order)
+            if isinstance(order, m.Order):
+                self._take_order(order)
+            else:
+                self._refused(order)
         self._follow_order()
         self.traffic.tick(now, self.runtime)
+        status = self.runtime.status()
+        # §6.10: a state also on a change of driving, paused, charging, the map or the e-stop.
+        seen = (_driving(status), status.navigation_state == "paused", status.charging,
+                status.map, status.estop_hardware or status.estop_software)
+        if seen != self._seen:
+            self._seen = seen
+            self._state_dirty = True
         if self._state_dirty or now >= self._next_state:
-            self._publish_state(now)
+            self.publish_state(now)
+        if self._visualization_period is not None and now >= self._next_visualization:
+            self._publish_visualization()
+            self._next_visualization = now + self._visualization_period
 
     # -- orders --------------------------------------------------------------------------------
 
-    def _start_order(self, order: m.Order) -> None:
-        previous = self._run
-        if previous is not None:
-            self._outcomes[previous.order.order_id] = self.outcome or "failed: replaced"
+    def _refused(self, rejected: m.Received) -> None:
+        """A message that broke its schema: a validationError in the state (§6.6.1)."""
+        assert isinstance(rejected, m.Rejected)
+        refs = [m.ErrorReference("topic", rejected.kind)]
+        if rejected.header_id is not None:
+            refs.append(m.ErrorReference("headerId", str(rejected.header_id)))
+        if rejected.order_id is not None:
+            refs.append(m.ErrorReference("orderId", rejected.order_id))
+        self._report(m.ErrorEntry("validationError", "WARNING", rejected.reason, tuple(refs)))
+        if rejected.order_id is not None:
+            self._outcomes.setdefault(rejected.order_id, f"failed: {rejected.reason}")
+
+    def _report(self, error: m.ErrorEntry) -> None:
+        log.warning("%s: %s: %s", self.serial_number, error.error_type, error.error_description)
+        self._errors = [e for e in self._errors if e.error_type != "orderFailed"] + [error]
+        del self._errors[:-5]
+        self._state_dirty = True
+
+    def _take_order(self, order: m.Order) -> None:
+        run = self._run
+        status = self.runtime.status()
+        here = self._position(status)
+        maps = frozenset(n.node_position.map_id for n in order.nodes
+                         if n.node_position is not None and self._has_map(n.node_position.map_id))
+        check = check_order(
+            order, current=run.order if run is not None else None,
+            current_active=run is not None and run.driving_on,
+            last_node=((run.last_node.node_id, run.last_node.sequence_id)
+                       if run is not None else None), here=here, maps=maps)
+        if check.verdict is Verdict.IGNORE:
+            log.info("%s: order %s/%d again: ignored", self.serial_number, order.order_id,
+                     order.order_update_id)
+            return
+        if check.verdict is Verdict.REJECT:
+            assert check.error is not None
+            self._report(check.error)
+            if run is None or order.order_id != run.order.order_id:
+                self._outcomes[order.order_id] = f"failed: {check.error.error_description}"
+            return
         if self.runtime.mode is not Mode.NAVIGATING:
-            self._run = _OrderRun(order, failed="the robot is not navigating")
-        elif not order.nodes:
-            self._run = _OrderRun(order, failed="an order needs at least one node")
+            self._report(m.ErrorEntry("validationError", "WARNING",
+                                      "the robot is not navigating (start navigation first)",
+                                      (m.ErrorReference("orderId", order.order_id),)))
+            self._outcomes[order.order_id] = "failed: the robot is not navigating"
+            return
+        self._errors = []
+        if check.verdict is Verdict.TAKE_UPDATE:
+            assert run is not None
+            # Stitch (§6.6.2): the update's first node is one of the running order's; what
+            # came before it stays, what came after it (the old horizon) is replaced.
+            first = order.nodes[0]
+            k = next(i for i, n in enumerate(run.order.nodes)
+                     if (n.node_id, n.sequence_id) == (first.node_id, first.sequence_id))
+            run.order = dataclasses.replace(order, nodes=run.order.nodes[:k] + order.nodes,
+                                            edges=run.order.edges[:k] + order.edges)
+            run.failed = None
+            log.info("%s: order %s updated (%d)", self.serial_number, order.order_id,
+                     order.order_update_id)
         else:
+            if run is not None:
+                self._outcomes[run.order.order_id] = self.outcome or "failed: replaced"
             self._run = _OrderRun(order)
             log.info("%s: order %s with %d nodes", self.serial_number, order.order_id,
                      len(order.nodes))
-        self._last_order_id, self._last_update_id = order.order_id, order.order_update_id
         self.traffic.resume_goal(self.runtime)
-        self._state_dirty = True
-
-    def _instant_action(self, action: m.Action) -> None:
-        run = self._run
-        if run is None or not self.busy:
-            return
-        try:
-            if action.action_type is m.ActionType.CANCEL_ORDER:
-                self.traffic.resume_goal(self.runtime)
-                self.runtime.cancel()
-                run.failed = "canceled"
-            elif action.action_type is m.ActionType.START_PAUSE and not run.paused_by_fleet:
-                self.traffic.resume_goal(self.runtime)
-                self.runtime.pause()
-                run.paused_by_fleet = True
-            elif action.action_type is m.ActionType.STOP_PAUSE and run.paused_by_fleet:
-                self.runtime.resume()
-                run.paused_by_fleet = False
-        except PolynavError as exc:
-            log.warning("%s: %s failed: %s", self.serial_number, action.action_type.value, exc)
         self._state_dirty = True
 
     def _follow_order(self) -> None:
         run = self._run
-        if run is None or run.failed is not None or not run.remaining:
+        if run is None or not run.driving_on:
             return
         status = self.runtime.status()
         if run.attempt_id is not None and status.attempt_id == run.attempt_id:
             state = status.navigation_state
             if state == "succeeded":
-                run.last_node_id = run.order.nodes[run.next_index].node_id
                 run.next_index += 1
                 run.attempt_id = None
                 self._state_dirty = True
             elif state in ("failed", "canceled"):
-                run.failed = f"node {run.order.nodes[run.next_index].node_id}: {state}" + (
-                    f" ({status.reason})" if status.reason else "")
-                log.warning("%s: order %s failed: %s", self.serial_number, run.order.order_id,
-                            run.failed)
-                self._state_dirty = True
+                self._fail(run, f"node {run.remaining[0].node_id}: {state}" + (
+                    f" ({status.reason})" if status.reason else ""))
                 return
             else:
                 return
-        if run.attempt_id is None and run.remaining:
-            node = run.order.nodes[run.next_index]
+        if run.attempt_id is None and run.driving_on and not self._paused:
+            node = run.remaining[0]
+            position = node.node_position
+            assert position is not None  # checked when the order was taken
             try:
-                run.attempt_id = self.runtime.go_to(point=node.node_id,
-                                                    map_name=node.node_position.map_id)
+                if self._is_point(node.node_id, position):
+                    run.attempt_id = self.runtime.go_to(point=node.node_id,
+                                                        map_name=position.map_id)
+                else:
+                    theta = position.theta if position.theta is not None else status.pose.theta
+                    run.attempt_id = self.runtime.go_to(
+                        pose=Pose2D(position.x, position.y, theta), map_name=position.map_id)
             except PolynavError as exc:
-                run.failed = f"node {node.node_id}: {exc}"
-                log.warning("%s: order %s failed: %s", self.serial_number, run.order.order_id,
-                            run.failed)
+                kind = "noRouteError" if "route" in type(exc).__name__.lower() else "orderFailed"
+                self._fail(run, f"node {node.node_id}: {exc}", kind)
             self._state_dirty = True
+
+    def _has_map(self, name: str) -> bool:
+        try:
+            self.runtime.store.map_record(name)
+        except PolynavError:
+            return False
+        return True
+
+    def _is_point(self, name: str, position: m.NodePosition) -> bool:
+        """Whether the node is the site's point ``name``: one of that name on its map within
+        :data:`POINT_MATCH` of its position (the node's position is what the master means)."""
+        try:
+            point = self.runtime.store.point(position.map_id, name)
+        except PolynavError:
+            return False
+        return math.hypot(point.pose.x - position.x, point.pose.y - position.y) <= POINT_MATCH
+
+    def _fail(self, run: _OrderRun, why: str, kind: str = "orderFailed") -> None:
+        run.failed = why
+        log.warning("%s: order %s failed: %s", self.serial_number, run.order.order_id, why)
+        refs: tuple[m.ErrorReference, ...] = (m.ErrorReference("orderId", run.order.order_id),)
+        if run.remaining:
+            refs += (m.ErrorReference("nodeId", run.remaining[0].node_id),)
+        self._errors = [e for e in self._errors if e.error_type != "orderFailed"]
+        if kind != "orderFailed":
+            self._errors.append(m.ErrorEntry(kind, "WARNING", why, refs))
+        self._errors.append(m.ErrorEntry("orderFailed", "WARNING", why, refs))
+        self._state_dirty = True
+
+    # -- instant actions -----------------------------------------------------------------------
+
+    def _instant_action(self, action: m.Action) -> None:
+        try:
+            result = self._carry_out(action)
+            status = m.ActionStatus.FINISHED
+        except PolynavError as exc:
+            result, status = str(exc), m.ActionStatus.FAILED
+            log.warning("%s: %s failed: %s", self.serial_number, action.action_type, exc)
+        self._action_states.append(m.ActionState(action.action_id, status, action.action_type,
+                                                 result))
+        self._state_dirty = True
+
+    def _carry_out(self, action: m.Action) -> str | None:
+        """Do ``action``; what it did, or raise why not."""
+        kind = action.action_type
+        run = self._run
+        if kind == m.ActionType.CANCEL_ORDER.value:
+            if run is None or not run.driving_on:
+                self._report(m.ErrorEntry("noOrderToCancel", "WARNING",
+                                          "cancelOrder with no order running",
+                                          (m.ErrorReference("actionId", action.action_id),)))
+                raise _ActionFailed("no order to cancel")
+            self.traffic.resume_goal(self.runtime)
+            if run.attempt_id is not None and self.runtime.status().attempt_id == run.attempt_id:
+                self.runtime.cancel()
+            self._fail(run, "canceled")
+            return None
+        if kind == m.ActionType.START_PAUSE.value:
+            if not self._paused:
+                self._paused = True
+                if run is not None and run.attempt_id is not None and run.driving_on:
+                    self.traffic.resume_goal(self.runtime)
+                    self.runtime.pause()
+                    run.paused_by_fleet = True
+            return None
+        if kind == m.ActionType.STOP_PAUSE.value:
+            if self._paused:
+                self._paused = False
+                if run is not None and run.paused_by_fleet:
+                    run.paused_by_fleet = False
+                    self.runtime.resume()
+            return None
+        if kind == m.ActionType.STATE_REQUEST.value:
+            self._state_dirty = True
+            return None
+        if kind == m.ActionType.FACTSHEET_REQUEST.value:
+            if self._on_factsheet_request is None:
+                raise _ActionFailed("no factsheet on this transport")
+            self._on_factsheet_request()
+            return None
+        if kind == m.ActionType.INIT_POSITION.value:
+            return self._init_position(action)
+        if kind == m.ActionType.START_CHARGING.value:
+            if not self.runtime.status().charging:
+                raise _ActionFailed("not on a charger: send an order to a charger point (it "
+                                    "docks and charges there)")
+            return "charging"
+        if kind == m.ActionType.STOP_CHARGING.value:
+            if self.runtime.status().charging:
+                raise _ActionFailed("on the charger: send an order elsewhere (it backs off "
+                                    "the charger first)")
+            return "not charging"
+        raise _ActionFailed(f"instant action {kind!r} is not supported")
+
+    def _init_position(self, action: m.Action) -> str:
+        values = {k: action.parameter(k) for k in ("x", "y", "theta", "mapId")}
+        x, y, theta, map_id = values["x"], values["y"], values["theta"], values["mapId"]
+        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (x, y, theta)):
+            raise _ActionFailed("initPosition needs numbers x, y and theta")
+        assert isinstance(x, (int, float)) and isinstance(y, (int, float))
+        assert isinstance(theta, (int, float))
+        pose = Pose2D(float(x), float(y), float(theta))
+        status = self.runtime.status()
+        if map_id is None or map_id == status.map:
+            self.runtime.set_initial_pose(pose)
+        elif isinstance(map_id, str):
+            self.runtime.start_navigation(map_id, pose=pose)
+        else:
+            raise _ActionFailed("initPosition's mapId must be a string")
+        return f"at ({pose.x:.2f}, {pose.y:.2f}, {pose.theta:.2f}) on {map_id or status.map}"
 
     # -- state ---------------------------------------------------------------------------------
 
-    def _publish_state(self, now: float) -> None:
+    @staticmethod
+    def _position(status: StatusSnapshot) -> m.AgvPosition | None:
+        if status.map is None:
+            return None
+        return m.AgvPosition(
+            status.pose.x, status.pose.y, status.pose.theta, status.map,
+            status.localization_state == "tracking",
+            min(1.0, max(0.0, float(status.localization_quality))))
+
+    def state(self) -> m.State:
+        """The robot's state now, as the next state message would say it."""
         status = self.runtime.status()
         run = self._run
-        errors: tuple[m.ErrorEntry, ...] = ()
-        if run is not None and run.failed is not None:
-            errors = (m.ErrorEntry("orderFailed", "WARNING", run.failed),)
-        position = None
-        if status.map is not None:
-            position = m.AgvPosition(
-                status.pose.x, status.pose.y, status.pose.theta, status.map,
-                status.localization_state == "tracking", float(status.localization_quality))
-        state = m.State(
-            header_id=next(self._headers),
-            serial_number=self.serial_number,
-            timestamp=now,
-            order_id=self._last_order_id,
-            order_update_id=self._last_update_id,
-            last_node_id=run.last_node_id if run is not None else "",
-            node_states=run.remaining if run is not None and run.failed is None else (),
-            driving=abs(status.linear) > 1e-3 or abs(status.angular) > 1e-3,
-            paused=status.navigation_state == "paused",
+        nodes = run.remaining if run is not None and run.failed is None else ()
+        edges = run.order.edges[run.next_index - 1:] if run is not None and nodes else ()
+        last = run.last_node if run is not None else None
+        return m.State(
+            header=self.headers.stamp(self.serial_number, m.State),
+            order_id=run.order.order_id if run is not None else "",
+            order_update_id=run.order.order_update_id if run is not None else 0,
+            last_node_id=last.node_id if last is not None else "",
+            last_node_sequence_id=last.sequence_id if last is not None else 0,
+            node_states=tuple(m.NodeState(n.node_id, n.sequence_id, n.released,
+                                          _with_theta(n.node_position)) for n in nodes),
+            edge_states=tuple(m.EdgeState(e.edge_id, e.sequence_id, e.released) for e in edges),
+            driving=_driving(status),
             operating_mode="AUTOMATIC",
-            agv_position=position,
-            battery_charge=float(status.battery_percent),
-            errors=errors,
+            battery_state=m.BatteryState(float(status.battery_percent), status.charging),
+            paused=self._paused or status.navigation_state == "paused",
+            agv_position=self._position(status),
+            velocity=m.Velocity(float(status.linear), 0.0, float(status.angular)),
+            errors=tuple(self._errors),
+            action_states=tuple(self._action_states),
+            safety_state=m.SafetyState(
+                "MANUAL" if status.estop_hardware else
+                "REMOTE" if status.estop_software else "NONE", False),
             floor=status.floor,
             navigation_state=status.navigation_state,
             waiting_for=self.traffic.waiting_for,
             zones=self.traffic.held,
         )
-        self._transport.publish(m.topic(self.serial_number, m.State), state)
+
+    def publish_state(self, now: float) -> None:
+        """Publish the state now; the next one is due ``state_period`` later."""
+        self._transport.publish(self.topic(m.State), self.state())
         self._next_state = now + self._state_period
         self._state_dirty = False
+
+    def _publish_visualization(self) -> None:
+        status = self.runtime.status()
+        self._transport.publish(self.topic(m.Visualization), m.Visualization(
+            self.headers.stamp(self.serial_number, m.Visualization), self._position(status),
+            m.Velocity(float(status.linear), 0.0, float(status.angular))))
 
     def _send_zone_request(self, request_id: str, zone_id: str,
                            request_type: m.ZoneRequestType, duration: float,
                            flow: str | None = None) -> None:
+        self._zone_headers += 1
         self._transport.publish(
-            m.topic(self.serial_number, m.ZoneRequest),
-            m.ZoneRequest(next(self._headers), self.serial_number, request_id, zone_id,
+            self.topic(m.ZoneRequest),
+            m.ZoneRequest(self._zone_headers, self.serial_number, request_id, zone_id,
                           request_type, duration, flow))
         self._state_dirty = True
+
+
+def _driving(status: StatusSnapshot) -> bool:
+    return abs(status.linear) > 1e-3 or abs(status.angular) > 1e-3
+
+
+class _ActionFailed(PolynavError):
+    """An instant action that cannot be carried out; its message is the action's result."""
+
+
+def _with_theta(position: m.NodePosition | None) -> m.NodePosition | None:
+    """A node's position as the state shows it: 2.0.0's node states require a theta."""
+    if position is None or position.theta is not None:
+        return position
+    return m.NodePosition(position.x, position.y, 0.0, position.map_id)

@@ -17,18 +17,23 @@ Robots start on the site's free start points (:func:`start_points`), one robot p
 
 from __future__ import annotations
 
+import datetime as dt
 import logging
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
 from polynav.errors import InvalidRequest
 from polynav.fleet.agent import RobotAgent
+from polynav.fleet.interface import Transport
 from polynav.fleet.lease import LeaseBook, LeaseBookConfig
 from polynav.fleet.master_control import MasterControl, Stop
-from polynav.fleet.messages import State
+from polynav.fleet.messages import DEFAULT_MANUFACTURER, DEFAULT_VERSION, State
+from polynav.fleet.mqtt_transport import MqttTransport
 from polynav.fleet.traffic import TrafficConfig
 from polynav.fleet.transport import InProcessTransport
+from polynav.fleet.vehicle import VehicleConfig, VehicleLink
 from polynav.fleet.zones import ZoneConfig, ZoneMap, find_zones
 from polynav.geometry import Pose2D, Twist
 from polynav.nav.stack import StackConfig
@@ -105,10 +110,14 @@ class Building:
         leases: the lease book's timings.
         profile: the robots (body, limits, sensors), all alike; defaults to the world's
             ``robot:`` entry, else the demo robot.
+        vehicles: VDA 5050 over MQTT: each robot a client of this broker (connection,
+            factsheet, its own will) and the master control another; None for the in-process
+            transport. Only the transport changes.
 
     Raises:
         InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
             floor of the world.
+        BrokerUnreachable: ``vehicles`` names a broker that cannot be reached.
     """
 
     def __init__(
@@ -124,6 +133,7 @@ class Building:
         traffic: TrafficConfig | None = None,
         leases: LeaseBookConfig | None = None,
         profile: RobotProfile | None = None,
+        vehicles: VehicleConfig | None = None,
     ) -> None:
         config = config or RuntimeConfig()
         profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
@@ -155,8 +165,22 @@ class Building:
             after_command=self._refresh,
             on_failure=self._brake,
         )
-        self.transport = InProcessTransport()
-        self.master = MasterControl(self.transport, LeaseBook(leases))
+        # One calendar for every header in the building: site time 0 is now.
+        epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
+        self.links: list[VehicleLink] = []
+        self._mqtt: list[MqttTransport] = []
+        version = vehicles.version if vehicles is not None else DEFAULT_VERSION
+        manufacturer = vehicles.manufacturer if vehicles is not None else DEFAULT_MANUFACTURER
+        self.transport: Transport
+        if vehicles is None:
+            self.transport = InProcessTransport()
+        else:
+            master_client = MqttTransport(vehicles.broker, f"{manufacturer}/master",
+                                          connect_timeout=vehicles.connect_timeout)
+            self._mqtt.append(master_client)
+            self.transport = master_client
+        self.master = MasterControl(self.transport, LeaseBook(leases), version=version,
+                                    manufacturer=manufacturer, epoch=epoch)
         zone_config = ZoneConfig(robot_radius=sim_config.robot_radius)
         self.zones: dict[str, ZoneMap] = {
             name: find_zones(name, store.load_map(name), zone_config) for name in floors
@@ -174,12 +198,24 @@ class Building:
                                    loop=self._loop, profile=profile)
             self.runtimes.append(runtime)
             self.master.add_robot(serial)
-            self.agents.append(RobotAgent(serial, runtime, self.transport, self.zones,
-                                          traffic=traffic))
+            transport = self.transport
+            on_factsheet_request = None
+            if vehicles is not None:
+                link = VehicleLink(serial, profile, vehicles, clock=self.scene.clock.now,
+                                   epoch=epoch, order_period=1.0 / config.control_rate)
+                self.links.append(link)
+                transport, on_factsheet_request = link.transport, link.publish_factsheet
+            self.agents.append(RobotAgent(
+                serial, runtime, transport, self.zones, traffic=traffic, version=version,
+                manufacturer=manufacturer, epoch=epoch,
+                visualization_period=vehicles.visualization_period if vehicles else None,
+                on_factsheet_request=on_factsheet_request))
         self._fleet_period = 1.0 / config.control_rate
         self._next_fleet = self.scene.clock.now()
         for runtime, point in zip(self.runtimes, self.starts, strict=True):
             runtime.start_navigation(point.map_name, pose=point.pose)
+        # Each robot says where it is before the first order: an order starts where it stands.
+        self._prime(vehicles.connect_timeout if vehicles is not None else 0.0)
         log.info("building of %d robots on world %r", robots, world.name)
 
     # -- reads ---------------------------------------------------------------------------------
@@ -211,6 +247,7 @@ class Building:
             status = agent.runtime.status()  # mode is not in VDA's state; read the snapshot
             position = state.agv_position if state is not None else None
             errors = tuple(e.error_description for e in state.errors) if state else ()
+            stamp = self.master.state_time(serial)
             out.append(FleetEntry(
                 robot_id=serial,
                 ports=dict(self.ports.get(serial, {})),
@@ -224,9 +261,9 @@ class Building:
                 order_state=_order_state(state),
                 waiting_for=state.waiting_for if state is not None else None,
                 zones=state.zones if state is not None else (),
-                battery_percent=(state.battery_charge if state is not None
+                battery_percent=(state.battery_state.battery_charge if state is not None
                                  else status.battery_percent),
-                stamp=state.timestamp if state is not None else None,
+                stamp=stamp,
                 errors=errors,
             ))
         return out
@@ -264,6 +301,32 @@ class Building:
     def stop(self) -> None:
         """Stop the loop thread (idempotent)."""
         self._loop.stop()
+
+    def close(self) -> None:
+        """Stop the loop; over MQTT, each robot says OFFLINE and every client disconnects."""
+        self.stop()
+        for link in self.links:
+            link.close()
+        for client in self._mqtt:
+            client.close()
+
+    def _prime(self, wait: float) -> None:
+        """Publish every robot's state and read them on the master's side, waiting up to
+        ``wait`` [s of wall time] for a broker to carry them (and the subscriptions first)."""
+        deadline = time.monotonic() + wait
+        for client in [*self._mqtt, *(link.transport for link in self.links)]:
+            client.wait_subscribed(max(0.0, deadline - time.monotonic()))
+        now = self.scene.clock.now()
+        for agent in self.agents:
+            agent.publish_state(now)
+        while True:
+            self.master.tick(now)
+            if all(self.master.state(s) is not None for s in self.serials):
+                return
+            if time.monotonic() >= deadline:
+                log.warning("not every robot's first state reached the master")
+                return
+            time.sleep(0.01)
 
     # -- the loop ------------------------------------------------------------------------------
 

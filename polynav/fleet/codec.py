@@ -1,12 +1,22 @@
 """Fleet messages to VDA 5050 JSON and back: camelCase keys, enums as their strings.
 
-Pure: bytes in, typed messages out, no I/O. The in-process transport sends every message through
-here, so the messages polynav's robots exchange today are the bytes an MQTT broker would carry.
-Bad input raises :class:`~polynav.errors.InvalidRequest` naming the field.
+Pure: bytes in, typed messages out, no I/O. Every transport sends every message through here, so
+the in-process building exchanges the bytes an MQTT broker would carry. A message's ``header``
+is written as the standard's top-level header fields; fields that are None are left out.
+
+Messages on the standard's topics (order, instantActions, state, connection, visualization) are
+checked against the official schema of their header's version both ways
+(:mod:`polynav.fleet.vda5050.validation`): a message polynav writes that breaks it is a bug and
+raises; one it reads that breaks it is refused like any bad input, with
+:class:`~polynav.errors.InvalidRequest` naming the field (a
+:class:`~polynav.fleet.vda5050.validation.SchemaViolation` for a schema rule). 2.0.0's instant
+actions name their type ``actionName`` (its schema's defect, kept): polynav writes both names
+and reads either.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import enum
 import functools
@@ -18,21 +28,41 @@ import orjson
 
 from polynav.errors import InvalidRequest
 from polynav.fleet import messages
-from polynav.fleet.messages import Message
+from polynav.fleet.messages import Message, Received, Rejected
+from polynav.fleet.vda5050 import validation
 
 _BY_TOPIC: dict[str, type] = {name: kind for kind, name in messages.TOPICS.items()}
 
 
 def encode(message: Message) -> bytes:
-    """The JSON of ``message`` (VDA 5050 names)."""
-    return orjson.dumps(_to_json(message))
+    """The JSON of ``message`` (VDA 5050 names), checked against its schema if it has one.
+
+    Raises:
+        SchemaViolation: the message breaks its version's schema (a bug in its sender).
+    """
+    return orjson.dumps(to_json(message))
+
+
+def to_json(message: Message) -> dict[str, Any]:
+    """``message`` as parsed JSON, checked against its schema if it has one (as :func:`encode`)."""
+    raw: dict[str, Any] = _to_json(message)
+    kind = messages.TOPICS[type(message)]
+    header = getattr(message, "header", None)
+    if isinstance(header, messages.Header):
+        if kind == "instantActions" and header.version == "2.0.0":
+            for action in raw["actions"]:
+                action["actionName"] = action["actionType"]
+        validation.validate(kind, header.version, raw)
+    return raw
 
 
 def decode(kind: str, data: bytes) -> Message:
     """The message of topic suffix ``kind`` (``"order"``, ``"state"``...) in ``data``.
 
     Raises:
-        InvalidRequest: unknown kind, not JSON, a field missing or of the wrong type.
+        InvalidRequest: unknown kind, not JSON, a field missing or of the wrong type, a VDA 5050
+            version polynav has no schema for; SchemaViolation (an InvalidRequest) for a message
+            that breaks its version's schema.
     """
     target = _BY_TOPIC.get(kind)
     if target is None:
@@ -41,8 +71,36 @@ def decode(kind: str, data: bytes) -> Message:
         raw = orjson.loads(data)
     except orjson.JSONDecodeError as exc:
         raise InvalidRequest("message", f"not JSON: {exc}") from None
+    if kind in validation.TOPICS:
+        if not isinstance(raw, dict):
+            raise InvalidRequest(kind, "must be an object")
+        version = raw.get("version")
+        if version not in validation.VERSIONS:
+            raise InvalidRequest(f"{kind}.version",
+                                 f"{version!r}: polynav speaks {', '.join(validation.VERSIONS)}")
+        validation.validate(kind, version, raw)
+        if kind == "instantActions" and version == "2.0.0":
+            for action in raw["actions"]:
+                action.setdefault("actionType", action.get("actionName"))
     message: Message = _from_json(target, raw, kind)
     return message
+
+
+def read(kind: str, data: bytes) -> Received:
+    """:func:`decode`, with a message that cannot be used handed back as a
+    :class:`~polynav.fleet.messages.Rejected` (what could be read of its header and order id
+    kept for the report) instead of raised."""
+    try:
+        return decode(kind, data)
+    except InvalidRequest as exc:
+        header_id = order_id = None
+        with contextlib.suppress(orjson.JSONDecodeError):
+            raw = orjson.loads(data)
+            if isinstance(raw, dict):
+                got_id, got_order = raw.get("headerId"), raw.get("orderId")
+                header_id = got_id if isinstance(got_id, int) else None
+                order_id = got_order if isinstance(got_order, str) else None
+        return Rejected(kind, exc.field, str(exc), header_id, order_id)
 
 
 def _camel(name: str) -> str:
@@ -52,8 +110,16 @@ def _camel(name: str) -> str:
 
 def _to_json(value: object) -> Any:
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {_camel(f.name): _to_json(getattr(value, f.name))
-                for f in dataclasses.fields(value)}
+        out: dict[str, Any] = {}
+        for f in dataclasses.fields(value):
+            item = getattr(value, f.name)
+            if item is None:
+                continue
+            if f.name == "header":
+                out.update(_to_json(item))
+            else:
+                out[_camel(f.name)] = _to_json(item)
+        return out
     if isinstance(value, enum.Enum):
         return value.value
     if isinstance(value, tuple):
@@ -71,6 +137,11 @@ def _fields(kind: type) -> tuple[tuple[str, str, Any, bool], ...]:
          f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING)
         for f in dataclasses.fields(kind)
     )
+
+
+def _optional(hint: Any) -> bool:
+    return typing.get_origin(hint) in (typing.Union, types.UnionType) and (
+        type(None) in typing.get_args(hint))
 
 
 def _from_json(kind: Any, raw: Any, where: str) -> Any:
@@ -91,9 +162,14 @@ def _from_json(kind: Any, raw: Any, where: str) -> Any:
             raise InvalidRequest(where, "must be an object")
         values = {}
         for name, key, hint, required in _fields(kind):
+            if name == "header":
+                values[name] = _from_json(hint, raw, where)
+                continue
             if key not in raw:
-                if required:
+                if required and not _optional(hint):
                     raise InvalidRequest(f"{where}.{key}", "missing")
+                if required:  # an optional field without a default: absent is None
+                    values[name] = None
                 continue
             values[name] = _from_json(hint, raw[key], f"{where}.{key}")
         return kind(**values)
@@ -113,6 +189,8 @@ def _from_json(kind: Any, raw: Any, where: str) -> Any:
     if kind is bool:
         if not isinstance(raw, bool):
             raise InvalidRequest(where, "must be true or false")
+        return raw
+    if kind is object:
         return raw
     if kind is str:
         if not isinstance(raw, str):

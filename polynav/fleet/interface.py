@@ -1,7 +1,7 @@
 """The transport the fleet and its robots exchange messages over (DESIGN §9).
 
 A transport carries :mod:`polynav.fleet.messages` between the fleet and its robots on
-MQTT-style topics (``uagv/v2/polynav/<serial>/<kind>``). Today one process holds the whole
+VDA 5050 topics (``uagv/v2/<manufacturer>/<serial>/<kind>``). Today one process holds the whole
 building and the transport is :class:`~polynav.fleet.transport.InProcessTransport`; past one
 machine it is an MQTT client talking to a broker, and nothing else changes. Delivery is
 asynchronous as over a broker: a message published now is read by the subscriber at its next
@@ -12,14 +12,15 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from polynav.fleet.messages import Message
+from polynav.fleet.messages import Message, Received
 
 
 class Inbox(Protocol):
     """What one subscription has received and not yet read."""
 
-    def drain(self) -> list[Message]:
-        """The messages received since the last drain, oldest first."""
+    def drain(self) -> list[Received]:
+        """The messages received since the last drain, oldest first; one that could not be
+        used (not JSON, breaking its schema) as a :class:`~polynav.fleet.messages.Rejected`."""
         ...
 
 

@@ -3,20 +3,27 @@
 It owns the :class:`~polynav.fleet.lease.LeaseBook` of the site's shared resources and talks to
 each robot only through messages on a :class:`~polynav.fleet.interface.Transport`:
 
-- it sends **orders** (a list of points to go through) and **instant actions** (cancel);
+- it sends **orders** (VDA 5050: a first node where the robot stands, then a node per point to
+  go through, an edge between each two) and **instant actions** (cancel);
 - it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
   with its expiry, or QUEUED with the waiter's place in line, sent again whenever the place
   changes; a waiter is sent GRANTED when its turn comes, REJECTED when it has waited
   ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
-- it keeps the last **state** of each robot, which ``GET /api/fleet`` shows.
+- it keeps the last **state** of each robot, which ``GET /api/fleet`` shows; a message from a
+  robot that breaks its schema is logged and not used.
+
+Its messages carry VDA 5050 headers of ``version`` from ``manufacturer`` (one fleet of one
+manufacturer's vehicles), stamped on the site's clock.
 
 It runs on the site's clock: :meth:`MasterControl.tick` is called between physics steps.
 """
 
 from __future__ import annotations
 
+import datetime as dt
 import itertools
 import logging
+import math
 from dataclasses import dataclass
 
 from polynav.errors import InvalidRequest, PolynavError
@@ -42,16 +49,30 @@ class _Robot:
     states: Inbox
     zone_requests: Inbox
     state: m.State | None = None
+    state_at: float | None = None
     order_count: int = 0
 
 
 class MasterControl:
-    """The fleet's master control (see the module docstring)."""
+    """The fleet's master control (see the module docstring).
 
-    def __init__(self, transport: Transport, leases: LeaseBook | None = None) -> None:
+    Args:
+        transport: where the robots are.
+        leases: the site's lease book.
+        version: the VDA 5050 version spoken (``"2.0.0"`` or ``"2.1.0"``).
+        manufacturer: the robots' manufacturer, the third level of their topics.
+        epoch: the UTC moment site time 0 stands for (headers' timestamps); now by default.
+    """
+
+    def __init__(self, transport: Transport, leases: LeaseBook | None = None, *,
+                 version: str = m.DEFAULT_VERSION, manufacturer: str = m.DEFAULT_MANUFACTURER,
+                 epoch: dt.datetime | None = None) -> None:
         self.transport = transport
         self.leases = leases or LeaseBook()
+        self.manufacturer = manufacturer
         self._robots: dict[str, _Robot] = {}
+        self._now = 0.0
+        self._vda_headers = m.Headers(version, manufacturer, lambda: self._now, epoch)
         self._headers = itertools.count(1)
         # The request id each (zone, robot) was last asked with: a grant that comes later (the
         # waiter's turn) answers that request.
@@ -70,8 +91,8 @@ class MasterControl:
         if not serial_number or serial_number in self._robots:
             raise InvalidRequest("serial_number", f"{serial_number!r} is empty or known")
         self._robots[serial_number] = _Robot(
-            states=self.transport.subscribe(m.topic(serial_number, m.State)),
-            zone_requests=self.transport.subscribe(m.topic(serial_number, m.ZoneRequest)),
+            states=self.transport.subscribe(self._topic(serial_number, m.State)),
+            zone_requests=self.transport.subscribe(self._topic(serial_number, m.ZoneRequest)),
         )
 
     @property
@@ -82,23 +103,43 @@ class MasterControl:
         """The robot's last state, ``None`` before its first."""
         return self._robot(serial_number).state
 
+    def state_time(self, serial_number: str) -> float | None:
+        """When [s of site time] the robot's last state was read, ``None`` before its first."""
+        return self._robot(serial_number).state_at
+
     def send_order(self, serial_number: str, stops: list[Stop]) -> str:
         """Send the robot an order through ``stops``; returns the order id.
 
+        The order's first node is where the robot stands (its last state's position, named by
+        its last node, VDA 5050 §6.6.1: a new order starts where the vehicle is), then one node
+        per stop, all released, with an edge between each two.
+
         Raises:
-            InvalidRequest: an unknown robot or no stops.
+            InvalidRequest: an unknown robot, no stops, or a robot whose position is not known
+                yet (no state, or a state without a position).
         """
         robot = self._robot(serial_number)
         if not stops:
             raise InvalidRequest("stops", "an order needs at least one stop")
+        here = robot.state.agv_position if robot.state is not None else None
+        if here is None:
+            raise InvalidRequest("robot", f"{serial_number} has not said where it is yet")
         robot.order_count += 1
         order_id = f"{serial_number}-{robot.order_count}"
-        nodes = tuple(
-            m.Node(stop.point, 2 * k, m.NodePosition(stop.pose.x, stop.pose.y, stop.pose.theta,
-                                                     stop.map_name))
-            for k, stop in enumerate(stops))
-        self.transport.publish(m.topic(serial_number, m.Order),
-                               m.Order(next(self._headers), serial_number, order_id, 0, nodes))
+        start = robot.state.last_node_id if robot.state and robot.state.last_node_id else (
+            f"{serial_number}-here")
+        nodes = [m.Node(start, 0, m.NodePosition(here.x, here.y, _angle(here.theta), here.map_id))]
+        nodes += [
+            m.Node(stop.point, 2 * k, m.NodePosition(stop.pose.x, stop.pose.y,
+                                                     _angle(stop.pose.theta), stop.map_name))
+            for k, stop in enumerate(stops, start=1)]
+        edges = tuple(
+            m.Edge(f"{a.node_id}->{b.node_id}", a.sequence_id + 1, a.node_id, b.node_id)
+            for a, b in itertools.pairwise(nodes))
+        self.transport.publish(
+            self._topic(serial_number, m.Order),
+            m.Order(self._vda_headers.stamp(serial_number, m.Order), order_id, 0, tuple(nodes),
+                    edges))
         log.info("order %s to %s: %s", order_id, serial_number, [s.point for s in stops])
         return order_id
 
@@ -109,20 +150,26 @@ class MasterControl:
             InvalidRequest: an unknown robot.
         """
         self._robot(serial_number)
-        action = m.Action(f"cancel-{next(self._headers)}", m.ActionType.CANCEL_ORDER)
-        self.transport.publish(m.topic(serial_number, m.InstantActions),
-                               m.InstantActions(next(self._headers), serial_number, (action,)))
+        header = self._vda_headers.stamp(serial_number, m.InstantActions)
+        action = m.Action(f"cancel-{header.header_id}", m.ActionType.CANCEL_ORDER.value)
+        self.transport.publish(self._topic(serial_number, m.InstantActions),
+                               m.InstantActions(header, (action,)))
 
     def tick(self, now: float) -> None:
         """Read states and zone requests, answer them, and tell robots what the lease book did."""
-        for robot in self._robots.values():
+        self._now = now
+        for serial, robot in self._robots.items():
             for state in robot.states.drain():
-                assert isinstance(state, m.State)
-                robot.state = state
+                if isinstance(state, m.State):
+                    robot.state, robot.state_at = state, now
+                else:
+                    log.warning("a state of %s not used: %s", serial, state)
         for serial, robot in self._robots.items():
             for request in robot.zone_requests.drain():
-                assert isinstance(request, m.ZoneRequest)
-                self._answer(serial, request, now)
+                if isinstance(request, m.ZoneRequest):
+                    self._answer(serial, request, now)
+                else:
+                    log.warning("a zone request of %s not used: %s", serial, request)
         self.leases.tick(now)
         self._forward_events()
         self._tell_places()
@@ -194,11 +241,19 @@ class MasterControl:
     def _respond(self, serial: str, request_id: str, zone: str, grant: m.GrantType,
                  expiry: float | None, place: int | None = None) -> None:
         self.transport.publish(
-            m.topic(serial, m.ZoneResponse),
+            self._topic(serial, m.ZoneResponse),
             m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry, place))
+
+    def _topic(self, serial_number: str, kind: type) -> str:
+        return m.topic(serial_number, kind, self.manufacturer)
 
     def _robot(self, serial_number: str) -> _Robot:
         robot = self._robots.get(serial_number)
         if robot is None:
             raise InvalidRequest("robot", f"no robot {serial_number!r} in the fleet")
         return robot
+
+
+def _angle(theta: float) -> float:
+    """``theta`` in [-pi, pi], as the order schema wants it."""
+    return math.atan2(math.sin(theta), math.cos(theta))

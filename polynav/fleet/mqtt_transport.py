@@ -16,8 +16,10 @@ The connection is kept: when the broker goes away the loop reconnects with expon
 and subscribes again to every topic it had. A broker that cannot be reached at start-up is an
 error (:class:`BrokerUnreachable`) after a bounded wait, so a misconfigured robot says so instead
 of waiting for ever. A message that does not decode (not JSON, a field missing or of the wrong
-type, or, on a raw subscription with a schema version, a breach of the VDA 5050 schema) is
-logged, counted and dropped: one bad publisher must not stop a robot from hearing the fleet.
+type, a breach of the VDA 5050 schema) is logged and counted as dropped: one bad publisher must
+not stop a robot from hearing the fleet. A fleet-message subscription hands it over as a
+:class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a validationError in
+its state); a raw subscription leaves it out.
 
 Messages the codec does not cover (``connection``, ``factsheet``, ``visualization`` in their
 VDA form) go through :meth:`MqttTransport.publish_raw` and :meth:`MqttTransport.subscribe_raw`.
@@ -49,7 +51,7 @@ from paho.mqtt.reasoncodes import ReasonCode
 
 from polynav.errors import ConfigError, InvalidRequest, PolynavError
 from polynav.fleet import codec
-from polynav.fleet.messages import Message
+from polynav.fleet.messages import Message, Received, Rejected
 from polynav.fleet.vda5050 import validation
 
 log = logging.getLogger(__name__)
@@ -147,21 +149,34 @@ class _Queue(Generic[T]):
             self.dropped += 1
             log.warning("dropped a message on %s: %s", message.topic, exc)
             return False
+        self._put(item)
+        return True
+
+    def _put(self, item: T) -> None:
         with self._arrived:
             self._items.append(item)
             self._arrived.notify_all()
-        return True
 
     def read(self, message: paho.MQTTMessage) -> T:
         raise NotImplementedError
 
 
-class MessageInbox(_Queue[Message]):
+class MessageInbox(_Queue[Received]):
     """A subscription to fleet messages (:mod:`polynav.fleet.messages`), decoded by the codec;
-    the message kind is the last level of the topic it arrived on."""
+    the message kind is the last level of the topic it arrived on. A message that does not
+    decode or breaks its schema is counted as dropped and handed over as a
+    :class:`~polynav.fleet.messages.Rejected`, so a vehicle can report it in its state."""
 
-    def read(self, message: paho.MQTTMessage) -> Message:
-        return codec.decode(message.topic.rsplit("/", 1)[-1], bytes(message.payload))
+    def offer(self, message: paho.MQTTMessage) -> bool:
+        item = codec.read(message.topic.rsplit("/", 1)[-1], bytes(message.payload))
+        if isinstance(item, Rejected):
+            self.dropped += 1
+            log.warning("refused a message on %s: %s", message.topic, item.reason)
+        self._put(item)
+        return not isinstance(item, Rejected)
+
+    def read(self, message: paho.MQTTMessage) -> Received:
+        return codec.read(message.topic.rsplit("/", 1)[-1], bytes(message.payload))
 
 
 class RawInbox(_Queue[RawMessage]):

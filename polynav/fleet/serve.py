@@ -1,9 +1,11 @@
 """``polynav run --robots N``: a building of N simulated robots, each with its own addresses.
 
-Robot ``i`` (0-based) serves its native API on ``--port + i`` and each dialect on that dialect's
-port ``+ i``, as a building of N vendor robots has N addresses; a port of 0 stays 0 (each server
-on a free port). Every robot's ``GET /api/fleet`` lists them all. The servers share one asyncio
-loop on the main thread; the building's loop thread steps the robots.
+With ``--broker mqtt://...`` each robot is a VDA 5050 vehicle on that broker and the master
+control another client (:mod:`polynav.fleet.vehicle`); without, they share an in-process
+transport. Robot ``i`` (0-based) serves its native API on ``--port + i`` and each dialect on
+that dialect's port ``+ i``, as a building of N vendor robots has N addresses; a port of 0
+stays 0 (each server on a free port). Every robot's ``GET /api/fleet`` lists them all. The
+servers share one asyncio loop on the main thread; the building's loop thread steps the robots.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import uvicorn
 from polynav.api import ApiConfig, create_app
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.fleet.building import Building
+from polynav.fleet.mqtt_transport import BrokerUnreachable
+from polynav.fleet.vehicle import config_from_args
 from polynav.listen import tcp_listener
 from polynav.robot.profile import load_profile
 from polynav.runtime.config import RuntimeConfig
@@ -86,7 +90,11 @@ def run(args: argparse.Namespace) -> int:
                                      dispatch_servers=tuple(args.dispatch_server),
                                      calendar_epoch=args.calendar_epoch),
                 profile=profile,
+                vehicles=config_from_args(args) if args.broker is not None else None,
             )
+        except BrokerUnreachable as exc:
+            print(f"polynav run: {exc}", file=sys.stderr)
+            return 1
         except PolynavError as exc:
             print(f"polynav run: {exc}", file=sys.stderr)
             return 2
@@ -133,13 +141,16 @@ def run(args: argparse.Namespace) -> int:
                 if "yunji" in ports:
                     line += f"  Yunji tcp://{args.host}:{ports['yunji']}"
                 print(line, flush=True)
+            if args.broker is not None:
+                print(f"polynav: VDA 5050 {args.vda_version} vehicles on {args.broker} under "
+                      f"uagv/v2/{args.vda_manufacturer}/<robot>/", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
             if not stop_requested:
                 asyncio.run(_serve_all(servers, sockets))
         finally:
             for yunji in yunjis:
                 yunji.stop()
-            building.stop()
+            building.close()
             for sock in sockets:
                 sock.close()
     finally:

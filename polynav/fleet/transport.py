@@ -14,7 +14,7 @@ from collections import deque
 
 from polynav.errors import InvalidRequest
 from polynav.fleet import codec
-from polynav.fleet.messages import Message
+from polynav.fleet.messages import Message, Received, Rejected
 
 log = logging.getLogger(__name__)
 wire = logging.getLogger("polynav.fleet.wire")
@@ -30,10 +30,15 @@ class QueueInbox:
     def put(self, data: bytes) -> None:
         self._queue.append(data)
 
-    def drain(self) -> list[Message]:
+    def drain(self) -> list[Received]:
+        """The messages since the last drain, oldest first; one that cannot be used (not JSON,
+        breaking its schema) as a :class:`~polynav.fleet.messages.Rejected`."""
         out = []
         while self._queue:
-            out.append(codec.decode(self._kind, self._queue.popleft()))
+            item = codec.read(self._kind, self._queue.popleft())
+            if isinstance(item, Rejected):
+                log.warning("refused a %s message: %s", self._kind, item.reason)
+            out.append(item)
         return out
 
 
@@ -59,7 +64,16 @@ class InProcessTransport:
         return inbox
 
     def publish(self, topic: str, message: Message) -> None:
-        data = codec.encode(message)
+        """Publish ``message``, encoded (and checked against its schema) by the codec.
+
+        Raises:
+            SchemaViolation: the message breaks its VDA 5050 schema (a bug in its sender).
+        """
+        self.publish_raw(topic, codec.encode(message))
+
+    def publish_raw(self, topic: str, data: bytes) -> None:
+        """Publish ``data`` as it is (subscribers decode it; what does not decode reaches them
+        as :class:`~polynav.fleet.messages.Rejected`)."""
         wire.debug("-> %s %s", topic, data)
         with self._lock:
             inboxes = list(self._subscribers.get(topic, ()))

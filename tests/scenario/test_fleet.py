@@ -134,7 +134,8 @@ def test_an_order_canceled_by_instant_action_ends_failed_and_the_state_says_so(
     building.advance(3.0)
     state = building.master.state("robot1")
     assert state is not None and state.order_id == order_id
-    assert state.node_states == ("kitchen",) and state.navigation_state == "running"
+    assert [n.node_id for n in state.node_states] == ["kitchen"]
+    assert state.navigation_state == "running"
     assert building.outcome("robot1", order_id) is None
     building.master.cancel_order("robot1")
     building.advance(1.5)
