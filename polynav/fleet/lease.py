@@ -26,7 +26,12 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. One that asks again
   within ``reask_grace`` of its time-out still wants the resource: it goes back in the queue by
   when it first asked, not at the end (at the end, a robot behind five others for a lift car
-  was sent to the back again every 180 s and waited 500 s while later robots rode). And a
+  was sent to the back again every 180 s and waited 500 s while later robots rode). So does
+  one that left the queue itself (a release while waiting) and asks again within the grace:
+  a robot in line for a corridor whose re-planned path, round the robots waiting with it,
+  briefly put the corridor beyond its look-ahead gave its place up and asked again four
+  seconds later at the back, behind four robots that came after it (issue 36: past the
+  mission timeout on the demo's floor 2, walkers on). And a
   holder cannot keep a resource by renewing for ever while others wait: past ``max_hold`` its
   renewal is refused (:class:`~polynav.fleet.errors.LeaseRefused`). With both, every waiter is
   either granted or told to give up within a bounded time.
@@ -62,8 +67,8 @@ class LeaseBookConfig:
         max_wait: a waiter that has not been granted within this leaves the queue [s].
         max_hold: while others wait, a holder may not renew once it has held the resource this
             long since it was granted [s]; alone, it may renew for ever.
-        reask_grace: a waiter timed out that asks again within this [s] keeps its place by
-            when it first asked.
+        reask_grace: a waiter timed out, or one that left the queue, that asks again within
+            this [s] keeps its place by when it first asked.
     """
 
     default_duration: float = 30.0
@@ -356,6 +361,8 @@ class LeaseBook:
         for w in res.queue:
             if w.holder == holder:
                 res.queue.remove(w)
+                # Remembered as a time-out now: asking again within the grace keeps its place.
+                self._timed_out[(resource, holder)] = replace(w, deadline=now)
                 self._events.append(
                     LeaseEvent(LeaseEventKind.WAIT_CANCELLED, resource, holder, now))
                 return True

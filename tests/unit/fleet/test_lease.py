@@ -165,6 +165,25 @@ def test_asking_again_long_after_timing_out_goes_to_the_back(book: LeaseBook) ->
     assert [w.holder for w in book.waiters("lift:A")] == ["r3", "r2"]
 
 
+def test_a_waiter_that_left_the_queue_and_asks_again_at_once_keeps_its_place(
+        book: LeaseBook) -> None:
+    """r2 gives its place up (its path briefly put the zone out of reach) and asks again four
+    seconds later: still ahead of r3 and r4, who came after it (issue 36)."""
+    book.request("zone:c", "r1", now=0.0, duration=60.0)
+    book.request("zone:c", "r2", now=1.0)
+    book.request("zone:c", "r3", now=2.0)
+    book.request("zone:c", "r4", now=3.0)
+    assert book.release("zone:c", "r2", now=10.0)
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r4"]
+    assert book.request("zone:c", "r2", now=14.0) is None
+    assert [w.holder for w in book.waiters("zone:c")] == ["r2", "r3", "r4"]
+    assert book.waiters("zone:c")[0].deadline == 44.0  # a fresh deadline
+    # Long after leaving, it is a newcomer: at the back.
+    assert book.release("zone:c", "r2", now=15.0)
+    assert book.request("zone:c", "r2", now=15.0 + book.config.reask_grace + 1.0) is None
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r4", "r2"]
+
+
 def test_a_waiter_back_at_the_head_going_the_flows_way_is_let_in_at_once() -> None:
     """r2 (east) timed out behind r0; r3 (east) got in after r0; r4 (west) waits for the east
     flow to drain. r2 asks again at once: older than r4, and going east, it joins r3."""
