@@ -18,10 +18,14 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   wait, the holder joins the end of the queue. When capacity frees (release, expiry) the head of
   the queue is granted at once; a newcomer never overtakes a waiter.
 - **One way at a time.** A request may name a *flow* (the way the holder goes through, e.g.
-  ``"EE"``: east along a corridor): holders going the same way share a resource beyond its capacity
-  (robots following one another through a corridor never meet head-on), while one going
-  another way waits until they are all out. Sharing never overtakes the queue: a newcomer
-  joins a flow only when no one waits, so the other way gets its turn once the flow drains.
+  ``"EE"``: east along a corridor, ``"NE"``: north out of a door, then east): holders whose
+  ways never head opposite share a resource beyond its capacity (robots following one another
+  through a corridor never meet head-on), while one going against any of them waits until they
+  are all out. Flows of compass sectors (``E``, ``N``, ``W``, ``S``,
+  :meth:`polynav.fleet.zones.ZoneMap.flow`) go together when neither holds the opposite of a
+  sector of the other (``"NE"`` with ``"EE"``, not with ``"ES"``); other flows when equal.
+  Sharing never overtakes the queue: a newcomer joins a flow only when no one waits, so the
+  other way gets its turn once the flow drains.
 - **No one waits for ever.** Each waiter has a deadline (``max_wait``); past it the waiter leaves
   the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. One that asks again
   within ``reask_grace`` of its time-out still wants the resource: it goes back in the queue by
@@ -417,13 +421,29 @@ class LeaseBook:
         self._events.append(LeaseEvent(kind, lease.resource, lease.holder, at, lease))
 
 
+_OPPOSITE = {"E": "W", "W": "E", "N": "S", "S": "N"}
+
+
+def same_way(a: str, b: str) -> bool:
+    """Whether holders of flows ``a`` and ``b`` may be in a resource together (module
+    docstring): compass flows when neither heads opposite to the other anywhere, others when
+    equal."""
+    if set(a) <= _OPPOSITE.keys() and set(b) <= _OPPOSITE.keys():
+        # "NWS" (up a passage, along, down another) goes against itself: two such robots
+        # may meet in a passage one of them goes up and the other down.
+        return not any(_OPPOSITE[c] in b for c in set(a))
+    return a == b
+
+
 def _admits(res: _Resource, flow: str | None) -> bool:
     """Whether ``res`` can take one more holder of ``flow`` now (queue aside)."""
     if len(res.leases) < res.capacity:
         # Below capacity: anyone, unless holders of a flow are inside and this one goes
-        # another way.
-        return flow is None or all(lease.flow in (None, flow) for lease in res.leases.values())
-    return flow is not None and all(lease.flow == flow for lease in res.leases.values())
+        # against one of them.
+        return flow is None or all(lease.flow is None or same_way(lease.flow, flow)
+                                   for lease in res.leases.values())
+    return flow is not None and all(lease.flow is not None and same_way(lease.flow, flow)
+                                    for lease in res.leases.values())
 
 
 def _check_name(field_name: str, value: str) -> None:

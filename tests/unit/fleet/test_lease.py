@@ -6,7 +6,7 @@ import pytest
 
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.fleet.errors import LeaseNotHeld, LeaseRefused
-from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind
+from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind, same_way
 
 K = LeaseEventKind
 
@@ -361,6 +361,30 @@ def test_waiters_of_one_flow_are_let_in_together(book: LeaseBook) -> None:
     book.release("zone:c", "r1", now=3.0)
     assert [lease.holder for lease in book.leases("zone:c")] == ["r2", "r3"]
     assert [w.holder for w in book.waiters("zone:c")] == ["r4"]
+
+
+def test_holders_whose_ways_never_head_opposite_share_and_others_wait(book: LeaseBook) -> None:
+    """Out of a door and east ("NE") goes with east along ("EE"): never against each other.
+    Into that door from the west ("ES") heads south where the first heads north: it waits."""
+    assert book.request("zone:c", "r1", now=0.0, flow="EE") is not None
+    assert book.request("zone:c", "r2", now=1.0, flow="NE") is not None
+    assert book.request("zone:c", "r3", now=2.0, flow="ES") is None
+    book.release("zone:c", "r2", now=3.0)
+    assert book.lease("zone:c", "r3") is not None  # with r1 alone (east) it goes in
+    # Up one door, along and down another ("NES") goes against itself: alone, always.
+    book.release("zone:c", "r1", now=4.0)
+    book.release("zone:c", "r3", now=4.0)
+    assert book.request("zone:c", "r4", now=5.0, flow="NES") is not None
+    assert book.request("zone:c", "r5", now=6.0, flow="NES") is None
+
+
+@pytest.mark.parametrize(("a", "b", "together"), [
+    ("EE", "EE", True), ("EE", "WW", False), ("NE", "EE", True), ("NE", "ES", False),
+    ("NWN", "WW", True), ("NWN", "NEN", False), ("NWS", "NWS", False), ("up", "up", True),
+    ("up", "down", False), ("E", "up", False),
+])
+def test_same_way(a: str, b: str, together: bool) -> None:
+    assert same_way(a, b) is together and same_way(b, a) is together
 
 
 def test_a_holder_without_a_flow_keeps_the_passage_to_itself(book: LeaseBook) -> None:
