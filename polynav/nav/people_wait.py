@@ -93,6 +93,7 @@ class PeopleWait:
         self._aside_held_since: float | None = None
         self._aside_tries = 0
         self._held_since: float | None = None
+        self._paused_at: float | None = None
 
     @property
     def since(self) -> float | None:
@@ -104,6 +105,22 @@ class PeopleWait:
         self._since = None
         self._where = None
         self._held_since = None
+        self._paused_at = None
+
+    def pause(self, now: float) -> None:
+        """The goal is paused: the time until :meth:`resume` is not spent waiting for people."""
+        self._paused_at = now
+
+    def resume(self, now: float) -> None:
+        """The goal goes on: a wait begun before the pause keeps the patience it had left.
+
+        Paused time counted against it, a robot that stood 3 minutes in line for a corridor
+        (the fleet pauses its goal) right after a walker had made way failed ``blocked by
+        person`` the moment the next walker came by, with no wait at all (issue 36).
+        """
+        if self._paused_at is not None and self._since is not None:
+            self._since += now - self._paused_at
+        self._paused_at = None
 
     def moved(self, pose: Pose2D, distance: float) -> None:
         """The robot is following its path: ``distance`` past where it waited, the wait is over
