@@ -156,6 +156,8 @@ class ZoneMap:
         steps.append(xy[last] - xy[max(last - k, first)])
         sectors = [_sector(step) for step in steps if float(np.hypot(*step)) > 0.0]
         turns = "".join(c for i, c in enumerate(sectors) if i == 0 or c != sectors[i - 1])
+        if not turns:
+            return None
         return turns * 2 if len(turns) == 1 else turns
 
     def _samples(
