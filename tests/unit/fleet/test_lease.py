@@ -387,6 +387,26 @@ def test_same_way(a: str, b: str, together: bool) -> None:
     assert same_way(a, b) is together and same_way(b, a) is together
 
 
+def test_when_the_head_goes_in_those_behind_going_its_way_go_with_it(book: LeaseBook) -> None:
+    """r2 (west) waits for r1 (east) to come out; r3 (east, behind r2) may not join r1 then.
+    r4 (west) and r5 (no flow) wait behind r3. When r2 goes in, r4 goes with it, passing r3,
+    who would wait for r2 anyway; r5 goes alone, in its turn."""
+    book.request("zone:c", "r1", now=0.0, flow="EE")
+    book.request("zone:c", "r2", now=1.0, flow="WW")
+    book.request("zone:c", "r3", now=2.0, flow="EE")
+    book.request("zone:c", "r4", now=3.0, flow="NW")
+    book.request("zone:c", "r5", now=4.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r1"]
+    book.release("zone:c", "r1", now=5.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r2", "r4"]
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r5"]
+    book.release("zone:c", "r2", now=6.0)
+    assert book.lease("zone:c", "r3") is None  # r4 (west) is still inside
+    book.release("zone:c", "r4", now=7.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r3"]
+    assert [w.holder for w in book.waiters("zone:c")] == ["r5"]
+
+
 def test_a_holder_without_a_flow_keeps_the_passage_to_itself(book: LeaseBook) -> None:
     book.request("zone:c", "r1", now=0.0)
     assert book.request("zone:c", "r2", now=1.0, flow="E") is None
