@@ -18,15 +18,28 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   wait, the holder joins the end of the queue. When capacity frees (release, expiry) the head of
   the queue is granted at once; a newcomer never overtakes a waiter.
 - **One way at a time.** A request may name a *flow* (the way the holder goes through, e.g.
-  ``"EE"``: east along a corridor): holders going the same way share a resource beyond its capacity
-  (robots following one another through a corridor never meet head-on), while one going
-  another way waits until they are all out. Sharing never overtakes the queue: a newcomer
-  joins a flow only when no one waits, so the other way gets its turn once the flow drains.
+  ``"EE"``: east along a corridor, ``"NE"``: north out of a door, then east): holders whose
+  ways never head opposite share a resource beyond its capacity (robots following one another
+  through a corridor never meet head-on), while one going against any of them waits until they
+  are all out. Flows of compass sectors (``E``, ``N``, ``W``, ``S``,
+  :meth:`polynav.fleet.zones.ZoneMap.flow`) go together when neither holds the opposite of a
+  sector of the other (``"NE"`` with ``"EE"``, not with ``"ES"``); other flows when equal.
+  A newcomer joins the holders only when no one waits, so the other way gets its turn once
+  they have drained; and when the head of the queue goes in, the waiters further back that go
+  its way (and the way of everyone inside) go in with it. Those they pass go against that
+  group and would wait for it to drain anyway: going in together, the group drains in about
+  the time of its slowest crossing instead of one crossing after another (one at a time, floor
+  2's corridor on the demo was held all the time by 10 robots and queued six, issue 36).
 - **No one waits for ever.** Each waiter has a deadline (``max_wait``); past it the waiter leaves
   the queue with a ``WAIT_TIMED_OUT`` event, so it can re-route or back off. One that asks again
   within ``reask_grace`` of its time-out still wants the resource: it goes back in the queue by
   when it first asked, not at the end (at the end, a robot behind five others for a lift car
-  was sent to the back again every 180 s and waited 500 s while later robots rode). And a
+  was sent to the back again every 180 s and waited 500 s while later robots rode). So does
+  one that left the queue itself (a release while waiting) and asks again within the grace:
+  a robot in line for a corridor whose re-planned path, round the robots waiting with it,
+  briefly put the corridor beyond its look-ahead gave its place up and asked again four
+  seconds later at the back, behind four robots that came after it (issue 36: past the
+  mission timeout on the demo's floor 2, walkers on). And a
   holder cannot keep a resource by renewing for ever while others wait: past ``max_hold`` its
   renewal is refused (:class:`~polynav.fleet.errors.LeaseRefused`). With both, every waiter is
   either granted or told to give up within a bounded time.
@@ -62,8 +75,8 @@ class LeaseBookConfig:
         max_wait: a waiter that has not been granted within this leaves the queue [s].
         max_hold: while others wait, a holder may not renew once it has held the resource this
             long since it was granted [s]; alone, it may renew for ever.
-        reask_grace: a waiter timed out that asks again within this [s] keeps its place by
-            when it first asked.
+        reask_grace: a waiter timed out, or one that left the queue, that asks again within
+            this [s] keeps its place by when it first asked.
     """
 
     default_duration: float = 30.0
@@ -356,6 +369,8 @@ class LeaseBook:
         for w in res.queue:
             if w.holder == holder:
                 res.queue.remove(w)
+                # Remembered as a time-out now: asking again within the grace keeps its place.
+                self._timed_out[(resource, holder)] = replace(w, deadline=now)
                 self._events.append(
                     LeaseEvent(LeaseEventKind.WAIT_CANCELLED, resource, holder, now))
                 return True
@@ -392,9 +407,19 @@ class LeaseBook:
                 log.info("%s gave up waiting for %s at t=%.3f", w.holder, name, now)
                 self._events.append(
                     LeaseEvent(LeaseEventKind.WAIT_TIMED_OUT, name, w.holder, w.deadline))
+        let_in = False
         while res.queue and _admits(res, res.queue[0].flow):
             w = res.queue.popleft()
             self._grant(name, res, w.holder, now, w.duration, w.flow)
+            let_in = True
+        if not let_in:
+            return
+        # The head went in: those further back going its way (and the way of everyone inside)
+        # go in with it (module docstring).
+        for w in list(res.queue):
+            if w.flow is not None and _admits(res, w.flow):
+                res.queue.remove(w)
+                self._grant(name, res, w.holder, now, w.duration, w.flow)
 
     def _grant(self, name: str, res: _Resource, holder: str, now: float,
                duration: float, flow: str | None = None) -> Lease:
@@ -410,13 +435,29 @@ class LeaseBook:
         self._events.append(LeaseEvent(kind, lease.resource, lease.holder, at, lease))
 
 
+_OPPOSITE = {"E": "W", "W": "E", "N": "S", "S": "N"}
+
+
+def same_way(a: str, b: str) -> bool:
+    """Whether holders of flows ``a`` and ``b`` may be in a resource together (module
+    docstring): compass flows when neither heads opposite to the other anywhere, others when
+    equal."""
+    if set(a) <= _OPPOSITE.keys() and set(b) <= _OPPOSITE.keys():
+        # "NWS" (up a passage, along, down another) goes against itself: two such robots
+        # may meet in a passage one of them goes up and the other down.
+        return not any(_OPPOSITE[c] in b for c in set(a))
+    return a == b
+
+
 def _admits(res: _Resource, flow: str | None) -> bool:
     """Whether ``res`` can take one more holder of ``flow`` now (queue aside)."""
     if len(res.leases) < res.capacity:
         # Below capacity: anyone, unless holders of a flow are inside and this one goes
-        # another way.
-        return flow is None or all(lease.flow in (None, flow) for lease in res.leases.values())
-    return flow is not None and all(lease.flow == flow for lease in res.leases.values())
+        # against one of them.
+        return flow is None or all(lease.flow is None or same_way(lease.flow, flow)
+                                   for lease in res.leases.values())
+    return flow is not None and all(lease.flow is not None and same_way(lease.flow, flow)
+                                    for lease in res.leases.values())
 
 
 def _check_name(field_name: str, value: str) -> None:

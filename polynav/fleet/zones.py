@@ -15,13 +15,18 @@ are no passage and are left out. Each connected group of narrow cells, grown by 
 zones closer than ``merge_gap`` are one zone, so a robot never needs two leases at once to pass
 a door and the narrow bit right behind it.
 
-Robots going the same way through a zone never meet head-on in it, so they may share it: the
-*flow* of a path through a zone is the compass sector of its heading where it enters the zone
-and where it leaves it (``"EE"`` along a corridor eastwards, ``"NE"`` out of a door on its
-south side and east along it), and the lease book lets holders of one flow in together
-(:mod:`polynav.fleet.lease`). Both ends count: a robot coming out of a door and turning east
-and one coming from the west to turn into that door both head east overall, yet meet in the
-door. A way through shorter than half a metre (a robot turning round at a door) has no flow and
+Robots that never head opposite ways in a zone never meet head-on in it, so they may share
+it: the *flow* of a path through a zone is the compass sectors of its heading along the way,
+every half metre from where it enters the zone to where it leaves it, each turn once
+(``"EE"`` along a corridor eastwards, ``"NE"`` out of a door on its south side and east along
+it, ``"NWS"`` up one side passage, west along the corridor and down another), and the lease
+book lets holders in together whose flows hold no opposite sectors (:mod:`polynav.fleet.lease`).
+The whole way counts: a robot coming out of a door and turning east (``"NE"``) and one coming
+from the west to turn into that door (``"ES"``) both head east overall, yet meet in the door;
+and two ways that enter and leave alike can still cross the corridor between them opposite
+ways (up one passage and east, against up another and west, both ``"NN"`` by their ends alone:
+on the demo's floor 2, 28 % of the pairs that equal ends let in together met head-on, issue
+36). A way through shorter than half a metre (a robot turning round at a door) has no flow and
 is asked for alone.
 
 This finds passages along the map's axes, which is how buildings are drawn; a narrow passage at
@@ -130,10 +135,11 @@ class ZoneMap:
     def flow(self, path: Path, x: float, y: float, zone: int) -> str | None:
         """The way ``path``, from the point nearest to (x, y), goes through zone ``zone``: the
         compass sectors (``E``, ``N``, ``W``, ``S``, in the map's frame) of its heading where it
-        enters the zone (or at (x, y), inside it) and where it leaves it (or ends), e.g.
-        ``"NE"``: out of a door northwards, then east along the corridor. None when the path
-        does not go through the zone or goes less than ``_FLOW_MIN`` across it (no clear way:
-        the robot asks for the zone alone)."""
+        enters the zone (or at (x, y), inside it), every ``_FLOW_MIN`` along it, and where it
+        leaves it (or ends), a sector repeated only at the ends of a straight way, e.g.
+        ``"NE"``: out of a door northwards, then east along the corridor; ``"EE"``: straight
+        east. None when the path does not go through the zone or goes less than ``_FLOW_MIN``
+        across it (no clear way: the robot asks for the zone alone)."""
         _, xy, labels, _ = self._samples(path, x, y, math.inf)
         inside = np.flatnonzero(labels == zone)
         if inside.shape[0] == 0:
@@ -143,11 +149,16 @@ class ZoneMap:
         last = first + int(gone[0]) - 1 if gone.shape[0] else labels.shape[0] - 1
         if math.hypot(*(xy[last] - xy[first])) < _FLOW_MIN:
             return None
-        # The heading over the first and the last _FLOW_MIN of the way (samples every half cell).
+        # The heading over each _FLOW_MIN of the way (samples every half cell), and over the
+        # last one.
         k = max(1, int(round(_FLOW_MIN / (0.5 * self.grid.info.resolution))))
-        inward = xy[min(first + k, last)] - xy[first]
-        outward = xy[last] - xy[max(last - k, first)]
-        return _sector(inward) + _sector(outward)
+        steps = [xy[min(i + k, last)] - xy[i] for i in range(first, last - k + 1, k)]
+        steps.append(xy[last] - xy[max(last - k, first)])
+        sectors = [_sector(step) for step in steps if float(np.hypot(*step)) > 0.0]
+        turns = "".join(c for i, c in enumerate(sectors) if i == 0 or c != sectors[i - 1])
+        if not turns:
+            return None
+        return turns * 2 if len(turns) == 1 else turns
 
     def _samples(
         self, path: Path, x: float, y: float, reach: float,

@@ -267,6 +267,7 @@ class Navigator(ChargerPhases, PlanFailures):
             return False
         self._update(state=NavigationState.PAUSED)
         self._controller.reset()
+        self._wait.pause(now)
         self._emit(events.NavigationPaused(now, self._require()))
         return True
 
@@ -275,6 +276,7 @@ class Navigator(ChargerPhases, PlanFailures):
         if self.state is not NavigationState.PAUSED:
             return False
         self._update(state=NavigationState.RUNNING)
+        self._wait.resume(now)
         self._enter(_Phase.PLAN, now)
         self._emit(events.NavigationResumed(now, self._require()))
         return True

@@ -6,8 +6,9 @@ fails where a few seconds of patience would have done. :class:`PeopleWait` runs 
 stands, looks for a way past the people every ``wait_replan_period`` on the live costmap, goes on
 as soon as the way is open, and after ``give_way_after`` face to face with someone it steps
 aside off their way (or backs up where there is no room) so that they can pass, as a person
-would. The patience runs over the whole episode, which ends once the robot has got
-``reset_distance`` past where it began; when it runs out the goal fails ``blocked by person``.
+would; a spot aside is one reached about straight, never one round a wall. The patience runs
+over the whole episode, which ends once the robot has got ``reset_distance`` past where it
+began; when it runs out the goal fails ``blocked by person``.
 """
 
 from __future__ import annotations
@@ -37,6 +38,8 @@ _ASIDE_MARGIN = 0.1  # [m] beyond the social distance: stepping aside closes in 
 _CLOSING_LEAD = 0.5  # [s] ahead that someone coming on is judged (tracker lag, braking)
 _ASIDE_TRIES = 2  # spots tried in one give-way before backing up
 _ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there while stepping aside
+_ASIDE_DETOUR = 1.5  # a way aside longer than this times the straight distance is no step aside
+_ASIDE_SLACK = 0.3  # [m] beyond that: a grid path's steps round a corner
 
 
 def _judged_gap(d: float, radial: float) -> float:
@@ -90,6 +93,7 @@ class PeopleWait:
         self._aside_held_since: float | None = None
         self._aside_tries = 0
         self._held_since: float | None = None
+        self._paused_at: float | None = None
 
     @property
     def since(self) -> float | None:
@@ -101,6 +105,22 @@ class PeopleWait:
         self._since = None
         self._where = None
         self._held_since = None
+        self._paused_at = None
+
+    def pause(self, now: float) -> None:
+        """The goal is paused: the time until :meth:`resume` is not spent waiting for people."""
+        self._paused_at = now
+
+    def resume(self, now: float) -> None:
+        """The goal goes on: a wait begun before the pause keeps the patience it had left.
+
+        Paused time counted against it, a robot that stood 3 minutes in line for a corridor
+        (the fleet pauses its goal) right after a walker had made way failed ``blocked by
+        person`` the moment the next walker came by, with no wait at all (issue 36).
+        """
+        if self._paused_at is not None and self._since is not None:
+            self._since += now - self._paused_at
+        self._paused_at = None
 
     def moved(self, pose: Pose2D, distance: float) -> None:
         """The robot is following its path: ``distance`` past where it waited, the wait is over
@@ -272,6 +292,14 @@ class PeopleWait:
             try:
                 way = self._planner.plan(self._costmap, pose, spot)
             except PlanningError:
+                continue
+            if way.length > _ASIDE_DETOUR * pose.distance_to(spot) + _ASIDE_SLACK:
+                # A spot behind a wall, reached round it through the next door, is no step
+                # aside: the robot drove 5-8 m, back down the passage the walker was heading
+                # for, and met them again (issue 36: 170 s in floor 2's corridor zone while
+                # six robots queued for it).
+                log.debug("giving way: (%.2f, %.2f) is %.1f m away round a wall", spot.x,
+                          spot.y, way.length)
                 continue
             log.info("giving way: stepping aside to (%.2f, %.2f)", spot.x, spot.y)
             self._aside = spot

@@ -6,7 +6,7 @@ import pytest
 
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.fleet.errors import LeaseNotHeld, LeaseRefused
-from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind
+from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind, same_way
 
 K = LeaseEventKind
 
@@ -163,6 +163,25 @@ def test_asking_again_long_after_timing_out_goes_to_the_back(book: LeaseBook) ->
     book.tick(6.5)
     book.request("lift:A", "r2", now=6.0 + book.config.reask_grace + 1.0)
     assert [w.holder for w in book.waiters("lift:A")] == ["r3", "r2"]
+
+
+def test_a_waiter_that_left_the_queue_and_asks_again_at_once_keeps_its_place(
+        book: LeaseBook) -> None:
+    """r2 gives its place up (its path briefly put the zone out of reach) and asks again four
+    seconds later: still ahead of r3 and r4, who came after it (issue 36)."""
+    book.request("zone:c", "r1", now=0.0, duration=60.0)
+    book.request("zone:c", "r2", now=1.0)
+    book.request("zone:c", "r3", now=2.0)
+    book.request("zone:c", "r4", now=3.0)
+    assert book.release("zone:c", "r2", now=10.0)
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r4"]
+    assert book.request("zone:c", "r2", now=14.0) is None
+    assert [w.holder for w in book.waiters("zone:c")] == ["r2", "r3", "r4"]
+    assert book.waiters("zone:c")[0].deadline == 44.0  # a fresh deadline
+    # Long after leaving, it is a newcomer: at the back.
+    assert book.release("zone:c", "r2", now=15.0)
+    assert book.request("zone:c", "r2", now=15.0 + book.config.reask_grace + 1.0) is None
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r4", "r2"]
 
 
 def test_a_waiter_back_at_the_head_going_the_flows_way_is_let_in_at_once() -> None:
@@ -342,6 +361,50 @@ def test_waiters_of_one_flow_are_let_in_together(book: LeaseBook) -> None:
     book.release("zone:c", "r1", now=3.0)
     assert [lease.holder for lease in book.leases("zone:c")] == ["r2", "r3"]
     assert [w.holder for w in book.waiters("zone:c")] == ["r4"]
+
+
+def test_holders_whose_ways_never_head_opposite_share_and_others_wait(book: LeaseBook) -> None:
+    """Out of a door and east ("NE") goes with east along ("EE"): never against each other.
+    Into that door from the west ("ES") heads south where the first heads north: it waits."""
+    assert book.request("zone:c", "r1", now=0.0, flow="EE") is not None
+    assert book.request("zone:c", "r2", now=1.0, flow="NE") is not None
+    assert book.request("zone:c", "r3", now=2.0, flow="ES") is None
+    book.release("zone:c", "r2", now=3.0)
+    assert book.lease("zone:c", "r3") is not None  # with r1 alone (east) it goes in
+    # Up one door, along and down another ("NES") goes against itself: alone, always.
+    book.release("zone:c", "r1", now=4.0)
+    book.release("zone:c", "r3", now=4.0)
+    assert book.request("zone:c", "r4", now=5.0, flow="NES") is not None
+    assert book.request("zone:c", "r5", now=6.0, flow="NES") is None
+
+
+@pytest.mark.parametrize(("a", "b", "together"), [
+    ("EE", "EE", True), ("EE", "WW", False), ("NE", "EE", True), ("NE", "ES", False),
+    ("NWN", "WW", True), ("NWN", "NEN", False), ("NWS", "NWS", False), ("up", "up", True),
+    ("up", "down", False), ("E", "up", False),
+])
+def test_same_way(a: str, b: str, together: bool) -> None:
+    assert same_way(a, b) is together and same_way(b, a) is together
+
+
+def test_when_the_head_goes_in_those_behind_going_its_way_go_with_it(book: LeaseBook) -> None:
+    """r2 (west) waits for r1 (east) to come out; r3 (east, behind r2) may not join r1 then.
+    r4 (west) and r5 (no flow) wait behind r3. When r2 goes in, r4 goes with it, passing r3,
+    who would wait for r2 anyway; r5 goes alone, in its turn."""
+    book.request("zone:c", "r1", now=0.0, flow="EE")
+    book.request("zone:c", "r2", now=1.0, flow="WW")
+    book.request("zone:c", "r3", now=2.0, flow="EE")
+    book.request("zone:c", "r4", now=3.0, flow="NW")
+    book.request("zone:c", "r5", now=4.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r1"]
+    book.release("zone:c", "r1", now=5.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r2", "r4"]
+    assert [w.holder for w in book.waiters("zone:c")] == ["r3", "r5"]
+    book.release("zone:c", "r2", now=6.0)
+    assert book.lease("zone:c", "r3") is None  # r4 (west) is still inside
+    book.release("zone:c", "r4", now=7.0)
+    assert [lease.holder for lease in book.leases("zone:c")] == ["r3"]
+    assert [w.holder for w in book.waiters("zone:c")] == ["r5"]
 
 
 def test_a_holder_without_a_flow_keeps_the_passage_to_itself(book: LeaseBook) -> None:

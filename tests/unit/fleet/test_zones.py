@@ -112,3 +112,29 @@ def test_ways_east_into_a_door_and_out_of_it_are_two_flows() -> None:
     assert zones.flow(out_of, 5.0, 2.0, zone) == "NE"
     assert zones.flow(into, 0.5, 4.5, zone) == "ES"
     assert zones.flow(along, 0.5, 4.5, zone) == "EE"
+
+
+def _corridor_with_two_doors() -> Map:
+    """The corridor 1 m wide (y 4..5) of :func:`_corridor_with_a_door`, with two doors into the
+    room below: at x 1.5..2.5 and at x 7.5..8.5."""
+    grid = _corridor_with_a_door()
+    occ = grid.occupied().copy()
+    occ[int(3.9 / RES):int(4.0 / RES), int(4.5 / RES):int(5.5 / RES)] = True
+    for x in (2.0, 8.0):
+        occ[int(3.9 / RES):int(4.0 / RES), int((x - 0.5) / RES):int((x + 0.5) / RES)] = False
+    return Map.from_occupied(occ, resolution=RES)
+
+
+def test_the_flow_names_every_turn_of_the_way_through() -> None:
+    # Up the west door and east along the corridor to its end, against up the east door and
+    # west to the corridor's end: equal ends (north in, ...), yet opposite along the corridor.
+    zones = find_zones("m", _corridor_with_two_doors())
+    zone = zones.zone_at(5.0, 4.5)
+    assert zone != 0 and zones.zone_at(2.0, 3.95) == zone == zones.zone_at(8.0, 3.95)
+    east = Path(np.array([[2.0, 2.0], [2.0, 4.5], [9.9, 4.5]]))
+    west = Path(np.array([[8.0, 2.0], [8.0, 4.5], [0.1, 4.5]]))
+    assert zones.flow(east, 2.0, 2.0, zone) == "NE"
+    assert zones.flow(west, 8.0, 2.0, zone) == "NW"
+    # Up one door, along and down the other: the middle leg is named.
+    across = Path(np.array([[2.0, 2.0], [2.0, 4.5], [8.0, 4.5], [8.0, 2.0]]))
+    assert zones.flow(across, 2.0, 2.0, zone) == "NES"

@@ -436,6 +436,36 @@ def test_people_who_never_make_way_fail_the_goal_after_the_patience() -> None:
     assert attempt.ended_at - waiting.stamp == pytest.approx(5.0, abs=DT + 1e-9)
 
 
+def test_time_paused_is_not_spent_waiting_for_people() -> None:
+    # A walker makes way after 2 s; the goal is paused 30 s (the fleet: in line for a
+    # corridor) before the robot has moved on; resumed, the next walker blocks it at once. The
+    # wait goes on with the 3 s of patience it had left, not failed with no wait at all.
+    controller = ScriptedController([ControlStatus.BLOCKED])
+    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
+                PeopleConfig(patience=5.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.people = PeopleView((Person(1.0, 0.0),))
+    h.run(2.0)
+    assert h.kinds()[-1] == "NavigationWaiting"
+    h.people = PeopleView()
+    controller.statuses = [ControlStatus.TRACKING]
+    h.run(0.5)  # the way is open: planned, following
+    assert h.kinds()[-1] == "PathPlanned"
+    assert h.nav.pause(h.now)
+    h.run(30.0)
+    assert h.nav.resume(h.now)
+    resumed = h.now
+    h.people = PeopleView((Person(1.0, 0.0),))
+    controller.statuses = [ControlStatus.BLOCKED]
+    h.run(2.0)
+    assert h.nav.state is NavigationState.RUNNING
+    h.run(2.0)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
+    assert attempt.ended_at is not None and 2.0 < attempt.ended_at - resumed < 4.0
+
+
 def test_no_path_with_a_person_at_the_robot_waits_instead_of_failing() -> None:
     planner = ScriptedPlanner([NoPath("door"), NoPath("door"), NoPath("door")])
     h = Harness(planner, ScriptedController())

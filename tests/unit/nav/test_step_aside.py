@@ -120,3 +120,32 @@ def test_a_way_aside_held_by_someone_is_chosen_again_once_then_backed_off() -> N
     assert all(t.linear <= 0.005 + 1e-9 for t in twists)  # never at them
     assert controller.paths == 2  # the way aside once, and another for where they are now
     assert twists[-1].linear < 0.0  # then backing off: no standing face to face
+
+
+class _RoundTheWall:
+    """Plans every way as a detour of 4 m out and back: each spot near the robot lies behind a
+    wall, reached through the next door along (as from floor 2's corridor crossing into a
+    room beside it)."""
+
+    calls = 0
+
+    def plan(self, costmap: object, start: Pose2D, goal: Pose2D, *,
+             goal_tolerance: float | None = None) -> Path:
+        self.calls += 1
+        return Path(np.array([[start.x, start.y], [start.x - 4.0, start.y],
+                              [goal.x - 4.0, goal.y], [goal.x, goal.y]]))
+
+
+def test_a_spot_reached_only_round_a_wall_is_no_step_aside_the_robot_backs_up() -> None:
+    planner = _RoundTheWall()
+    controller = ScriptedController()
+    wait = PeopleWait(CFG, FakeCostmap(), planner, controller,  # type: ignore[arg-type]
+                      robot_radius=0.25)
+    wait.people = PeopleView((Person(0.9, 0.0),))  # face to face, waiting for the robot
+    pose = Pose2D()
+    path = Path(np.array([[0.0, 0.0], [5.0, 0.0]]))
+    wait.begin(pose, 0.0)
+    step = wait.tick(pose, Twist(), CFG.give_way_after, 0.1, path, lambda _: path)
+    assert planner.calls >= 1  # spots were found and tried ...
+    assert controller.paths == 0  # ... but none is a step aside: no way aside is followed
+    assert step.twist.linear < 0.0  # it backs up off their way instead
