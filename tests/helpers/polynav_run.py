@@ -4,12 +4,14 @@ lines read, and a clean stop by SIGINT."""
 
 from __future__ import annotations
 
+import contextlib
 import re
 import signal
 import subprocess
 import sys
 import urllib.error
 import urllib.request
+from collections.abc import Iterator
 from pathlib import Path
 
 STARTUP_LINES = 20
@@ -64,3 +66,17 @@ def stop_run(proc: subprocess.Popen[str], lines: list[str]) -> str:
     out, _ = proc.communicate(timeout=60)
     assert proc.returncode == 0
     return out
+
+
+@contextlib.contextmanager
+def running(tmp_path: Path, dialect: str | None, *extra: str
+            ) -> Iterator[tuple[subprocess.Popen[str], list[str]]]:
+    """``polynav run`` started, its start-up lines read; killed at the end if the test did not
+    stop it (``stop_run``)."""
+    proc = start_run(tmp_path, dialect, *extra)
+    try:
+        yield proc, startup_lines(proc)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()

@@ -14,7 +14,7 @@ import serial
 
 from polynav.protocols.galileo.native import commands as c
 from polynav.protocols.galileo.native.status_frame import STATUS_FRAME_SIZE, unpack_status
-from tests.helpers.polynav_run import start_run, startup_lines, stop_run
+from tests.helpers.polynav_run import running, stop_run
 
 GALILEO_PORTS = ("--galileo-port", "0", "--galileo-ws-port", "0", "--galileo-udp-port", "0")
 
@@ -33,9 +33,7 @@ def _frames(port: serial.Serial, seconds: float) -> list[dict[str, float]]:
 
 
 def test_run_serves_the_serial_protocol_on_a_pty(tmp_path: Path) -> None:
-    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS, "--galileo-serial", "pty")
-    try:
-        lines = startup_lines(proc)
+    with running(tmp_path, "galileo", *GALILEO_PORTS, "--galileo-serial", "pty") as (proc, lines):
         found = [m for line in lines if (m := re.search(r"Galileo serial (/\S+) \(115200 8N1\)",
                                                          line))]
         assert len(found) == 1, lines
@@ -62,46 +60,30 @@ def test_run_serves_the_serial_protocol_on_a_pty(tmp_path: Path) -> None:
                     break
             assert frames and frames[-1]["navStatus"] == 1
         assert "polynav: stopped" in stop_run(proc, lines)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
 
 
 def test_run_serves_modbus_tcp_unless_told_not_to(tmp_path: Path) -> None:
     from pymodbus.client import ModbusTcpClient
 
-    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS)  # --galileo-modbus-port 0 (helper)
-    try:
-        lines = startup_lines(proc)
+    # --galileo-modbus-port 0 comes from the helper
+    with running(tmp_path, "galileo", *GALILEO_PORTS) as (proc, lines):
         found = [m for line in lines if (m := re.search(r"Galileo Modbus TCP [\d.]+:(\d+)", line))]
         assert len(found) == 1, lines
         with ModbusTcpClient("127.0.0.1", port=int(found[0].group(1)), timeout=10) as client:
             reply = client.read_discrete_inputs(0, count=2)  # navigation, mapping: both off
             assert not reply.isError() and list(reply.bits[:2]) == [False, False]
         stop_run(proc, lines)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
-    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS, "--no-galileo-modbus")
-    try:
-        lines = startup_lines(proc)
+    with running(tmp_path, "galileo", *GALILEO_PORTS, "--no-galileo-modbus") as (proc, lines):
         assert any("Galileo API" in line for line in lines), lines
         assert not any("Modbus" in line for line in lines)
         stop_run(proc, lines)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
 
 
 def test_run_serves_the_udp_fast_protocol(tmp_path: Path) -> None:
     import socket
 
-    proc = start_run(tmp_path, "galileo", *GALILEO_PORTS)  # --galileo-udp-fast-port 0 (helper)
-    try:
-        lines = startup_lines(proc)
+    # --galileo-udp-fast-port 0 comes from the helper
+    with running(tmp_path, "galileo", *GALILEO_PORTS) as (proc, lines):
         found = [m for line in lines
                  if (m := re.search(r"Galileo UDP fast udp://[\d.]+:(\d+)/<topic>", line))]
         assert len(found) == 1, lines
@@ -112,7 +94,3 @@ def test_run_serves_the_udp_fast_protocol(tmp_path: Path) -> None:
             reply, _ = sock.recvfrom(2048)
             assert json.loads(reply[6:])["status"] is True
         stop_run(proc, lines)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.communicate()
