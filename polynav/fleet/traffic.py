@@ -20,7 +20,7 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
    the robot then re-plans and asks again (at once, so it keeps its place by when it first
    asked), and a holder cannot keep a zone past ``max_hold`` while others wait
-   (:mod:`polynav.fleet.lease`).
+   (:mod:`polynav.leases.book`).
 
 Since a robot never waits for a zone while it stands in another (zones closer than a stop
 distance are merged into one), no two robots can each hold what the other waits for: the

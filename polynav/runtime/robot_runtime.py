@@ -173,7 +173,7 @@ class RobotRuntime(
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()
         # The loop thread and its command queue; robots sharing one simulated world share one
-        # loop that ticks each of them and steps the world once (polynav.fleet.building).
+        # loop that ticks each of them and steps the world once (polynav.house.building).
         self._loop = loop if loop is not None else CommandLoop(
             step=self._step,
             now=self.now,
@@ -450,7 +450,7 @@ class RobotRuntime(
     def tick(self) -> None:
         """Everything of one physics step but the physics: timers, the dead-man and, when due,
         a control tick. Robots sharing one simulated world are each ticked, then the world is
-        stepped once (:mod:`polynav.fleet.building`); call it between steps only."""
+        stepped once (:mod:`polynav.house.building`); call it between steps only."""
         now = self.now()
         self._hooks.run_due(now)
         self._motion.brake_if_expired(now)  # the dead-man
