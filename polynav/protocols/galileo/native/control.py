@@ -288,8 +288,7 @@ class NativeControl:
         turn = wrap_angle(math.radians(degrees) - self._ctx.runtime.status().pose.theta)
         action = {"type": "local_move_action", "angle": turn, "distance": 0.0, "method": 0}
         task = objects.run(self._ctx, ANGLE_TASK, [action], kind=objects.NAVIGATION)
-        with marks(self._ctx).lock:
-            marks(self._ctx).angle_task = str(task["id"])
+        marks(self._ctx).mark_angle_task(str(task["id"]))
         return ACCEPTED
 
     def shutdown(self) -> Outcome:
