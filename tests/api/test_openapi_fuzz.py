@@ -2,8 +2,11 @@
 
 Schemathesis reads ``/openapi.json`` from the ASGI app and, for every operation, sends requests
 the document allows (they must be accepted or refused only as declared) and requests it forbids
-(they must be refused with a 4xx), then chains operations statefully (a point created is found,
-renamed, deleted). Every check runs: no 5xx, only declared status codes, content types, headers
+(they must be refused with a 4xx), in its three phases: the document's examples (which name the
+demo site's cars, maps and points, polynav/api/examples.py), the coverage of each schema's edges,
+and fuzzing. Then it chains operations statefully along the document's links and those it infers
+(a listed car requested, navigation started at a listed point, a point created, found, renamed,
+deleted). Every check runs: no 5xx, only declared status codes, content types, headers
 and bodies that match the document, 405 with ``Allow`` for undeclared methods, and so on.
 
 The app wraps the FakeRuntime around a real site store seeded with the demo world. The WebSocket
