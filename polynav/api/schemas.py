@@ -466,12 +466,12 @@ class GoalIn(_Body):
     y: Coordinate | None = None
     theta: Heading | None = None
     map: Name | None = None
-    precise: bool = Field(
+    precise: StrictBool = Field(
         default=False,
         description="arrive only where localization knows the pose to "
                     f"{PRECISE_POSITION_UNCERTAINTY} m; else fail 'not localized'")
     max_position_uncertainty: float | None = Field(
-        default=None, gt=0.0, le=10.0, allow_inf_nan=False,
+        default=None, gt=0.0, le=10.0, allow_inf_nan=False, strict=True,
         description="the same with its own limit [m] (one standard deviation)")
     frame: Literal["map", "odom", "robot"] | None = Field(
         default=None,
