@@ -143,10 +143,11 @@ class ChainedOperations(schema.as_state_machine()):  # type: ignore[misc]
 
 ANSWERS: list[tuple[str, int]] = []
 # Operations on a resource of the site that the chains must reach with a 2xx: a lift car through
-# GET /api/lifts, navigation through a listed or created point, a point through its listing or
-# making. (Which link a step follows is drawn outside Hypothesis's derandomized data, so a rarer
-# chain, as a goal after navigation started, is not required of every run.)
-REACHED_BY_LINKS = {"request_lift", "start_navigation", "get_point"}
+# GET /api/lifts, navigation through a listed or created point. Which chains the state machine
+# walks depends on what ran before it in the process (its link calibration), so only the chains
+# it takes alone as well are required: a point read by name (its links are in the document) is
+# reached for sure by the examples test (test_openapi_examples.py), not required here.
+REACHED_BY_LINKS = {"request_lift", "start_navigation"}
 
 
 def test_chained_operations_keep_their_contract_and_reach_the_resources() -> None:

@@ -47,13 +47,23 @@ NewPoint = Annotated[PointIn, Body(openapi_examples=examples(
 PointChange = Annotated[PointUpdate, Body(openapi_examples=examples(
     move_it={"x": 31.0, "y": 20.5}, turn_it={"theta": 0.0},
 ))]
-# A point, listed or made, is where navigation can start: the robot localized at it.
-LISTED = links(StartNavigationAtListedPoint=link(
-    "start_navigation", body={"map": "$response.body#/0/map", "point": "$response.body#/0/name"},
-    description="navigate on the first point's map, localized at it"))
-CREATED = links(StartNavigationAtCreatedPoint=link(
-    "start_navigation", body={"map": "$response.body#/map", "point": "$response.body#/name"},
-    description="navigate on the point's map, localized at it"))
+# A point, listed or made, can be read by its name, and is where navigation can start: the robot
+# localized at it.
+LISTED = links(
+    ReadListedPoint=link(
+        "get_point", parameters={"name": "$response.body#/0/name", "map": "$response.body#/0/map"},
+        description="read the first point by its name and map"),
+    StartNavigationAtListedPoint=link(
+        "start_navigation",
+        body={"map": "$response.body#/0/map", "point": "$response.body#/0/name"},
+        description="navigate on the first point's map, localized at it"))
+CREATED = links(
+    ReadCreatedPoint=link(
+        "get_point", parameters={"name": "$response.body#/name", "map": "$response.body#/map"},
+        description="read the point back by its name and map"),
+    StartNavigationAtCreatedPoint=link(
+        "start_navigation", body={"map": "$response.body#/map", "point": "$response.body#/name"},
+        description="navigate on the point's map, localized at it"))
 
 
 def _floors_by_map(store: SiteStore) -> dict[str, str]:
