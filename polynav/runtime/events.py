@@ -180,6 +180,41 @@ class NavigationWaiting(RuntimeEvent):
 
 
 @dataclass(frozen=True, slots=True)
+class TrafficBusy(RuntimeEvent):
+    """The narrow passage (traffic ``zone``) on the robot's way is held by another robot: the
+    fleet queued the robot's request for it. Once per zone until the robot gets it or no
+    longer needs it."""
+
+    kind: ClassVar[str] = "traffic_busy"
+
+    attempt_id: int
+    zone: str
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficWaitStarted(RuntimeEvent):
+    """The robot stopped in front of (or inside) narrow passage ``zone`` that another robot
+    holds, and waits for it (moving up in line is still the same wait)."""
+
+    kind: ClassVar[str] = "traffic_wait_started"
+
+    attempt_id: int
+    zone: str
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficWaitEnded(RuntimeEvent):
+    """The wait for ``zone`` is over: ``granted`` when the robot got the passage and goes on,
+    otherwise its goal ended or changed and it no longer needs it."""
+
+    kind: ClassVar[str] = "traffic_wait_ended"
+
+    attempt_id: int
+    zone: str
+    granted: bool
+
+
+@dataclass(frozen=True, slots=True)
 class ExplorationFinished(RuntimeEvent):
     """Exploration found no frontier left and brought the robot back to where it began;
     ``targets`` frontiers were driven to."""

@@ -124,8 +124,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01030": "polynav controls no electronic doors or gates",
     "01031": "polynav controls no electronic doors or gates",
     "01032": "polynav controls no electronic doors or gates",
-    "01033": "polynav has no narrow-area congestion control (no multi-robot traffic)",
-    "01034": "polynav has no narrow-area congestion control (no multi-robot traffic)",
     "01050": _NO_CONTAINERS,
     "01051": _NO_CONTAINERS,
     "01052": _NO_CONTAINERS,
@@ -140,7 +138,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01080": _NO_CONTAINERS,
     "01081": _NO_CONTAINERS,
     "01082": _NO_CONTAINERS,
-    "01200": "polynav runs one robot: there is no multi-robot traffic control",
     "01201": "polynav's costmap takes unknown (grey) space as free by default, and with "
              "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
              "in by grey area; a goal in unknown space is answered 01007",
@@ -155,8 +152,9 @@ NOT_PRODUCED: dict[str, str] = {
 PRODUCED: frozenset[str] = frozenset({
     "01001", "01002", "01003", "01004", "01005", "01006", "01007",
     "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
+    "01033", "01034",
     "01101", "01102", "01103", "01104",
-    "01202", "01203", "01204",
+    "01200", "01202", "01203", "01204",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
@@ -194,6 +192,11 @@ _STATUS: dict[type[events.RuntimeEvent], str] = {
     events.RobotDisplaced: "02005",
     events.SoftwareShutdownNotice: "02006",
     events.ForeignObjectDetected: "03001",
+    # The fleet's traffic rule (§3.10.1): a narrow passage held by another robot, the wait in
+    # front of it and its end (data not covered by the spec, §A-N2: ``{}``).
+    events.TrafficBusy: "01200",
+    events.TrafficWaitStarted: "01033",
+    events.TrafficWaitEnded: "01034",
 }
 # Retries that are the navigator's check of a first plan (clear the lidar marks, plan again),
 # not a move retry: the move then either goes or fails with 01007 (no retries, L634).

@@ -13,6 +13,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.map import Map
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
+from polynav.runtime import events
 from tests.unit.fleet.test_zones import _two_rooms
 
 
@@ -30,6 +31,7 @@ class _Stack:
 @dataclass
 class _Status:
     pose: Pose2D
+    attempt_id: int | None = 1
 
 
 @dataclass
@@ -40,6 +42,7 @@ class _Robot:
     path: Path
     map_name: str = "m"
     navigation_stack: _Stack = field(init=False)
+    published: list[events.RuntimeEvent] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.navigation_stack = _Stack(_Navigator(self.path))
@@ -49,6 +52,9 @@ class _Robot:
 
     def now(self) -> float:
         return 0.0
+
+    def publish(self, event: events.RuntimeEvent) -> None:
+        self.published.append(event)
 
     def pause(self) -> None:
         self.navigation_stack.navigator.state = NavigationState.PAUSED
@@ -115,6 +121,12 @@ def test_a_waiting_robot_whose_new_path_leads_away_goes_on() -> None:
     assert rule.waiting_for is None
     assert robot.navigation_stack.navigator.state is NavigationState.RUNNING
     assert sent[-1][1:] == ("zone:m/1", m.ZoneRequestType.RELEASE)
+    # Told on the bus: busy (queued), the wait, and its end without the zone.
+    assert [(e.kind, e.zone) for e in robot.published] == [  # type: ignore[attr-defined]
+        ("traffic_busy", "zone:m/1"), ("traffic_wait_started", "zone:m/1"),
+        ("traffic_wait_ended", "zone:m/1")]
+    last = robot.published[-1]
+    assert isinstance(last, events.TrafficWaitEnded) and not last.granted
 
 
 def _told_place(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]],
