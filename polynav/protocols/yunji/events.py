@@ -112,8 +112,6 @@ NOTIFICATIONS: dict[str, tuple[str, str]] = {
 }
 
 _NO_CONTAINERS = "polynav has no container or cabin docking (no product feature behind it)"
-_AVOID = ("a blocked entry waits in front of the car and tries again: polynav has no separate "
-          "get-out-of-the-way manoeuvre")
 # Codes whose trigger polynav has no feature for: catalogued, never sent (docs/yunji.md).
 NOT_PRODUCED: dict[str, str] = {
     "01023": "the simulated dock has no data link whose frames could be invalid",
@@ -142,10 +140,6 @@ NOT_PRODUCED: dict[str, str] = {
              "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
              "in by grey area; a goal in unknown space is answered 01007",
     "01210": "polynav has no no-entry sign detector",
-    "04040": _AVOID,
-    "04041": _AVOID,
-    "04062": "a return into the car that fails is tried again before the exit is given up "
-             "(04052, 01003); it is not reported on its own",
 }
 
 # Codes the mapper below sends.
@@ -158,8 +152,8 @@ PRODUCED: frozenset[str] = frozenset({
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
-    "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061",
-    "04070", "04071",
+    "04030", "04031", "04032", "04033", "04040", "04041", "04050", "04051", "04052", "04060",
+    "04061", "04062", "04070", "04071",
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
@@ -213,9 +207,13 @@ def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
     if detail == HELD:
         return ["04070"]
     if detail.startswith("back in: "):
-        return ["04061"] if detail.endswith("succeeded") else []
+        return ["04061"] if detail.endswith("succeeded") else ["04062"]
+    if detail.startswith("avoided: "):
+        return ["04041"]  # out of the car's way (or as far as it got): it tries again
     if phase is LiftPhase.EXITING:
         return ["04052", "04060"]  # blocked: back in, retry
+    if phase is LiftPhase.ENTERING and "avoid" in detail:
+        return ["04032", "04040"]  # blocked: out of the car's way, retry
     if "is full" in detail:
         return ["04033"]
     if "did not come within" in detail:
