@@ -149,7 +149,9 @@ class NavigationStuck(RuntimeEvent):
 class PlanningFailed(RuntimeEvent):
     """A global plan failed during an attempt; ``cause`` is ``"start_unknown"`` (the robot
     stands in unknown space), ``"start_occupied"`` (on or in an obstacle), ``"goal_occupied"``,
-    ``"outside_map"`` or ``"no_path"``. The attempt retries or fails as the navigator decides."""
+    ``"outside_map"``, ``"walled_in_unknown"`` (unknown space, taken as an obstacle, is all that
+    parts the robot from the goal) or ``"no_path"``. The attempt retries or fails as the
+    navigator decides."""
 
     kind: ClassVar[str] = "planning_failed"
 

@@ -9,8 +9,9 @@
 Sequences (§3.10.4): ``01001`` -> [``01010`` -> ``01011``] -> (``01005``)* -> [``01020`` ->
 ``01021``] -> ``01002``; a move that cannot plan from the start sends ``01007`` then ``01003``
 with no retries; too many retries without progress send ``01006`` then ``01003``. ``01203``
-(and ``01202`` when the robot stands on an obstacle or in a forbidden zone) is sent at most every
-5 s of the runtime's clock while planning keeps failing.
+(and ``01202`` when the robot stands on an obstacle or in a forbidden zone, ``01201`` when it
+stands in unknown space or unknown space walls it in) is sent at most every 5 s of the runtime's
+clock while planning keeps failing.
 """
 
 from __future__ import annotations
@@ -136,9 +137,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01080": _NO_CONTAINERS,
     "01081": _NO_CONTAINERS,
     "01082": _NO_CONTAINERS,
-    "01201": "polynav's costmap takes unknown (grey) space as free by default, and with "
-             "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
-             "in by grey area; a goal in unknown space is answered 01007",
     "01210": "polynav has no no-entry sign detector",
 }
 
@@ -148,7 +146,7 @@ PRODUCED: frozenset[str] = frozenset({
     "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
     "01033", "01034",
     "01101", "01102", "01103", "01104",
-    "01200", "01202", "01203", "01204",
+    "01200", "01201", "01202", "01203", "01204",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
@@ -199,7 +197,9 @@ _UNREACHABLE_REASONS = {"no path", "goal occupied"}
 # A precise goal reached where the scan could not confirm the pose: "maybe lost" (02010), then
 # the move failure; Yunji has no code of its own for an arrival it cannot vouch for.
 _NOT_LOCALIZED_REASONS = {"not localized"}
-_TRAPPED = {"start_occupied": "01202"}
+# Trapped: on an obstacle (01202); standing in unknown space, or walled in by it with
+# unknown-as-obstacle on (01201).
+_TRAPPED = {"start_occupied": "01202", "start_unknown": "01201", "walled_in_unknown": "01201"}
 
 
 def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
