@@ -217,6 +217,19 @@ class TrafficWaitEnded(RuntimeEvent):
 
 
 @dataclass(frozen=True, slots=True)
+class NoEntrySignSeen(RuntimeEvent):
+    """The robot's sign camera spotted a "no entry" sign at (``x``, ``y``) [m, map frame]
+    during attempt ``attempt_id``: the way it stands in is closed (the navigator stops and
+    plans round it, or the goal fails). Once per sign and map."""
+
+    kind: ClassVar[str] = "no_entry_sign_seen"
+
+    attempt_id: int
+    x: float
+    y: float
+
+
+@dataclass(frozen=True, slots=True)
 class ExplorationFinished(RuntimeEvent):
     """Exploration found no frontier left and brought the robot back to where it began;
     ``targets`` frontiers were driven to."""

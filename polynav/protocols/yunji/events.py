@@ -137,7 +137,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01080": _NO_CONTAINERS,
     "01081": _NO_CONTAINERS,
     "01082": _NO_CONTAINERS,
-    "01210": "polynav has no no-entry sign detector",
 }
 
 # Codes the mapper below sends.
@@ -146,7 +145,7 @@ PRODUCED: frozenset[str] = frozenset({
     "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
     "01033", "01034",
     "01101", "01102", "01103", "01104",
-    "01200", "01201", "01202", "01203", "01204",
+    "01200", "01201", "01202", "01203", "01204", "01210",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
@@ -189,6 +188,8 @@ _STATUS: dict[type[events.RuntimeEvent], str] = {
     events.TrafficBusy: "01200",
     events.TrafficWaitStarted: "01033",
     events.TrafficWaitEnded: "01034",
+    # A "no entry" sign spotted: the robot stops before it and plans round it or fails.
+    events.NoEntrySignSeen: "01210",
 }
 # Retries that are the navigator's check of a first plan (clear the lidar marks, plan again),
 # not a move retry: the move then either goes or fails with 01007 (no retries, L634).
