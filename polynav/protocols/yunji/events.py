@@ -119,7 +119,9 @@ NOT_PRODUCED: dict[str, str] = {
     "01024": "docking aims at the charger marker's pose; there is no dock-feature detector",
     "01026": "polynav's robots have no infrared dock beacon",
     "01028": _NO_CONTAINERS,
-    "01029": "polynav drives differential bases only: there is no lateral mode",
+    "01029": "polynav's bases (simulated and bridged) are differential: there is no lateral "
+             "(sideways) mode to switch to, so the switch can neither be made nor fail "
+             "(docs/decisions.md)",
     "01030": "polynav controls no electronic doors or gates",
     "01031": "polynav controls no electronic doors or gates",
     "01032": "polynav controls no electronic doors or gates",
