@@ -160,6 +160,17 @@ def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
     rule.tick(5.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
     assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]  # one request throughout
+    # One wait told, moving up included (no end and start again for each step up).
+    assert [e.kind for e in robot.published] == ["traffic_busy", "traffic_wait_started"]
+    rid, zone, _ = sent[0]
+    rule.on_response(m.ZoneResponse(header_id=2, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.GRANTED,
+                                    lease_expiry=60.0))
+    rule.tick(6.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING
+    last = robot.published[-1]
+    assert isinstance(last, events.TrafficWaitEnded) and last.granted
+    assert len(robot.published) == 3
 
 
 def test_a_robot_next_in_line_stops_at_the_stop_distance() -> None:
