@@ -197,12 +197,15 @@ class RouteLegOut(BaseModel):
 class RouteLiftOut(BaseModel):
     """The lift sequence now: the car, the phase (``going_to_lift``, ``waiting_for_session``,
     ``calling``, ``waiting_for_car``, ``entering``, ``riding``, ``switching_map``,
-    ``exiting``, ``left``) and the floors."""
+    ``exiting``, ``left``), the floors, and the manoeuvre under way after a blocked door
+    (``avoiding``: out of the car's way after a blocked entry; ``backing_in``: back into the
+    car after a blocked exit)."""
 
     car: str
     phase: str
     from_floor: str
     to_floor: str
+    manoeuvre: Literal["avoiding", "backing_in"] | None = None
 
 
 class RouteOut(BaseModel):
