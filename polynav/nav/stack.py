@@ -257,7 +257,8 @@ class NavigationStack:
         estop = self.software_estop or self.robot.estop_pressed()
         charging = self.robot.read_battery().charging
         self._command = self.navigator.tick(
-            now, estimate, odometry.twist, estop, charging=charging, people=self.people
+            now, estimate, odometry.twist, estop, charging=charging, people=self.people,
+            scan=scan, dock=self.robot.read_dock(),
         )
         if estop:
             self._command = Twist()

@@ -89,9 +89,8 @@ def segment_ranges(
 ) -> npt.NDArray[np.float64]:
     """Distance [m] from (x, y) along each world angle [rad] to the first segment it meets
     (rows ``x0, y0, x1, y1``); ``inf`` where a beam meets none within ``max_range``."""
-    out = np.full(angles.shape[0], np.inf)
     if segments.shape[0] == 0:
-        return out
+        return np.full(angles.shape[0], np.inf)
     ux, uy = np.cos(angles)[:, None], np.sin(angles)[:, None]
     ax, ay = segments[None, :, 0] - x, segments[None, :, 1] - y
     ex = segments[None, :, 2] - segments[None, :, 0]
@@ -101,6 +100,5 @@ def segment_ranges(
         t = (ax * ey - ay * ex) / denom  # along the beam
         s = (ax * uy - ay * ux) / denom  # along the segment, 0..1
     hit = (np.abs(denom) > 1e-12) & (t > 0.0) & (s >= 0.0) & (s <= 1.0) & (t <= max_range)
-    t = np.where(hit, t, np.inf)
-    out = np.minimum(out, t.min(axis=1))
-    return out
+    nearest: npt.NDArray[np.float64] = np.where(hit, t, np.inf).min(axis=1)
+    return nearest

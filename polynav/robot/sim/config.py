@@ -163,6 +163,14 @@ class SimConfig:
                   f"must be below battery_full_voltage ({self.battery_full_voltage})")
 
     @property
+    def front_reach(self) -> float:
+        """How far [m] ahead of the centre the body's front is (where a charger's face meets
+        it): the disk's radius, or the polygon's foremost vertex."""
+        if self.footprint_polygon:
+            return max(x for x, _ in self.footprint_polygon)
+        return self.robot_radius
+
+    @property
     def physics_period(self) -> float:
         """Length of one physics step [s]."""
         return 1.0 / self.physics_rate

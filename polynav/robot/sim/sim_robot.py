@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from polynav.geometry import Twist
 from polynav.robot.interface import (
     BatteryState,
+    DockSignals,
     ImuReading,
     LaserScan,
     Odometry,
@@ -54,6 +55,9 @@ class SimRobot:
 
     def read_people(self) -> Sequence[PersonDetection]:
         return self._sim.detect_people()
+
+    def read_dock(self) -> DockSignals | None:
+        return self._sim.dock_signals()
 
     def dock_contact(self) -> bool:
         """True while the charging contacts touch a charger."""

@@ -34,9 +34,19 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.errors import InvalidRequest
-from polynav.geometry import Pose2D, Twist, angle_diff
-from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
+from polynav.geometry import Pose2D, Twist
+from polynav.robot.interface import (
+    BatteryState,
+    DockLink,
+    DockSignals,
+    ImuReading,
+    LaserScan,
+    Odometry,
+    PersonDetection,
+)
+from polynav.robot.sim import charger as charger_faults
 from polynav.robot.sim.battery import Battery
+from polynav.robot.sim.charger import SimCharger
 from polynav.robot.sim.collision import (
     Collision,
     Obstacle,
@@ -59,7 +69,7 @@ log = logging.getLogger(__name__)
 
 _EPS = 1e-9
 LASER_SLOT_OBJECT = "laser_slot_object"
-FAULTS = frozenset({LASER_SLOT_OBJECT})
+FAULTS = frozenset({LASER_SLOT_OBJECT}) | charger_faults.FAULTS
 _SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
 
 
@@ -174,16 +184,41 @@ class Simulation:
 
     @property
     def docked(self) -> bool:
-        """True while the base stands still on a charger point of its floor (contacts touch)."""
+        """True while the base stands still on a charger of its floor (contacts touch)."""
+        return self._charger_touched() is not None
+
+    @property
+    def charger_current(self) -> bool:
+        """True while a charger's current flows into the battery: docked, the data link's
+        frames valid and the charger's mains on (:mod:`~polynav.robot.sim.charger`)."""
+        return (self.docked and charger_faults.LINK_INVALID not in self._faults
+                and charger_faults.NO_POWER not in self._faults)
+
+    def dock_signals(self) -> DockSignals:
+        """What the robot's docking sensors report now: the beacon of a charger on its floor
+        seen, contact, and the data link's state."""
+        pose = self._base.pose
+        beacon = charger_faults.BEACON_OFF not in self._faults and any(
+            c.beacon_seen(pose) for c in self._floors[self._floor].chargers)
+        contact = self.docked
+        if not contact:
+            link = DockLink.NONE
+        elif charger_faults.LINK_INVALID in self._faults:
+            link = DockLink.INVALID
+        else:
+            link = DockLink.VALID
+        return DockSignals(beacon=beacon, contact=contact, link=link)
+
+    def _charger_touched(self) -> SimCharger | None:
         c = self.config
-        pose, twist = self._base.pose, self._base.twist
+        twist = self._base.twist
         if twist.linear != 0.0 or twist.angular != 0.0:
-            return False
-        return any(
-            pose.distance_to(dock) <= c.dock_distance_tolerance
-            and abs(angle_diff(pose.theta, dock.theta)) <= c.dock_heading_tolerance
-            for dock in self._floors[self._floor].chargers
-        )
+            return None
+        pose = self._base.pose
+        for charger in self._floors[self._floor].chargers:
+            if charger.touches(pose, c.dock_distance_tolerance, c.dock_heading_tolerance):
+                return charger
+        return None
 
     @property
     def odometry(self) -> Odometry:
@@ -244,7 +279,9 @@ class Simulation:
 
     def inject_fault(self, fault: str) -> None:
         """Break something, for tests and demos: ``"laser_slot_object"`` puts an object into
-        the lidar's slot (it then returns a few centimetres over a sector).
+        the lidar's slot (it then returns a few centimetres over a sector); the charger's
+        ``"charger_beacon_off"``, ``"charger_link_invalid"`` and ``"charger_no_power"`` (see
+        :mod:`~polynav.robot.sim.charger`).
 
         Raises:
             InvalidRequest: an unknown fault.
@@ -387,7 +424,7 @@ class Simulation:
         self._odometry.update(distance, rotation, h, now)
         self._imu.accumulate(rotation)
         travel = abs(distance) + c.robot_radius * abs(rotation)
-        self._battery.update(h, travel, charging=self.docked, stamp=now)
+        self._battery.update(h, travel, charging=self.charger_current, stamp=now)
         self._accel = (base.twist.linear - v_before) / h
 
     def _sense(self, now: float, people: npt.NDArray[np.float64],
@@ -437,7 +474,8 @@ class Simulation:
         if robots is None:
             robots = self._scene.robots_near(self)
         circles = np.concatenate((people, robots)) if robots.shape[0] else people
-        scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
+        scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now,
+                                here.charger_segments)
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
