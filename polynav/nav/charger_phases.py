@@ -184,7 +184,17 @@ class ChargerPhases:
         return Twist(speed, max(-0.4, min(0.4, turn)))
 
     def _dock_failed(self, cause: str, now: float) -> Twist:
-        log.warning("docking failed: %s", cause)
+        detail = _DOCK_FAILURES.get(cause, "")
+        message = f"docking failed: {cause}" + (f" ({detail})" if detail else "")
+        log.warning("%s", message)
         self._emit(events.DockingFailed(now, self._require(), cause=cause))
-        self._fail(FailureReason.DOCK_FAILED, f"docking failed: {cause}", now)
+        self._fail(FailureReason.DOCK_FAILED, message, now)
         return Twist()
+
+
+_DOCK_FAILURES = {
+    "no_feature": "no charger's plate in the scan near the charger point",
+    "no_infrared": "the charger's infrared beacon is not seen",
+    "bad_data": "the charger's data link gives no valid frame",
+    "no_contact": "no charging current on the contacts",
+}
