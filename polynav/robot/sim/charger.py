@@ -7,7 +7,8 @@ is:
 - a **body**: the front plate of :class:`~polynav.docking.shape.DockShape`, whose face a docked
   robot's front touches (the face stands the robot's front reach ahead of the charger point).
   The lidar casts its beams against the plate's segments exactly (:func:`segment_ranges`), so a
-  scan shows the notch as it is, not as a grid of 5 cm cells would;
+  scan shows the notch as it is, not as a grid of 5 cm cells would; the base collides with the
+  plate as with a wall (:func:`body_clearance`, on points every ``SAMPLE_STEP`` along it);
 - **contacts**: they touch while the base stands still within the profile's
   ``charger.distance_tolerance`` and ``heading_tolerance`` of the charger point (the simulator's
   ``docked``);
@@ -42,6 +43,7 @@ FAULTS = frozenset({BEACON_OFF, LINK_INVALID, NO_POWER})
 BEACON_RANGE = 3.0  # [m] from the face
 BEACON_CONE = math.radians(35.0)  # either side of the face's normal
 RECEIVER_FOV = math.radians(60.0)  # either side of the robot's heading
+SAMPLE_STEP = 0.01  # [m] between the plate's points the body is checked against
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -51,13 +53,15 @@ class SimCharger:
     pose: Pose2D
     face: Pose2D
     segments: npt.NDArray[np.float64]
+    samples: npt.NDArray[np.float64]
 
     @classmethod
     def at(cls, docked: Pose2D, reach: float, shape: DockShape) -> SimCharger:
         """The charger a robot whose front reaches ``reach`` [m] docks on standing at
         ``docked``."""
         face = face_of(docked, reach)
-        return cls(docked, face, world_segments(face, shape))
+        segments = world_segments(face, shape)
+        return cls(docked, face, segments, _samples(segments))
 
     def touches(self, pose: Pose2D, distance_tolerance: float, heading_tolerance: float) -> bool:
         """Whether a base standing at ``pose`` has its contacts on this charger's."""
@@ -102,3 +106,46 @@ def segment_ranges(
     hit = (np.abs(denom) > 1e-12) & (t > 0.0) & (s >= 0.0) & (s <= 1.0) & (t <= max_range)
     nearest: npt.NDArray[np.float64] = np.where(hit, t, np.inf).min(axis=1)
     return nearest
+
+
+def body_clearance(
+    pose: Pose2D,
+    radius: float,
+    polygon: tuple[tuple[float, float], ...],
+    chargers: tuple[SimCharger, ...],
+) -> float:
+    """Signed gap [m] between the base at ``pose`` (a disk of ``radius``, or ``polygon`` in the
+    base frame) and the chargers' plates: negative where a plate's point is inside the body;
+    ``inf`` with no plate within reach."""
+    near = [c.samples for c in chargers
+            if math.hypot(c.face.x - pose.x, c.face.y - pose.y) <= radius + 1.0]
+    if not near:
+        return math.inf
+    pts = np.concatenate(near)
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    dx, dy = pts[:, 0] - pose.x, pts[:, 1] - pose.y
+    bx, by = c * dx + s * dy, -s * dx + c * dy
+    if not polygon:
+        return float(np.min(np.hypot(bx, by))) - radius
+    poly = np.asarray(polygon, dtype=np.float64)
+    ax, ay = poly[:, 0], poly[:, 1]
+    ex, ey = np.roll(ax, -1) - ax, np.roll(ay, -1) - ay
+    qx, qy = bx[:, None] - ax, by[:, None] - ay
+    t = np.clip((qx * ex + qy * ey) / (ex * ex + ey * ey), 0.0, 1.0)
+    distance = np.hypot(qx - t * ex, qy - t * ey).min(axis=1)
+    # Crossing number: an edge straddling the point's y, crossed to the point's right.
+    straddles = (ay <= by[:, None]) != (ay + ey <= by[:, None])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross_x = ax + (by[:, None] - ay) * ex / ey
+    inside = (np.count_nonzero(straddles & (cross_x > bx[:, None]), axis=1) % 2) == 1
+    return float(np.min(np.where(inside, -distance, distance)))
+
+
+def _samples(segments: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Points every ``SAMPLE_STEP`` along the segments, their ends included."""
+    out = []
+    for x0, y0, x1, y1 in segments:
+        n = max(1, math.ceil(math.hypot(x1 - x0, y1 - y0) / SAMPLE_STEP))
+        t = np.linspace(0.0, 1.0, n + 1)
+        out.append(np.stack((x0 + t * (x1 - x0), y0 + t * (y1 - y0)), axis=1))
+    return np.concatenate(out)

@@ -46,7 +46,7 @@ from polynav.robot.interface import (
 )
 from polynav.robot.sim import charger as charger_faults
 from polynav.robot.sim.battery import Battery
-from polynav.robot.sim.charger import SimCharger
+from polynav.robot.sim.charger import SimCharger, body_clearance
 from polynav.robot.sim.collision import (
     Collision,
     Obstacle,
@@ -145,6 +145,7 @@ class Simulation:
         self._next_scan = now
         self._next_imu = now
         self._wall_gap = self._check_placement(self._floor, pose)
+        self._plate_gap = self._plate_clearance(self._floor, pose)
         self.robot = SimRobot(self)
         scene.add(self)
         log.info("simulation of world %r: %s on %s at %s, seed %d", world.name, name, self._floor,
@@ -335,6 +336,7 @@ class Simulation:
         """
         name = self.world.floor(floor).name
         self._wall_gap = self._check_placement(name, pose)
+        self._plate_gap = self._plate_clearance(name, pose)
         self._floor = name
         self._base.place(pose)
         self._in_contact = False
@@ -404,6 +406,7 @@ class Simulation:
                     here.occupied, here.info, step.pose, radius=c.robot_radius,
                     polygon=c.footprint_polygon, horizon=c.collision_release_distance,
                 )
+                self._plate_gap = self._plate_clearance(self._floor, step.pose)
             else:
                 base.halt()
                 distance = rotation = 0.0
@@ -415,7 +418,7 @@ class Simulation:
         else:
             base.apply(step)  # a standing base stays put; its velocity may still change
         if self._in_contact and min(
-            self._wall_gap,
+            self._wall_gap, self._plate_gap,
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, people),
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, robots),
         ) >= c.collision_release_distance:
@@ -455,6 +458,9 @@ class Simulation:
                                    horizon=c.collision_release_distance)
         if wall < 0.0 and wall < self._wall_gap - _EPS:
             return "wall"
+        plate = self._plate_clearance(self._floor, pose)  # a charger's plate: a wall too
+        if plate < 0.0 and plate < self._plate_gap - _EPS:
+            return "wall"
         checks: tuple[tuple[npt.NDArray[np.float64], Obstacle], ...] = (
             (people, "person"), (robots, "robot"))
         for circles, kind in checks:
@@ -479,6 +485,11 @@ class Simulation:
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
+
+    def _plate_clearance(self, floor: str, pose: Pose2D) -> float:
+        c = self.config
+        return body_clearance(pose, c.robot_radius, c.footprint_polygon,
+                              self._floors[floor].chargers)
 
     def _default_pose(self, floor: str) -> Pose2D:
         if floor == self.world.start_floor:
