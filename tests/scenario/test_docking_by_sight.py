@@ -71,8 +71,8 @@ def test_a_marker_10_cm_and_5_degrees_off_still_docks_by_sight(runtime: RobotRun
     assert [e.kind for e in seen] == ["docking_started", "docking_succeeded"]
     assert runtime.status().navigation_state == "succeeded" and runtime.status().charging
     truth = runtime.simulation.true_pose
-    assert truth.distance_to(CHARGER) < 0.03
-    assert abs(angle_diff(truth.theta, CHARGER.theta)) < math.radians(3.0)
+    assert truth.distance_to(CHARGER) < 0.02
+    assert abs(angle_diff(truth.theta, CHARGER.theta)) < math.radians(1.5)
     assert runtime.simulation.collisions == []
 
 

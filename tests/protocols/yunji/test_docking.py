@@ -64,8 +64,8 @@ def test_a_marker_10_cm_and_5_degrees_off_the_charger_still_docks(
     codes = [c for c, _ in _codes_until(client, "02001")]
     assert codes == ["01001", "01020", "01021", "01002", "02001"]
     truth = harness.runtime.simulation.true_pose
-    assert truth.distance_to(CHARGER) < 0.03
-    assert abs(angle_diff(truth.theta, CHARGER.theta)) < math.radians(3.0)
+    assert truth.distance_to(CHARGER) < 0.02
+    assert abs(angle_diff(truth.theta, CHARGER.theta)) < math.radians(1.5)
 
 
 @pytest.mark.parametrize(("fault", "code"), [
