@@ -179,7 +179,7 @@ class Navigator(ChargerPhases, PlanFailures):
         self._contact_since: float | None = None
         self._scan: LaserScan | None = None
         self._dock_signals: DockSignals | None = None
-        self._dock_sight = DockSight(front_reach(self._footprint))
+        self._dock_sight = DockSight(front_reach(self._footprint), self.config.dock_plate)
         self._beacon_seen = False
         # People seen this period, and the current wait for them to make way.
         self._wait = PeopleWait(

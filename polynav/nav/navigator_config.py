@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError
 
 
@@ -39,7 +40,8 @@ class NavigatorConfig:
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
     neither backs out nor backs up. Docking finds the charger's plate in the scan near the
-    marker and drives onto the pose seen (``dock_by_sight``; off: onto the marker's pose), and
+    marker and drives onto the pose seen (``dock_by_sight``; off: onto the marker's pose; the
+    plate's shape ``dock_plate``, from the profile), and
     fails if the plate is not found, or a base with a beacon receiver does not see the
     charger's beacon, within ``dock_find_wait`` [s] at the approach
     (:mod:`~polynav.nav.charger_phases`).
@@ -61,6 +63,7 @@ class NavigatorConfig:
     dock_contact_wait: float = 3.0
     dock_timeout: float = 40.0
     dock_by_sight: bool = True
+    dock_plate: DockShape = DockShape()
     dock_find_wait: float = 2.0
     retry_min_time: float = 30.0
     recovery_clear_radius: float = 1.5

@@ -155,6 +155,7 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
         reverse_allowed=nav.reverse_allowed and profile.reverse.allowed,
         recovery_backout_distance=min(nav.recovery_backout_distance,
                                       max(profile.rear_view, BLIND_BACKOUT)),
+        dock_plate=profile.charger.plate,
     )
     return replace(base, controller=controller, costmap=costmap, navigator=navigator,
                    footprint=profile.footprint)

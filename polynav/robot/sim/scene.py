@@ -36,7 +36,6 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.clock import ManualClock
-from polynav.docking.shape import DockShape
 from polynav.errors import InvalidRequest
 from polynav.maps.map import MapInfo
 from polynav.robot.sim.charger import SimCharger
@@ -219,7 +218,7 @@ def floor_state(floor: WorldFloor, config: SimConfig) -> FloorState:
     ]
     # A charger stands at each charger point, its face where the robot's front is when docked.
     reach = config.front_reach
-    chargers = tuple(SimCharger.at(p.pose, reach, DockShape())
+    chargers = tuple(SimCharger.at(p.pose, reach, config.charger_plate)
                      for p in floor.points if p.kind is PointKind.CHARGER)
     segments = (np.concatenate([c.segments for c in chargers]) if chargers
                 else np.empty((0, 4), dtype=np.float64))

@@ -4,6 +4,7 @@ front only, and a data link and mains whose faults keep the current off."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -11,7 +12,9 @@ from polynav.docking.detector import find_dock, points_of_scan
 from polynav.docking.shape import DockShape, face_of
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, Twist, angle_diff
+from polynav.nav.stack import stack_config_for
 from polynav.robot.interface import DockLink
+from polynav.robot.profile import DEFAULT_PROFILE, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.simulation import Simulation
 from polynav.site import PointKind
@@ -97,3 +100,15 @@ def test_an_unknown_fault_is_refused() -> None:
     sim = Simulation(_world(CHARGER), config=QUIET, people=False)
     with pytest.raises(InvalidRequest, match="charger_beacon_off"):
         sim.inject_fault("charger_on_fire")
+
+
+def test_the_profile_sizes_the_plate_for_the_simulator_and_the_navigator() -> None:
+    base = load_profile(DEFAULT_PROFILE)
+    wide = replace(base, charger=replace(base.charger, plate_width=0.8, notch_width=0.4))
+    plate = DockShape(0.8, 0.4, 0.1)
+    assert wide.sim_config().charger_plate == plate
+    assert stack_config_for(wide).navigator.dock_plate == plate
+    sim = Simulation(_world(CHARGER), config=wide.sim_config(QUIET), people=False)
+    segments = sim.scene.floors["ground"].charger_segments
+    ys = segments[:, [1, 3]]
+    assert abs(float(ys.max() - ys.min()) - 0.8) < 1e-9
