@@ -34,9 +34,11 @@ import dataclasses
 import datetime as dt
 import logging
 import math
+import threading
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 from polynav.errors import PolynavError
 from polynav.fleet import messages as m
@@ -58,6 +60,13 @@ POINT_MATCH = 0.5
 
 ACTION_STATES_KEPT = 20
 """How many instant actions' states the state lists (the latest)."""
+
+
+@runtime_checkable
+class Reconnecting(Protocol):
+    """A transport that can lose its broker and tell when it is back (the MQTT one)."""
+
+    def add_reconnect_listener(self, listener: Callable[[], None]) -> None: ...
 
 
 @dataclass(slots=True)
@@ -146,6 +155,10 @@ class RobotAgent:
         self._state_dirty = True
         self._seen: tuple[object, ...] = ()
         self._outcomes: dict[str, str] = {}
+        # Set from the transport's network thread when the broker is back; read on the tick.
+        self._relinked = threading.Event()
+        if isinstance(transport, Reconnecting):
+            transport.add_reconnect_listener(self._relinked.set)
 
     def topic(self, kind: type | str) -> str:
         """This robot's topic for messages of ``kind``."""
@@ -177,6 +190,15 @@ class RobotAgent:
 
     def tick(self, now: float) -> None:
         """Read the fleet's messages, follow the order and the traffic rule, report the state."""
+        if self._relinked.is_set():
+            # Back on the broker: what was published meanwhile (QoS 0) is lost, so the state
+            # goes out at once and every zone asked for or held is asked for again.
+            self._relinked.clear()
+            log.info("%s: back on the broker; state and zone requests sent again",
+                     self.serial_number)
+            self._state_dirty = True
+            self.traffic.resend()
+            self.lift_sessions.resend()
         for response in self._responses.drain():
             if isinstance(response, m.ZoneResponse):
                 self.traffic.on_response(response)

@@ -13,11 +13,17 @@ visualization, and polynav's zone requests and answers, which 3.0 sends at QoS 0
 not retained (:data:`DELIVERY`).
 
 The connection is kept: when the broker goes away the loop reconnects with exponential backoff
-and subscribes again to every topic it had. A broker that cannot be reached at start-up is an
-error (:class:`BrokerUnreachable`) after a bounded wait, so a misconfigured robot says so instead
-of waiting for ever. A message that does not decode (not JSON, a field missing or of the wrong
-type, a breach of the VDA 5050 schema) is logged and counted as dropped: one bad publisher must
-not stop a robot from hearing the fleet. A fleet-message subscription hands it over as a
+(each failed attempt a log line with the wait before the next) and subscribes again to every
+topic it had; listeners added with :meth:`MqttTransport.add_reconnect_listener` are then told,
+so a vehicle can say ONLINE again and publish its state (a restarted broker has forgotten its
+retained messages, and QoS 0 messages published meanwhile were lost). While the broker is away
+a QoS 0 message cannot be sent: it is counted as unsent, and logged once per outage. A broker
+that cannot be reached at start-up is an error (:class:`BrokerUnreachable`) after a bounded
+wait, so a misconfigured robot says so instead of waiting for ever.
+
+A message that does not decode (not JSON, a field missing or of the wrong type, a breach of the
+VDA 5050 schema) is logged and counted as dropped: one bad publisher must not stop a robot from
+hearing the fleet. A fleet-message subscription hands it over as a
 :class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a validationError in
 its state); a raw subscription leaves it out.
 
@@ -39,6 +45,7 @@ import threading
 import time
 import urllib.parse
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from types import TracebackType
 from typing import Any, Generic, TypeVar
@@ -250,6 +257,10 @@ class MqttTransport:
         self._close_timeout = close_timeout
         self._in_flight: list[paho.MQTTMessageInfo] = []
         self._published = self._unsent = self._received = self._dropped = self._connects = 0
+        self._reconnect_delay = reconnect_delay
+        self._attempts = 0  # failed reconnection attempts since the connection was lost
+        self._unsent_said = False  # an unsent message logged in this outage
+        self._reconnect_listeners: list[Callable[[], None]] = []
 
         client = paho.Client(CallbackAPIVersion.VERSION2, client_id=client_id,
                              clean_session=True, protocol=paho.MQTTv311)
@@ -266,6 +277,7 @@ class MqttTransport:
             client.will_set(topic, payload, qos, retain)
         client.on_connect = self._on_connect
         client.on_disconnect = self._on_disconnect
+        client.on_connect_fail = self._on_connect_fail
         client.on_subscribe = self._on_subscribe
         client.on_message = self._on_message
         self._client = client
@@ -325,6 +337,15 @@ class MqttTransport:
         return inbox
 
     # -- connection state ---------------------------------------------------------------------
+
+    def add_reconnect_listener(self, listener: Callable[[], None]) -> None:
+        """Call ``listener()`` after each reconnection, once the subscriptions are sent again.
+
+        It runs on the network thread: it must be quick and must not wait for the broker (set
+        a flag for the owner's loop, or publish).
+        """
+        with self._lock:
+            self._reconnect_listeners.append(listener)
 
     @property
     def connected(self) -> bool:
@@ -437,7 +458,12 @@ class MqttTransport:
             return
         with self._lock:
             self._unsent += 1
-        log.warning("MQTT message on %s not sent: %s", topic, paho.error_string(info.rc))
+            said, self._unsent_said = self._unsent_said, True
+        if said:
+            log.debug("MQTT message on %s not sent: %s", topic, paho.error_string(info.rc))
+        else:
+            log.warning("MQTT message on %s not sent: %s (more are lost until the broker is "
+                        "back)", topic, paho.error_string(info.rc))
 
     def _add(self, queue: _Queue[Any]) -> None:
         _check_filter(queue.topic_filter)
@@ -475,6 +501,9 @@ class MqttTransport:
             self._connected = True
             self._connects += 1
             reconnect = self._connects > 1
+            self._attempts = 0
+            self._unsent_said = False
+            listeners = list(self._reconnect_listeners) if reconnect else []
             self._acked.clear()
             self._pending.clear()
             self._early_acks.clear()
@@ -484,6 +513,23 @@ class MqttTransport:
                  "reconnected" if reconnect else "connected", self.url)
         for topic_filter in filters:  # a clean session: the broker forgot our subscriptions
             self._send_subscribe(topic_filter)
+        for listener in listeners:
+            try:
+                listener()
+            except Exception:  # a listener's bug must not end the network thread
+                log.exception("MQTT client %s: a reconnect listener failed", self.client_id)
+
+    def _on_connect_fail(self, client: paho.Client, userdata: Any) -> None:
+        # paho waits min(first * 2**n, longest) before its next attempt (reconnect_delay_set).
+        with self._lock:
+            if self._closed:
+                return
+            self._attempts += 1
+            attempts = self._attempts
+        first, longest = self._reconnect_delay
+        wait = min(first * 2 ** min(attempts, 16), longest)
+        log.warning("MQTT client %s: broker at %s still unreachable (attempt %d); next attempt "
+                    "in %g s", self.client_id, self.url, attempts, wait)
 
     def _on_disconnect(self, client: paho.Client, userdata: Any,
                        flags: paho.DisconnectFlags, reason_code: ReasonCode,

@@ -1,0 +1,147 @@
+"""The broker goes away mid-mission (issue #36 item 1): a real Mosquitto is stopped while two
+robots of a building drive their orders through a shared corridor, and started again on the
+same port. The robots drive on meanwhile, reconnect with backoff, say ONLINE again, ask again
+for the zones they need, and finish their orders; the master control hears how they ended."""
+
+from __future__ import annotations
+
+import logging
+import subprocess
+import time
+from pathlib import Path
+
+import orjson
+import pytest
+
+from polynav.fleet.mqtt_transport import MqttTransport
+from polynav.fleet.vda5050 import validation
+from polynav.fleet.vehicle import VehicleConfig
+from polynav.house.building import Building
+from polynav.runtime.config import RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds.world import World
+from tests.helpers.mosquitto import Mosquitto, mosquitto_binary
+from tests.protocols.fleet_mqtt.conftest import WAIT
+
+
+def retained(broker: Mosquitto, topic: str) -> dict[str, object]:
+    got = subprocess.run(
+        [mosquitto_binary("mosquitto_sub"), "-h", "127.0.0.1", "-p", str(broker.port),
+         "-t", topic, "-C", "1", "-W", "10"],
+        capture_output=True, text=True, timeout=15.0, check=True)
+    body: dict[str, object] = orjson.loads(got.stdout)
+    return body
+
+
+def _paced(building: Building, seconds: float) -> None:
+    """Run the building ``seconds`` of wall time, 2 ms of wall time per control period (the
+    network threads get their turn, as at a few times real time)."""
+    deadline = time.monotonic() + seconds
+
+    def over() -> bool:
+        time.sleep(0.002)
+        return time.monotonic() >= deadline
+
+    building.advance_until(over, timeout=3600.0)
+
+
+def test_a_broker_restarted_mid_mission_costs_no_order(
+        broker: Mosquitto, world: World, store: SiteStore,
+        caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.INFO, logger="polynav.fleet")
+    building = Building(store, world, robots=2, config=RuntimeConfig(people=False),
+                        vehicles=VehicleConfig(broker.url, version="2.1.0",
+                                               visualization_period=None))
+    try:
+        orders = {"robot1": building.send("robot1", "office_4", "floor1"),
+                  "robot2": building.send("robot2", "kitchen", "floor1")}
+
+        def driving() -> bool:
+            time.sleep(0.002)
+            return all(building.master.state(s) is not None and building.master.state(s).driving
+                       for s in orders)  # type: ignore[union-attr]
+
+        assert building.advance_until(driving, timeout=20.0)
+        before = {s: building.master.state(s) for s in orders}
+        poses = {s: building.agent(s).runtime.status().pose for s in orders}
+
+        broker.stop()
+        links = [link.transport for link in building.links]
+        assert all(t.wait_disconnected(WAIT) for t in links)
+        _paced(building, 2.5)  # the robots drive on; each reconnection attempt fails
+        moved = {s: building.agent(s).runtime.status().pose.distance_to(poses[s])
+                 for s in orders}
+        assert all(d > 0.5 for d in moved.values()), moved
+        broker.restart()  # same port; it has forgotten every retained message
+
+        def done() -> bool:
+            time.sleep(0.002)
+            return all(building.outcome(s, o) is not None for s, o in orders.items()) and all(
+                (st := building.master.state(s)) is not None and st.order_id == orders[s]
+                and not st.node_states for s in orders)
+
+        assert building.advance_until(done, timeout=300.0)
+        assert {s: building.outcome(s, o) for s, o in orders.items()} == {
+            "robot1": "succeeded", "robot2": "succeeded"}
+        after = {s: building.master.state(s) for s in orders}
+        for serial in orders:
+            first, last = before[serial], after[serial]
+            assert first is not None and last is not None
+            assert last.header.header_id > first.header.header_id  # one count, never reset
+            assert last.errors == ()
+        entries = {e.robot_id: e for e in building.entries()}
+        assert {s: entries[s].order_state for s in orders} == {
+            "robot1": "succeeded", "robot2": "succeeded"}
+        assert all(t.stats().connects == 2 for t in [*links, building.transport]
+                   if isinstance(t, MqttTransport))
+        # The restarted broker has the robots' connection and factsheet again (retained).
+        for serial in orders:
+            online = retained(broker, f"uagv/v2/polynav/{serial}/connection")
+            validation.validate("connection", "2.1.0", online)
+            assert online["connectionState"] == "ONLINE"
+            validation.validate("factsheet", "2.1.0",
+                                retained(broker, f"uagv/v2/polynav/{serial}/factsheet"))
+    finally:
+        building.close()
+    said = caplog.text
+    assert "lost the broker" in said
+    assert "still unreachable (attempt 1); next attempt in 2 s" in said
+    assert "reconnected to " + broker.url in said
+    assert "back on the broker" in said
+
+
+def test_a_transport_says_each_failed_attempt_and_its_backoff_then_reconnects(
+        broker: Mosquitto, tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.INFO, logger="polynav.fleet.mqtt_transport")
+    back: list[int] = []
+    with MqttTransport(broker.url, "watcher", reconnect_delay=(1, 2)) as transport:
+        transport.add_reconnect_listener(lambda: back.append(transport.stats().connects))
+        inbox = transport.subscribe_raw("a/+/state")
+        assert transport.wait_subscribed(WAIT)
+        broker.stop()
+        assert transport.wait_disconnected(WAIT)
+        time.sleep(3.6)  # attempts after 1 s and then every 2 s (the longest wait)
+        attempts = [r.getMessage() for r in caplog.records if "still unreachable" in
+                    r.getMessage()]
+        assert attempts[:2] == [
+            f"MQTT client watcher: broker at {broker.url} still unreachable (attempt 1); "
+            "next attempt in 2 s",
+            f"MQTT client watcher: broker at {broker.url} still unreachable (attempt 2); "
+            "next attempt in 2 s"]
+        # Meanwhile a QoS 0 message cannot go: counted, and said once for the outage.
+        transport.publish_raw("a/r1/visualization", b"{}")
+        transport.publish_raw("a/r1/visualization", b"{}")
+        assert transport.stats().unsent == 2
+        assert sum("not sent" in r.getMessage() for r in caplog.records) == 1
+        broker.restart()
+        assert transport.wait_subscribed(WAIT)  # subscribed again on the new broker
+        deadline = time.monotonic() + WAIT
+        while not back and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert back == [2]
+        with MqttTransport(broker.url, "robot") as robot:
+            robot.publish_raw("a/r1/state", b"{}")
+            deadline = time.monotonic() + WAIT
+            while not (got := inbox.drain()) and time.monotonic() < deadline:
+                time.sleep(0.01)
+        assert [m.payload for m in got] == [b"{}"]
