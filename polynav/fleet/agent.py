@@ -44,7 +44,7 @@ from polynav.errors import PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
 from polynav.fleet.lift_sessions import FleetLiftSessions
-from polynav.fleet.order_check import Verdict, check_order
+from polynav.fleet.order_check import MAX_COORDINATE, Verdict, check_order
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import ZoneMap
 from polynav.geometry import Pose2D
@@ -434,6 +434,9 @@ class RobotAgent:
             raise _ActionFailed("initPosition needs numbers x, y and theta")
         assert isinstance(x, (int, float)) and isinstance(y, (int, float))
         assert isinstance(theta, (int, float))
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in (x, y, theta)):
+            raise _ActionFailed(f"initPosition out of range: |x|, |y|, |theta| must be <= "
+                                f"{MAX_COORDINATE:g}")
         pose = Pose2D(float(x), float(y), float(theta))
         status = self.runtime.status()
         if map_id is None or map_id == status.map:

@@ -22,10 +22,10 @@ that cannot be reached at start-up is an error (:class:`BrokerUnreachable`) afte
 wait, so a misconfigured robot says so instead of waiting for ever.
 
 A message that does not decode (not JSON, a field missing or of the wrong type, a breach of the
-VDA 5050 schema) is logged and counted as dropped: one bad publisher must not stop a robot from
-hearing the fleet. A fleet-message subscription hands it over as a
-:class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a validationError in
-its state); a raw subscription leaves it out.
+VDA 5050 schema, more than :data:`MAX_MESSAGE` bytes) is logged and counted as dropped: one bad
+publisher must not stop a robot from hearing the fleet. A fleet-message subscription hands it
+over as a :class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a
+validationError in its state); a raw subscription leaves it out.
 
 Messages the codec does not cover (``connection``, ``factsheet``, ``visualization`` in their
 VDA form) go through :meth:`MqttTransport.publish_raw` and :meth:`MqttTransport.subscribe_raw`.
@@ -83,6 +83,11 @@ DELIVERY: dict[str, Delivery] = {
 
 _DEFAULT_DELIVERY = Delivery(qos=0, retain=False)
 
+MAX_MESSAGE = 512 * 1024
+"""The longest message read [bytes] (the factsheet's ``maxStringLens.msgLen``): a 1000-node
+order is about 220 kB; a longer message is refused before it is parsed, so one 2 MB payload
+cannot hold the network thread for seconds of schema checks."""
+
 
 def delivery(topic: str) -> Delivery:
     """How a message on ``topic`` travels, by its last level (``.../connection``)."""
@@ -130,8 +135,9 @@ class TransportStats:
 class _Queue(Generic[T]):
     """A subscription's queue, filled by the network thread and drained by the reader."""
 
-    def __init__(self, topic_filter: str) -> None:
+    def __init__(self, topic_filter: str, max_message: int = MAX_MESSAGE) -> None:
         self.topic_filter = topic_filter
+        self.max_message = max_message
         self.dropped = 0
         self._items: deque[T] = deque()
         self._arrived = threading.Condition()
@@ -151,6 +157,7 @@ class _Queue(Generic[T]):
     def offer(self, message: paho.MQTTMessage) -> bool:
         """Decode and queue ``message``; False (logged, counted) if it does not decode."""
         try:
+            _check_size(message, self.max_message)
             item = self.read(message)
         except InvalidRequest as exc:
             self.dropped += 1
@@ -175,7 +182,15 @@ class MessageInbox(_Queue[Received]):
     :class:`~polynav.fleet.messages.Rejected`, so a vehicle can report it in its state."""
 
     def offer(self, message: paho.MQTTMessage) -> bool:
-        item = codec.read(message.topic.rsplit("/", 1)[-1], bytes(message.payload))
+        kind = message.topic.rsplit("/", 1)[-1]
+        try:
+            _check_size(message, self.max_message)
+            item = self.read(message)
+        except InvalidRequest as exc:
+            item = Rejected(kind, exc.field, str(exc))
+        except Exception as exc:  # a reader's bug: refused like bad input, and said loudly
+            log.error("a message on %s could not be read", message.topic, exc_info=True)
+            item = Rejected(kind, "message", f"could not be read: {type(exc).__name__}")
         if isinstance(item, Rejected):
             self.dropped += 1
             log.warning("refused a message on %s: %s", message.topic, item.reason)
@@ -590,6 +605,12 @@ class MqttTransport:
                       exc_info=True)
             with self._lock:
                 self._dropped += 1
+
+
+def _check_size(message: paho.MQTTMessage, limit: int) -> None:
+    if len(message.payload) > limit:
+        raise InvalidRequest("message", f"{len(message.payload)} bytes: more than the {limit} "
+                             "a message may have")
 
 
 def _settled(info: paho.MQTTMessageInfo) -> bool:
