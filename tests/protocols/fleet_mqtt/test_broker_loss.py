@@ -20,7 +20,8 @@ from polynav.house.building import Building
 from polynav.runtime.config import RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
-from tests.helpers.mosquitto import Mosquitto, mosquitto_binary
+from tests.helpers.mosquitto import Mosquitto, free_loopback_port, mosquitto_binary
+from tests.helpers.polynav_run import running
 from tests.protocols.fleet_mqtt.conftest import WAIT
 
 
@@ -33,14 +34,15 @@ def retained(broker: Mosquitto, topic: str) -> dict[str, object]:
     return body
 
 
-def _paced(building: Building, seconds: float) -> None:
-    """Run the building ``seconds`` of wall time, 2 ms of wall time per control period (the
-    network threads get their turn, as at a few times real time)."""
+def _paced(building: Building, seconds: float, sim_seconds: float) -> None:
+    """Run the building at least ``seconds`` of wall time and ``sim_seconds`` of simulated
+    time, 2 ms of wall time per control period (the network threads get their turn)."""
     deadline = time.monotonic() + seconds
+    sim_deadline = building.now() + sim_seconds
 
     def over() -> bool:
         time.sleep(0.002)
-        return time.monotonic() >= deadline
+        return time.monotonic() >= deadline and building.now() >= sim_deadline
 
     building.advance_until(over, timeout=3600.0)
 
@@ -68,10 +70,13 @@ def test_a_broker_restarted_mid_mission_costs_no_order(
         broker.stop()
         links = [link.transport for link in building.links]
         assert all(t.wait_disconnected(WAIT) for t in links)
-        _paced(building, 2.5)  # the robots drive on; each reconnection attempt fails
+        _paced(building, 2.5, 15.0)  # the robots drive on; each reconnection attempt fails
         moved = {s: building.agent(s).runtime.status().pose.distance_to(poses[s])
                  for s in orders}
         assert all(d > 0.5 for d in moved.values()), moved
+        # One has come to the corridor meanwhile: it asked for it, unheard, and waits short
+        # of it (asked again once the broker is back, it is granted and goes on).
+        assert any(building.agent(s).traffic.waiting_for for s in orders)
         broker.restart()  # same port; it has forgotten every retained message
 
         def done() -> bool:
@@ -145,3 +150,15 @@ def test_a_transport_says_each_failed_attempt_and_its_backoff_then_reconnects(
             while not (got := inbox.drain()) and time.monotonic() < deadline:
                 time.sleep(0.01)
         assert [m.payload for m in got] == [b"{}"]
+
+
+def test_a_building_with_an_unreachable_broker_at_start_up_says_so_in_one_line_and_exits_1(
+        tmp_path: Path) -> None:
+    # (A lone robot's: test_run_broker.py.)
+    url = f"mqtt://127.0.0.1:{free_loopback_port()}"  # nothing listens there
+    with running(tmp_path, None, "--robots", "2", "--broker", url) as (proc, _):
+        _, err = proc.communicate(timeout=90)
+    assert proc.returncode == 1
+    assert err.strip().splitlines() == [
+        f"polynav run: MQTT broker at {url} not reachable after 10.0 s: "
+        "ConnectionRefusedError: [Errno 111] Connection refused"], err
