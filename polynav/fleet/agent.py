@@ -61,6 +61,14 @@ POINT_MATCH = 0.5
 ACTION_STATES_KEPT = 20
 """How many instant actions' states the state lists (the latest)."""
 
+OUTCOMES_KEPT = 1000
+"""How many ended orders' outcomes the agent remembers (the latest), for :meth:`outcome_of`."""
+
+ERROR_TEXT = 200
+"""The longest an error's description or reference value in the state may be [characters]: a
+bad message's 300 kB orderId, echoed in every state, would make each state too long for the
+fleet to read (and the logs unreadable)."""
+
 
 @runtime_checkable
 class Reconnecting(Protocol):
@@ -242,10 +250,24 @@ class RobotAgent:
         if rejected.order_id is not None:
             refs.append(m.ErrorReference("orderId", rejected.order_id))
         self._report(m.ErrorEntry("validationError", "WARNING", rejected.reason, tuple(refs)))
-        if rejected.order_id is not None:
-            self._outcomes.setdefault(rejected.order_id, f"failed: {rejected.reason}")
+        if rejected.order_id is not None and rejected.order_id not in self._outcomes:
+            self._remember(rejected.order_id, f"failed: {_clip(rejected.reason)}")
+
+    def _remember(self, order_id: str, outcome: str) -> None:
+        """Keep how ``order_id`` ended, forgetting the oldest beyond :data:`OUTCOMES_KEPT`;
+        an id too long for any master's order (a bad message's) is not kept."""
+        if len(order_id) > ERROR_TEXT:
+            return
+        self._outcomes.pop(order_id, None)
+        self._outcomes[order_id] = outcome
+        while len(self._outcomes) > OUTCOMES_KEPT:
+            del self._outcomes[next(iter(self._outcomes))]
 
     def _report(self, error: m.ErrorEntry) -> None:
+        error = dataclasses.replace(
+            error, error_description=_clip(error.error_description),
+            error_references=tuple(dataclasses.replace(r, reference_value=_clip(
+                r.reference_value)) for r in error.error_references))
         log.warning("%s: %s: %s", self.serial_number, error.error_type, error.error_description)
         self._errors = [e for e in self._errors if e.error_type != "orderFailed"] + [error]
         del self._errors[:-5]
@@ -270,13 +292,13 @@ class RobotAgent:
             assert check.error is not None
             self._report(check.error)
             if run is None or order.order_id != run.order.order_id:
-                self._outcomes[order.order_id] = f"failed: {check.error.error_description}"
+                self._remember(order.order_id, f"failed: {check.error.error_description}")
             return
         if self.runtime.mode is not Mode.NAVIGATING:
             self._report(m.ErrorEntry("validationError", "WARNING",
                                       "the robot is not navigating (start navigation first)",
                                       (m.ErrorReference("orderId", order.order_id),)))
-            self._outcomes[order.order_id] = "failed: the robot is not navigating"
+            self._remember(order.order_id, "failed: the robot is not navigating")
             return
         self._errors = []
         if check.verdict is Verdict.TAKE_UPDATE:
@@ -293,7 +315,7 @@ class RobotAgent:
                      order.order_update_id)
         else:
             if run is not None:
-                self._outcomes[run.order.order_id] = self.outcome or "failed: replaced"
+                self._remember(run.order.order_id, self.outcome or "failed: replaced")
             self._run = _OrderRun(order)
             log.info("%s: order %s with %d nodes", self.serial_number, order.order_id,
                      len(order.nodes))
@@ -512,6 +534,13 @@ class RobotAgent:
             m.ZoneRequest(self._zone_headers, self.serial_number, request_id, zone_id,
                           request_type, duration, flow))
         self._state_dirty = True
+
+
+def _clip(text: str) -> str:
+    """``text``, cut to :data:`ERROR_TEXT` characters (saying how long it was)."""
+    if len(text) <= ERROR_TEXT:
+        return text
+    return f"{text[:ERROR_TEXT]}... ({len(text)} characters)"
 
 
 def _driving(status: StatusSnapshot) -> bool:

@@ -161,7 +161,7 @@ class _Queue(Generic[T]):
             item = self.read(message)
         except InvalidRequest as exc:
             self.dropped += 1
-            log.warning("dropped a message on %s: %s", message.topic, exc)
+            log.warning("dropped a message on %s: %s", message.topic, str(exc)[:300])
             return False
         self._put(item)
         return True
@@ -193,7 +193,8 @@ class MessageInbox(_Queue[Received]):
             item = Rejected(kind, "message", f"could not be read: {type(exc).__name__}")
         if isinstance(item, Rejected):
             self.dropped += 1
-            log.warning("refused a message on %s: %s", message.topic, item.reason)
+            reason = item.reason if len(item.reason) <= 300 else item.reason[:300] + "..."
+            log.warning("refused a message on %s: %s", message.topic, reason)
         self._put(item)
         return not isinstance(item, Rejected)
 

@@ -217,6 +217,10 @@ SPECIFIC: dict[tuple[str, str], Callable[[], bytes]] = {
         {**order([(8.0, 8.5)]), "nodes": [{"nodeId": "n0", "sequenceId": 0, "released": True,
                                             "actions": [], "nodePosition": {
                                                 "x": 8.0, "y": 8.5, "mapId": "mars"}}]}),
+    ("order", "ids_of_300_kb"): lambda: orjson.dumps(
+        {**order([(8.0, 8.5), (5.5, 12.5)]), "orderId": "o" * 300_000}),
+    ("order", "wrong_types_of_300_kb"): lambda: orjson.dumps(
+        {**order([(8.0, 8.5)]), "orderId": "o" * 200_000, "nodes": {"bad": ["x" * 200_000]}}),
     ("instantActions", "unknown_action_type"): lambda: orjson.dumps(
         {**header(), "actions": [{"actionId": "u1", "actionType": "selfDestruct",
                                   "actionName": "selfDestruct", "blockingType": "NONE"}]}),
@@ -278,6 +282,11 @@ def test_a_bad_message_is_answered_or_logged_and_the_robot_goes_on(
     # control reads the state that says so; every client is still connected.
     ask = site.instant("stateRequest")
     assert site.run_until(lambda: site.action_status(ask) == "FINISHED"), _warned(caplog)
+    # What the state echoes of a bad message is cut short (a state must stay readable).
+    for error in site.state().errors:
+        assert len(error.error_description) < 300
+        assert all(len(r.reference_value) < 300 for r in error.error_references)
+    assert all(len(w) < 1000 for w in _warned(caplog))
     clients = [site.building.transport, *(link.transport for link in site.building.links)]
     assert all(isinstance(c, MqttTransport) and c.connected for c in clients)
 
