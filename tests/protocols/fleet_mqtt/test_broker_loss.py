@@ -7,17 +7,23 @@ from __future__ import annotations
 
 import logging
 import subprocess
+import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import orjson
+import paho.mqtt.client as paho
 import pytest
+from paho.mqtt.enums import CallbackAPIVersion
 
 from polynav.fleet.mqtt_transport import MqttTransport
 from polynav.fleet.vda5050 import validation
-from polynav.fleet.vehicle import VehicleConfig
+from polynav.fleet.vehicle import LoneVehicle, VehicleConfig
 from polynav.house.building import Building
 from polynav.runtime.config import RuntimeConfig
+from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
 from tests.helpers.mosquitto import Mosquitto, free_loopback_port, mosquitto_binary
@@ -162,3 +168,108 @@ def test_a_building_with_an_unreachable_broker_at_start_up_says_so_in_one_line_a
     assert err.strip().splitlines() == [
         f"polynav run: MQTT broker at {url} not reachable after 10.0 s: "
         "ConnectionRefusedError: [Errno 111] Connection refused"], err
+
+
+class Watcher:
+    """A foreign master's view: every message under the robot's topics, subscribed again
+    whenever its own client reconnects (paho, nothing of polynav's)."""
+
+    def __init__(self, port: int, base: str) -> None:
+        self.base = base
+        self.seen: list[tuple[str, dict[str, Any]]] = []
+        self._lock = threading.Lock()
+        self.client = paho.Client(CallbackAPIVersion.VERSION2, client_id="watcher",
+                                  protocol=paho.MQTTv311)
+        self.client.reconnect_delay_set(1, 1)
+        self.client.on_connect = lambda c, *args: c.subscribe(f"{base}/#", qos=1)
+        self.client.on_message = self._on_message
+        self.client.connect("127.0.0.1", port)
+        self.client.loop_start()
+
+    def _on_message(self, client: paho.Client, userdata: Any, msg: paho.MQTTMessage) -> None:
+        kind = msg.topic.rsplit("/", 1)[-1]
+        if kind in ("order", "instantActions"):
+            return
+        with self._lock:
+            self.seen.append((kind, orjson.loads(msg.payload)))
+
+    def of(self, kind: str) -> list[dict[str, Any]]:
+        with self._lock:
+            return [body for k, body in self.seen if k == kind]
+
+    def publish(self, kind: str, body: dict[str, Any]) -> None:
+        self.client.publish(f"{self.base}/{kind}", orjson.dumps(body), qos=0).wait_for_publish(
+            WAIT)
+
+    def close(self) -> None:
+        self.client.disconnect()
+        self.client.loop_stop()
+
+
+def test_a_lone_vehicle_finishes_its_order_offline_and_says_so_when_the_broker_is_back(
+        broker: Mosquitto, world: World, store: SiteStore) -> None:
+    runtime = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+    runtime.start_navigation("floor1")
+    vehicle = LoneVehicle(runtime, "r1", VehicleConfig(broker.url, visualization_period=None))
+    watcher = Watcher(broker.port, "uagv/v2/polynav/r1")
+
+    def run_until(done: Callable[[], bool], wall: float = 15.0) -> bool:
+        deadline = time.monotonic() + wall
+        while not done():
+            if time.monotonic() > deadline:
+                return False
+            runtime.advance(0.1)
+            time.sleep(0.002)
+        return True
+
+    try:
+        vehicle.agent.publish_state(runtime.now())
+        assert run_until(lambda: bool(watcher.of("state")))
+        here = watcher.of("state")[-1]["agvPosition"]
+        watcher.publish("order", {
+            "headerId": 1, "timestamp": "2026-11-28T12:00:00.000Z", "version": "2.0.0",
+            "manufacturer": "polynav", "serialNumber": "r1", "orderId": "o1",
+            "orderUpdateId": 0, "edges": [{"edgeId": "e0", "sequenceId": 1, "released": True,
+                                           "startNodeId": "start", "endNodeId": "lobby",
+                                           "actions": []}],
+            "nodes": [{"nodeId": "start", "sequenceId": 0, "released": True, "actions": [],
+                       "nodePosition": {"x": here["x"], "y": here["y"], "mapId": "floor1"}},
+                      {"nodeId": "lobby", "sequenceId": 2, "released": True, "actions": [],
+                       "nodePosition": {"x": 5.5, "y": 12.5, "mapId": "floor1"}}]})
+        assert run_until(lambda: any(s["driving"] for s in watcher.of("state")))
+        before = max(s["headerId"] for s in watcher.of("state"))
+
+        said = max(c["headerId"] for c in watcher.of("connection"))
+        broker.stop()
+        assert vehicle.link.transport.wait_disconnected(WAIT)
+        # Offline, it drives on to the end of its released nodes.
+        assert run_until(lambda: vehicle.agent.outcome == "succeeded", wall=20.0)
+        broker.restart()
+        # Back: it says ONLINE again (the new broker has no retained message of it; the old
+        # one may have published the will, CONNECTIONBROKEN, as it stopped).
+        assert vehicle.link.transport.wait_connected(WAIT)
+
+        def online_again() -> bool:
+            return any(c["headerId"] > said and c["connectionState"] == "ONLINE"
+                       for c in watcher.of("connection"))
+
+        deadline = time.monotonic() + WAIT
+        while not online_again() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert online_again(), watcher.of("connection")
+        back = runtime.now()
+
+        def told() -> bool:
+            states = [s for s in watcher.of("state") if s["headerId"] > before]
+            return bool(states) and states[-1]["lastNodeId"] == "lobby" and (
+                states[-1]["nodeStates"] == [] and not states[-1]["driving"])
+
+        assert run_until(told, wall=20.0)
+        assert runtime.now() - back < 5.0  # at once, not at the next 30 s state
+        final = watcher.of("state")[-1]
+        validation.validate("state", "2.0.0", final)
+        assert (final["orderId"], final["lastNodeSequenceId"], final["errors"]) == ("o1", 2, [])
+        assert vehicle.link.transport.stats().connects == 2
+    finally:
+        watcher.close()
+        vehicle.close()
