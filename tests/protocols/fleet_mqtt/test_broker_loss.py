@@ -61,8 +61,8 @@ def test_a_broker_restarted_mid_mission_costs_no_order(
                         vehicles=VehicleConfig(broker.url, version="2.1.0",
                                                visualization_period=None))
     try:
-        orders = {"robot1": building.send("robot1", "office_4", "floor1"),
-                  "robot2": building.send("robot2", "kitchen", "floor1")}
+        orders = {"robot1": building.send("robot1", "office_3", "floor1"),
+                  "robot2": building.send("robot2", "office_1", "floor1")}
 
         def driving() -> bool:
             time.sleep(0.002)
