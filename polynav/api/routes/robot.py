@@ -110,10 +110,21 @@ class ImuIO(_Strict):
 
 
 class ChargerIO(_Strict):
-    """How precisely the base must stand on a charger point [m, rad]."""
+    """How precisely the base must stand on a charger point [m, rad], and the shape of the
+    charger's front plate docking finds in the scan (its width, its notch's width and depth) [m]."""
 
     distance_tolerance: Number | None = None
     heading_tolerance: Number | None = None
+    plate_width: Number | None = None
+    notch_width: Number | None = None
+    notch_depth: Number | None = None
+
+
+class SignCameraIO(_Strict):
+    """A forward camera that spots "no entry" signs: how far [m] and how wide [rad] it sees."""
+
+    range: Number | None = None
+    fov: Number | None = None
 
 
 class ReverseIO(_Strict):
@@ -137,6 +148,7 @@ class ProfileIn(_Strict):
     imu: ImuIO | None = None
     charger: ChargerIO | None = None
     reverse: ReverseIO | None = None
+    sign_camera: SignCameraIO | None = None
 
 
 class ProfileOut(BaseModel):
@@ -154,6 +166,8 @@ class ProfileOut(BaseModel):
     imu: ImuIO
     charger: ChargerIO
     reverse: ReverseIO
+    sign_camera: SignCameraIO | None = Field(
+        default=None, description="only for robots with one")
 
 
 ProfileBody = Body(
