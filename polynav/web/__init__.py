@@ -1,0 +1,34 @@
+"""The web console: a single-page app served by the native API at ``/`` (docs/console.md).
+
+Static files only (``index.html``, ES modules, a style sheet), no build step: the browser loads
+them as they are in this package and talks to the same server's REST API and WebSocket, so the
+console can do nothing a program could not.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+from fastapi import FastAPI
+from fastapi.responses import FileResponse
+from fastapi.staticfiles import StaticFiles
+
+log = logging.getLogger(__name__)
+
+#: Where the console's files are.
+STATIC_DIR = Path(__file__).parent / "static"
+#: The URL prefix of its scripts and style sheet.
+ASSETS_PREFIX = "/web"
+
+
+def install_console(app: FastAPI) -> None:
+    """Serve the console: ``/`` is its page, ``/web/...`` its scripts and styles (both left
+    out of the OpenAPI document: they are not part of the API)."""
+
+    @app.get("/", include_in_schema=False)
+    def console_page() -> FileResponse:
+        return FileResponse(STATIC_DIR / "index.html", media_type="text/html",
+                            headers={"Cache-Control": "no-cache"})
+
+    app.mount(ASSETS_PREFIX, StaticFiles(directory=STATIC_DIR), name="console")
