@@ -20,6 +20,7 @@ from polynav.api.routes import (
     mapping,
     maps,
     navigation,
+    paths,
     points,
     robot,
     scene,
@@ -38,7 +39,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, lifts, tasks, schedules, ws, keepouts, scene,
+    fleet, lifts, tasks, schedules, ws, keepouts, paths, scene,
 )
 
 

@@ -113,3 +113,17 @@ class SceneOut(BaseModel):
     path: list[list[float]] = Field(description="the running goal's planned path, (x, y) [m]; "
                                     "empty when no goal runs")
     people: list[PoseOut] = Field(description="people near the robot on its floor (simulator)")
+
+
+class PathIn(_Shape):
+    """A path drawn on a map: the polyline the robot should follow, in the order drawn."""
+
+    points: Annotated[list[Vertex], Field(min_length=2, max_length=MAX_VERTICES)]
+
+
+class PathOut(BaseModel):
+    """A stored path of a map (a route of the site: Galileo's clients see it too)."""
+
+    name: str
+    map: str
+    points: list[list[float]] = Field(description="(x, y) [m], in the order drawn")

@@ -8,6 +8,7 @@ console can do nothing a program could not.
 from __future__ import annotations
 
 import logging
+import webbrowser
 from pathlib import Path
 
 from fastapi import FastAPI
@@ -32,3 +33,14 @@ def install_console(app: FastAPI) -> None:
                             headers={"Cache-Control": "no-cache"})
 
     app.mount(ASSETS_PREFIX, StaticFiles(directory=STATIC_DIR), name="console")
+
+
+def open_console(url: str) -> bool:
+    """Open the console at ``url`` in the user's browser (``polynav run --open``); says so on
+    standard output, or that no browser could be found (the URL is printed anyway)."""
+    opened = webbrowser.open(url)
+    if opened:
+        print(f"polynav: console opened in the browser: {url}", flush=True)
+    else:
+        print(f"polynav: no browser to open; the console is at {url}", flush=True)
+    return opened
