@@ -43,7 +43,7 @@ def list_keepouts(name: MapNamePath, store: StoreDep) -> list[KeepoutIO]:
 
 
 @router.put("/{name}/keepouts", operation_id="replace_keepouts",
-            response_model=list[KeepoutIO], responses=BODY)
+            response_model=list[KeepoutIO], responses=responses(BODY, STATE))
 def replace_keepouts(name: MapNamePath, body: KeepoutList, store: StoreDep,
                      runtime: RuntimeDep) -> list[KeepoutIO]:
     """Replace all the map's walls and zones at once (an empty list clears them)."""

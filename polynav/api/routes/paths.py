@@ -12,7 +12,7 @@ import logging
 from fastapi import APIRouter, Request, Response
 
 from polynav.api.deps import MapNamePath, StoreDep
-from polynav.api.errors import BODY, LOOKUP, responses
+from polynav.api.errors import BODY, LOOKUP, STATE, responses
 from polynav.api.schemas import Name
 from polynav.api.schemas_console import PathIn, PathOut
 from polynav.store.route_stops import RouteBook, StopRoute
@@ -46,7 +46,7 @@ def list_paths(name: MapNamePath, request: Request, store: StoreDep) -> list[Pat
 
 
 @router.put("/{name}/paths/{path}", operation_id="save_path", response_model=PathOut,
-            responses=BODY)
+            responses=responses(BODY, STATE))
 def save_path(name: MapNamePath, path: Name, body: PathIn, request: Request,
               store: StoreDep) -> PathOut:
     """Draw path ``path`` on the map, or redraw it (its stops, if a dialect gave it some,
