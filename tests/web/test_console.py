@@ -214,3 +214,22 @@ def test_the_console_fits_a_phone(browser: Any, console: Console) -> None:
     finally:
         context.close()
     assert not errors, errors
+
+
+def test_mapping_shows_the_map_growing_and_exploration_in_the_status(
+    page: Any, console: Console
+) -> None:
+    page.click("#map-start")
+    page.wait_for_function("document.getElementById('st-mode').textContent === 'mapping'")
+    # The live map comes on the WebSocket and replaces the floor's picture.
+    page.wait_for_function("window.polynav.shownImage === 'mapping'", timeout=WAIT * 1000)
+    first = page.evaluate("window.polynav.view.info")
+    assert first["width"] != 820 or first["height"] != 500  # the new map, not floor1's
+    page.click("#map-explore")
+    page.wait_for_function(
+        "document.getElementById('st-mapping').textContent.includes('exploring')")
+    area = console.runtime.status().mapping
+    assert area is not None and area.exploration == "exploring"
+    screenshot(page, "mapping")
+    page.click("#map-cancel")
+    page.wait_for_function("document.getElementById('st-mode').textContent === 'free'")

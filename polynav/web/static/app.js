@@ -184,7 +184,13 @@ export class Console {
   async onLiveMap(data) {
     try {
       const image = await loadImage(`data:image/png;base64,${data.png}`);
-      this.view.setMapImage(image, data);
+      if (!this.status || this.status.mode !== "mapping") return; // ended meanwhile
+      const growing = this.shownImage === "mapping";
+      this.view.setMapImage(image, data, growing);
+      if (!growing) { // a new frame: the saved map's points and shapes do not belong on it
+        this.view.set("points", []);
+        this.view.set("keepouts", []);
+      }
       this.shownImage = "mapping";
     } catch (err) { this.toast(err.message, true); }
   }

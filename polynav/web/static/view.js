@@ -6,6 +6,7 @@
 // offset, changed by drag (pan), wheel and pinch (zoom).
 
 const TAU = Math.PI * 2;
+const MAX_FIT_SCALE = 40; // [px/m] the closest "fit" goes
 const COLORS = {
   wall: "#d11", zone: "rgba(220, 30, 30, 0.25)", zoneEdge: "#d11", path: "#1769e0",
   scan: "#e8211c", person: "#f08a00", other: "#6c6c6c", robot: "#0a7d33",
@@ -50,17 +51,29 @@ export class MapView {
 
   // Draw a ROS map picture (row 0 at the top) into the offscreen canvas: grey unknown, white
   // free, black walls, as the PNG has them.
-  setMapImage(image, info) {
+  // A map that grows (mapping) is fitted again only when it no longer fits in view.
+  setMapImage(image, info, growing = false) {
     const sameFrame = this.info && this.info.resolution === info.resolution &&
-      this.info.origin.x === info.origin.x && this.info.origin.y === info.origin.y;
+      this.info.origin.x === info.origin.x && this.info.origin.y === info.origin.y &&
+      this.info.width === info.width && this.info.height === info.height;
+    const fits = growing && this.info && this.inView(info);
     this.info = info;
     this.mapCanvas.width = image.width;
     this.mapCanvas.height = image.height;
     const ctx = this.mapCanvas.getContext("2d");
     ctx.clearRect(0, 0, image.width, image.height);
     ctx.drawImage(image, 0, 0);
-    if (!sameFrame || !this.fitted) this.fit();
+    if ((!sameFrame && !fits) || !this.fitted) this.fit();
     this.dirty = true;
+  }
+
+  // Whether the whole of a map's extent is on the canvas now.
+  inView(info) {
+    const { width, height } = this.canvas.getBoundingClientRect();
+    const a = this.toScreen(info.origin.x, info.origin.y);
+    const b = this.toScreen(info.origin.x + info.width * info.resolution,
+      info.origin.y + info.height * info.resolution);
+    return a.x >= 0 && b.y >= 0 && b.x <= width && a.y <= height;
   }
 
   clearMap() {
@@ -76,7 +89,8 @@ export class MapView {
     if (!this.info || width < 2 || height < 2) return;
     const w = this.info.width * this.info.resolution;
     const h = this.info.height * this.info.resolution;
-    this.scale = Math.min(width / w, height / h) * 0.95;
+    // A small map (mapping's first metres) is not blown up beyond a room's scale.
+    this.scale = Math.min(MAX_FIT_SCALE, Math.min(width / w, height / h) * 0.95);
     const cx = this.info.origin.x + w / 2;
     const cy = this.info.origin.y + h / 2;
     this.offset = { x: width / 2 - cx * this.scale, y: height / 2 + cy * this.scale };
