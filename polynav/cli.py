@@ -208,10 +208,11 @@ def _run(args: argparse.Namespace) -> int:
                 print(f"polynav: VDA 5050 {args.vda_version} vehicle on {args.broker} as "
                       f"uagv/v2/{args.vda_manufacturer}/{args.vda_serial}/", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
-            if args.open:  # the socket listens already: the browser's request waits for uvicorn
-                from polynav.web import open_console
+            if args.open:
+                from polynav.web import open_console_when_serving
 
-                open_console(f"{base}/")
+                running = server
+                open_console_when_serving(lambda: running.started, f"{base}/")
             try:
                 if not stop_requested:
                     server.run(sockets=[sock])

@@ -8,7 +8,10 @@ console can do nothing a program could not.
 from __future__ import annotations
 
 import logging
+import threading
+import time
 import webbrowser
+from collections.abc import Callable
 from pathlib import Path
 
 from fastapi import FastAPI
@@ -33,6 +36,26 @@ def install_console(app: FastAPI) -> None:
                             headers={"Cache-Control": "no-cache"})
 
     app.mount(ASSETS_PREFIX, StaticFiles(directory=STATIC_DIR), name="console")
+
+
+#: How long ``--open`` waits for the server to serve before opening the browser anyway [s].
+SERVE_WAIT = 30.0
+
+
+def open_console_when_serving(serving: Callable[[], bool], url: str) -> threading.Thread:
+    """Open the console in the browser once ``serving()`` is true, from a daemon thread: a
+    browser's first request must find the server answering, and a browser that holds the call
+    until it is closed (a text-mode one) must not hold up the server's start."""
+
+    def run() -> None:
+        deadline = time.monotonic() + SERVE_WAIT
+        while not serving() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        open_console(url)
+
+    thread = threading.Thread(target=run, name="open-console", daemon=True)
+    thread.start()
+    return thread
 
 
 def open_console(url: str) -> bool:

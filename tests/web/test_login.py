@@ -67,7 +67,10 @@ def test_an_operator_logs_in_and_drives(site: AuthSite, context: Any) -> None:
     page.wait_for_function("document.getElementById('user').textContent === 'olga (operator)'")
     assert page.is_enabled("#nav-start")
     page.click("#nav-start")
-    page.wait_for_function("document.getElementById('st-mode').textContent === 'navigating'")
+    # The fake robot's clock stands still, so its stream sends no new status: ask the API, as
+    # the page does, on the session cookie.
+    page.wait_for_function("window.polynav.api.get('/api/status')"
+                           ".then(s => s.mode === 'navigating')")
     cookies = {c["name"]: c for c in context.cookies()}
     session = next(c for c in cookies.values() if c["httpOnly"])
     assert session["sameSite"] == "Strict" and session["path"] == "/api"
