@@ -204,8 +204,11 @@ def test_the_console_fits_a_phone(browser: Any, console: Console) -> None:
     try:
         page.goto(console.url)
         page.wait_for_function("window.polynav && window.polynav.view.info !== null")
-        canvas = page.locator("#map").bounding_box()
-        status = page.locator("#status-panel").bounding_box()
+        page.wait_for_selector("#fleet-list li", state="attached")  # the top bar complete
+        canvas, status = page.evaluate("""['map', 'status-panel'].map(id => {
+            const r = document.getElementById(id).getBoundingClientRect();
+            return {x: r.x, y: r.y, width: r.width, height: r.height};
+        })""")
         assert canvas["width"] <= 390 and canvas["width"] > 350
         assert canvas["height"] > 300
         assert status["y"] >= canvas["y"] + canvas["height"]  # the panels under the map
