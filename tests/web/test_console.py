@@ -108,6 +108,61 @@ def test_the_keyboard_drives_the_robot(page: Any, console: Console) -> None:
     wait_until(lambda: abs(math.remainder(console.runtime.status().pose.theta - turned,
                                           math.tau)) > 0.3)
     page.keyboard.up("a")
+    # The joystick: held forward, the robot drives; let go, it stops.
+    pad = page.locator("#joystick").bounding_box()
+    cx, cy = pad["x"] + pad["width"] / 2, pad["y"] + pad["height"] / 2
+    here = console.runtime.status().pose
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    page.mouse.move(cx, cy - pad["height"] / 2, steps=4)
+    wait_until(lambda: math.hypot(console.runtime.status().pose.x - here.x,
+                                  console.runtime.status().pose.y - here.y) > 0.3)
+    page.mouse.up()
+    wait_until(lambda: abs(console.runtime.status().linear) < 0.01)
+
+
+def test_the_initial_pose_is_set_by_dragging_on_the_map(page: Any, console: Console) -> None:
+    page.click("#nav-start")
+    page.wait_for_function("document.getElementById('st-mode').textContent === 'navigating'")
+    subscription = console.runtime.bus.subscribe(maxlen=1000)
+    pose = console.runtime.status().pose
+    page.click("[data-tool=pose]")
+    page.mouse.move(*screen_of(page, pose.x, pose.y))
+    page.mouse.down()
+    page.mouse.move(*screen_of(page, pose.x, pose.y + 1.0), steps=5)  # facing +y
+    page.mouse.up()
+
+    def initialized() -> list[Any]:
+        return [e for e in subscription.get_nowait() if e.kind == "pose_initialized"]
+
+    event = wait_until(initialized)[0]
+    assert math.hypot(event.pose.x - pose.x, event.pose.y - pose.y) < 0.1
+    assert abs(math.remainder(event.pose.theta - math.pi / 2, math.tau)) < 0.05
+    console.runtime.bus.unsubscribe(subscription)
+
+
+def test_a_task_made_from_points_runs_and_its_tree_shows_progress(
+    page: Any, console: Console
+) -> None:
+    page.click("#tasks-panel summary")
+    page.wait_for_selector("#task-points input[value=lobby]")
+    page.fill("#task-name", "to the lobby")
+    page.check("#task-points input[value=lobby]")
+    page.click("#task-create")
+    with api(console) as http:
+        tasks = wait_until(lambda: http.get("/api/tasks").json())
+        assert [t["name"] for t in tasks] == ["to the lobby"]
+        assert "lobby" in str(tasks[0]["tree"])
+    item = page.locator("#task-list li.task").first
+    item.locator("button", has_text="Start").click()
+    screenshot(page, "task-started")
+    page.wait_for_selector("#task-list li.task[data-state=COMPLETE]", timeout=WAIT * 1000)
+    with api(console) as http:
+        lobby = point(http, "lobby")
+    pose = console.runtime.status().pose
+    assert math.hypot(pose.x - lobby["x"], pose.y - lobby["y"]) < 0.3
+    assert "COMPLETE" in page.text_content("#task-list .tree")
+    screenshot(page, "task-done")
 
 
 def test_a_point_added_on_the_map_is_in_the_site_and_undo_takes_it_back(

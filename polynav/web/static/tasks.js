@@ -79,9 +79,15 @@ export class TaskPanel {
       b.className = "operator";
       b.disabled = !enabled || !this.app.canDrive;
       b.addEventListener("click", async () => {
-        await this.app.act(`${verb} ${task.name}`, () => (verb === "delete" ?
-          this.api.del(`/api/tasks/${encodeURIComponent(task.id)}`) :
-          this.api.post(`/api/tasks/${encodeURIComponent(task.id)}/${verb}`)));
+        await this.app.act(`${verb} ${task.name}`, async () => {
+          if (verb === "delete") return this.api.del(`/api/tasks/${encodeURIComponent(task.id)}`);
+          const status = this.app.status;
+          if (verb === "start" && status && status.mode === "free" && this.app.viewMap) {
+            // A task's goals need navigation: on the floor shown, from where the robot is.
+            await this.api.post("/api/navigation/start", { map: this.app.viewMap });
+          }
+          return this.api.post(`/api/tasks/${encodeURIComponent(task.id)}/${verb}`);
+        });
         await this.refresh();
       });
       buttons.appendChild(b);
@@ -104,13 +110,18 @@ export class TaskPanel {
   node(n, parent) {
     if (!n || typeof n !== "object") return;
     const li = document.createElement("li");
-    const kind = n.type || n.control_type || n.name || "node";
-    const params = ["point", "map", "x", "y"].filter((k) => n[k] !== undefined && n[k] !== null)
-      .map((k) => `${k}=${n[k]}`).join(" ");
-    li.textContent = `${kind}${params ? " " + params : ""}${n.state ? " · " + n.state : ""}`;
+    const kind = n.kind || n.type || n.control_type || "node";
+    const p = n.params || {};
+    const params = ["point", "map", "x", "y"].filter((k) => p[k] !== undefined && p[k] !== null)
+      .map((k) => `${k}=${p[k]}`).join(" ");
+    const progress = n.progress ? ` ${Math.round(n.progress * 100)} %` : "";
+    const left = n.distance_left !== null && n.distance_left !== undefined ?
+      ` (${Number(n.distance_left).toFixed(1)} m left)` : "";
+    li.textContent = `${n.name ? n.name + ": " : ""}${kind}${params ? " " + params : ""}` +
+      `${n.state ? " · " + n.state : ""}${progress}${left}${n.result ? " · " + n.result : ""}`;
     li.dataset.state = n.state || "";
     parent.appendChild(li);
-    const children = n.sub_tasks || n.children || [];
+    const children = n.children || [];
     if (Array.isArray(children) && children.length) {
       const ul = document.createElement("ul");
       for (const c of children) this.node(c, ul);
