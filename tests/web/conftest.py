@@ -37,7 +37,10 @@ def _browser_missing() -> str | None:
     return None
 
 
-@pytest.fixture(scope="session")
+# Per module, not per session: Playwright's sync API keeps an event loop running on the main
+# thread while it is open, and a later test in the same process (xdist worker) that runs its own
+# loop (asyncio.run) would fail.
+@pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
     if os.environ.get("POLYNAV_SKIP_BROWSER") == "1":
         pytest.skip("POLYNAV_SKIP_BROWSER=1: the web console's browser tests are skipped")

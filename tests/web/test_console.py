@@ -14,7 +14,7 @@ from typing import Any
 
 import httpx
 
-from tests.web.conftest import Console, screenshot
+from tests.web.conftest import SPEED, Console, screenshot
 
 WAIT = 15.0  # [s wall] for anything the robot does at SPEED
 
@@ -77,6 +77,9 @@ def test_the_console_is_served_at_the_root_and_shows_the_map_and_the_robot(
     assert pixel[1] > pixel[0] and pixel[1] > pixel[2], pixel  # green: the robot's footprint
     page.wait_for_function("document.getElementById('st-mode').textContent === 'free'")
     screenshot(page, "overview")
+    # At SPEED times real time, the stream is asked for about 10 statuses per wall second.
+    page.wait_for_function(f"Math.abs(window.polynav.stream.rate - 10 / {SPEED}) < 0.5",
+                           timeout=WAIT * 1000)
 
 
 def test_clicking_a_named_point_sends_the_robot_there(page: Any, console: Console) -> None:

@@ -75,10 +75,18 @@ export class Stream {
     socket.onclose = (e) => {
       this.socket = null;
       if (this.stopped) return;
+      if (this.switching) { this.switching = false; this.open(); return; }
       this.onState(`disconnected (${e.code}${e.reason ? ": " + e.reason : ""}), retrying`);
       setTimeout(() => this.open(), this.delay);
       this.delay = Math.min(this.delay * 2, 5000);
     };
+  }
+
+  // Reopen at another rate (the server's rate is per simulated second).
+  setRate(rate) {
+    this.rate = rate;
+    this.switching = true;
+    if (this.socket) this.socket.close();
   }
 
   close() {

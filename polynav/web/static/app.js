@@ -9,7 +9,8 @@ import { TaskPanel } from "./tasks.js";
 import { loadImage, MapView } from "./view.js";
 
 const $ = (id) => document.getElementById(id);
-const STATUS_RATE = 10; // status messages per simulated second
+const STATUS_HZ = 10; // status messages per wall second wanted
+const PACE_WINDOW = 2000; // [ms] over which the robot's speed (simulated s per wall s) is measured
 const SCENE_PERIOD = 250; // [ms] between reads of the scan, the plan and the people
 const FLEET_PERIOD = 2000; // [ms] between reads of the fleet and the lifts
 const LOG_LINES = 200;
@@ -86,7 +87,7 @@ export class Console {
     } catch (err) { this.toast(err.message, true); }
     await this.loadMaps();
     if (!this.stream) {
-      this.stream = new Stream(STATUS_RATE, (m) => this.onMessage(m),
+      this.stream = new Stream(STATUS_HZ, (m) => this.onMessage(m),
         (s) => { $("connection").textContent = s; });
       this.stream.open();
     }
@@ -163,9 +164,25 @@ export class Console {
     else if (message.type === "map") this.onLiveMap(message.data);
   }
 
+  // The stream's rate is per simulated second: on a simulator running faster (or slower) than
+  // real time, ask for the rate that makes about 10 statuses per wall second.
+  pace(s) {
+    const now = performance.now();
+    if (this.lastStatusAt) this.view.ease = Math.min(300, Math.max(40, now - this.lastStatusAt));
+    this.lastStatusAt = now;
+    if (!this.paceFrom || s.stamp < this.paceFrom.stamp) { this.paceFrom = { stamp: s.stamp, now }; return; }
+    if (now - this.paceFrom.now < PACE_WINDOW) return;
+    const speed = (s.stamp - this.paceFrom.stamp) / ((now - this.paceFrom.now) / 1000);
+    this.paceFrom = { stamp: s.stamp, now };
+    if (speed < 0.05) return; // a paused clock: nothing to learn
+    const want = Math.round(Math.min(50, Math.max(0.2, STATUS_HZ / speed)) * 100) / 100;
+    if (Math.abs(want - this.stream.rate) / this.stream.rate > 0.25) this.stream.setRate(want);
+  }
+
   onStatus(s) {
     const before = this.status;
     this.status = s;
+    this.pace(s);
     this.renderStatus(s);
     // The view follows the robot to its floor, unless mapping (the live map is shown then).
     if (s.mode !== "mapping" && s.map && s.map !== "odom" && (!before || before.map !== s.map ||

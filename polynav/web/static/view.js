@@ -31,6 +31,7 @@ export class MapView {
     this.target = null;
     this.targetAt = 0;
     this.showRobot = true;
+    this.ease = 100; // [ms] the robot glides to each new pose over one status period
     this.dirty = true;
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
@@ -154,9 +155,8 @@ export class MapView {
   // -- drawing ------------------------------------------------------------------------------
 
   frame(now) {
-    const EASE = 100; // [ms] one status period at 10 Hz
     if (this.target && this.from) {
-      const t = Math.min(1, (now - this.targetAt) / EASE);
+      const t = Math.min(1, (now - this.targetAt) / this.ease);
       let dth = this.target.theta - this.from.theta;
       dth = Math.atan2(Math.sin(dth), Math.cos(dth));
       this.robot = {
