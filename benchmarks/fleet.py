@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from polynav.fleet.building import Building
+from polynav.house.building import Building
 from polynav.runtime.config import RuntimeConfig
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore

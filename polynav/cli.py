@@ -92,8 +92,8 @@ def _dispatch_server(text: str) -> tuple[str, str]:
 
 def _run(args: argparse.Namespace) -> int:
     """Serve the native API around the simulated robot until SIGINT or SIGTERM."""
-    if args.robots is not None:  # a building of N robots: polynav/fleet/serve.py
-        from polynav.fleet import serve
+    if args.robots is not None:  # a building of N robots: polynav/house/serve.py
+        from polynav.house import serve
 
         return serve.run(args)
     import uvicorn

@@ -1,6 +1,6 @@
 """Master control: the site's side of the fleet (VDA 5050's name for it).
 
-It owns the :class:`~polynav.fleet.lease.LeaseBook` of the site's shared resources and talks to
+It owns the :class:`~polynav.leases.book.LeaseBook` of the site's shared resources and talks to
 each robot only through messages on a :class:`~polynav.fleet.interface.Transport`:
 
 - it sends **orders** (VDA 5050: a first node where the robot stands, then a node per point to
@@ -29,8 +29,8 @@ from dataclasses import dataclass
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Inbox, Transport
-from polynav.fleet.lease import LeaseBook, LeaseEventKind
 from polynav.geometry import Pose2D
+from polynav.leases.book import LeaseBook, LeaseEventKind
 
 log = logging.getLogger(__name__)
 

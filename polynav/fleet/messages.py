@@ -9,7 +9,7 @@ official JSON schema of its version when it is encoded and when it is decoded
 (:mod:`polynav.fleet.codec`).
 
 Version 3.0 adds *zone requests*, answered with a grant and a ``leaseExpiry``, which is how
-polynav reserves narrow passages and lifts (:mod:`polynav.fleet.lease`). 2.x has no topic for
+polynav reserves narrow passages and lifts (:mod:`polynav.leases.book`). 2.x has no topic for
 them, so they travel on polynav's own topics (``zoneRequest``, ``zoneResponse``) beside the
 standard ones, with a short header of their own (docs/fleet.md, docs/decisions.md).
 
@@ -173,7 +173,7 @@ class ZoneRequest:
     """A robot asks for a zone (a narrow passage, a lift) for ``duration`` [s] (VDA 5050 3.0).
 
     ``flow`` (a polynav extension) is the way the robot goes through the zone, e.g. ``"E"``:
-    robots going the same way may share it (:mod:`polynav.fleet.lease`); None asks for it alone.
+    robots going the same way may share it (:mod:`polynav.leases.book`); None asks for it alone.
     """
 
     header_id: int

@@ -3,7 +3,7 @@
 A doorway, a lift door or a narrow corridor lets one robot through at a time; two that meet in
 it head-on block each other for good (each sees the other as an obstacle and no path is left).
 The fleet therefore makes each such passage a *zone*, leased to one robot at a time
-(:mod:`polynav.fleet.lease`): a robot holds the zone's lease before it enters and gives it back
+(:mod:`polynav.leases.book`): a robot holds the zone's lease before it enters and gives it back
 once it has left (the traffic rule, :mod:`polynav.fleet.traffic`).
 
 Zones are found in the map itself, so a new map needs no drawing. A free cell is *narrow* when
@@ -20,7 +20,7 @@ it: the *flow* of a path through a zone is the compass sectors of its heading al
 every half metre from where it enters the zone to where it leaves it, each turn once
 (``"EE"`` along a corridor eastwards, ``"NE"`` out of a door on its south side and east along
 it, ``"NWS"`` up one side passage, west along the corridor and down another), and the lease
-book lets holders in together whose flows hold no opposite sectors (:mod:`polynav.fleet.lease`).
+book lets holders in together whose flows hold no opposite sectors (:mod:`polynav.leases.book`).
 The whole way counts: a robot coming out of a door and turning east (``"NE"``) and one coming
 from the west to turn into that door (``"ES"``) both head east overall, yet meet in the door;
 and two ways that enter and leave alike can still cross the corridor between them opposite

@@ -100,7 +100,9 @@ class NavigationCanceled(NavigationEvent):
 @dataclass(frozen=True, slots=True)
 class PlanFailed(NavigationEvent):
     """A global plan failed; ``cause``: ``"start_unknown"``, ``"start_occupied"``,
-    ``"goal_occupied"``, ``"outside_map"`` or ``"no_path"``. A retry or a failure follows."""
+    ``"goal_occupied"``, ``"outside_map"``, ``"walled_in_unknown"`` (only unknown cells part
+    the robot from the goal, with unknown-as-obstacle on: :mod:`polynav.nav.unknown_walls`) or
+    ``"no_path"``. A retry or a failure follows."""
 
     cause: str = ""
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import numpy.typing as npt
@@ -84,6 +84,24 @@ class PersonDetection:
     y: float
     vx: float
     vy: float
+
+
+@dataclass(frozen=True, slots=True)
+class SignDetection:
+    """A "no entry" sign a sign camera sees: where it stands [m] in the robot frame (+x
+    forward, +y left)."""
+
+    x: float
+    y: float
+
+
+@runtime_checkable
+class SignCamera(Protocol):
+    """A base with a camera that spots "no entry" signs (only some robots have one)."""
+
+    def read_signs(self) -> Sequence[SignDetection]:
+        """The signs the camera sees now."""
+        ...
 
 
 class Robot(Protocol):

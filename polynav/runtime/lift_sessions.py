@@ -13,7 +13,7 @@ from __future__ import annotations
 import logging
 from typing import Protocol
 
-from polynav.fleet.lease import LeaseBook, LeaseBookConfig
+from polynav.leases.book import LeaseBook, LeaseBookConfig
 
 log = logging.getLogger(__name__)
 

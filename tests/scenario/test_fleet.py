@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from polynav.errors import NotFound
-from polynav.fleet.building import Building
 from polynav.fleet.master_control import Stop
 from polynav.geometry import Pose2D
+from polynav.house.building import Building
 from polynav.runtime.config import RuntimeConfig
 from polynav.runtime.events import NavigationWaiting
 from polynav.site import Point, PointKind

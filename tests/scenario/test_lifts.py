@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from polynav.errors import NotFound
-from polynav.fleet.building import Building
+from polynav.house.building import Building
 from polynav.robot.lift import LiftMode
 from polynav.routing.errors import NoRoute, NoRouteReason
 from polynav.runtime import events

@@ -1,7 +1,7 @@
 """GET /api/fleet: every robot in the building, from any robot's API.
 
 In a building (``polynav run --robots N``) the app is given the building's fleet listing
-(:meth:`polynav.fleet.building.Building.entries`, built from each robot's last state message);
+(:meth:`polynav.house.building.Building.entries`, built from each robot's last state message);
 a lone robot lists itself from its own snapshot.
 """
 
@@ -13,8 +13,8 @@ from collections.abc import Callable, Sequence
 from fastapi import APIRouter, Request
 
 from polynav.api.deps import RuntimeDep
+from polynav.api.fleet_listing import FleetEntry
 from polynav.api.schemas import FleetOut, FleetRobotOut, PoseOut
-from polynav.fleet.building import FleetEntry
 
 log = logging.getLogger(__name__)
 

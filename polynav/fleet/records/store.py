@@ -5,7 +5,7 @@ Nothing here is kept in process memory between calls: each method is one transac
 database (:mod:`polynav.fleet.records.database`), so two fleet-manager processes see one queue
 of missions and one book of leases, and a manager that restarts finds both as they were.
 
-The leases follow the rules of the in-memory :class:`~polynav.fleet.lease.LeaseBook`: a lease
+The leases follow the rules of the in-memory :class:`~polynav.leases.book.LeaseBook`: a lease
 is live while ``now < expires_at``, the holder extends it with :meth:`FleetRecords.renew`
 (refused once it has lapsed), asking again while holding gives the same lease back, and a
 resource of capacity N has at most N live holders. What the records add is that the database,
@@ -30,11 +30,11 @@ from typing import Any
 from sqlalchemy import Connection, Row, delete, insert, select, update
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
-from polynav.fleet.errors import LeaseNotHeld
-from polynav.fleet.lease import Lease
 from polynav.fleet.records import schema as s
 from polynav.fleet.records.database import Isolation, RecordsConfig, RecordsDatabase
 from polynav.fleet.records.values import AuditEntry, Mission, MissionState, Order, OrderState
+from polynav.leases.book import Lease
+from polynav.leases.errors import LeaseNotHeld
 
 log = logging.getLogger(__name__)
 

@@ -1,5 +1,5 @@
 """The fleet's records as values: missions, orders and audit entries (leases are
-:class:`polynav.fleet.lease.Lease`, the same value the in-memory lease book hands out).
+:class:`polynav.leases.book.Lease`, the same value the in-memory lease book hands out).
 
 Times are seconds on the site's clock, as everywhere in the fleet layer: the records never read
 a clock of their own, so simulated fleets and real ones store the same numbers.

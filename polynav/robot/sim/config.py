@@ -66,6 +66,9 @@ class SimConfig:
             contact with the robot.
         person_patience: a walker held up this long by robots turns round [s] (walking on
             wears a hold-up off at a quarter of the rate).
+        sign_camera_range: how far [m] the camera that spots "no entry" signs sees (0: the
+            robot has none).
+        sign_camera_fov: how wide [rad] it sees, centred on the base's heading.
         collision_release_distance: a contact ends, and the next one is a new collision, once
             the robot is this far clear of every obstacle [m].
     """
@@ -110,6 +113,8 @@ class SimConfig:
     person_stop_distance: float = 0.3
     person_patience: float = 15.0
     collision_release_distance: float = 0.05
+    sign_camera_range: float = 0.0
+    sign_camera_fov: float = 0.0
 
     def __post_init__(self) -> None:
         positive = (
@@ -124,7 +129,7 @@ class SimConfig:
             "imu_yaw_rate_noise", "imu_yaw_rate_bias", "imu_acceleration_noise",
             "battery_idle_drain", "battery_drain_per_metre", "battery_charge_rate",
             "battery_empty_voltage", "battery_internal_resistance", "dock_distance_tolerance",
-            "dock_heading_tolerance",
+            "dock_heading_tolerance", "sign_camera_range", "sign_camera_fov",
             "person_pause", "person_stop_distance", "person_patience",
         )
         for f in fields(self):

@@ -18,6 +18,7 @@ from polynav.robot.interface import (
     LaserScan,
     Odometry,
     PersonDetection,
+    SignDetection,
 )
 
 if TYPE_CHECKING:
@@ -54,6 +55,11 @@ class SimRobot:
 
     def read_people(self) -> Sequence[PersonDetection]:
         return self._sim.detect_people()
+
+    def read_signs(self) -> Sequence[SignDetection]:
+        """The "no entry" signs the sign camera sees (:class:`~polynav.robot.interface.SignCamera`;
+        none for a profile without one)."""
+        return self._sim.detect_signs()
 
     def dock_contact(self) -> bool:
         """True while the charging contacts touch a charger."""

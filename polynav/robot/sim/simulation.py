@@ -35,7 +35,14 @@ import numpy.typing as npt
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D, Twist, angle_diff
-from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
+from polynav.robot.interface import (
+    BatteryState,
+    ImuReading,
+    LaserScan,
+    Odometry,
+    PersonDetection,
+    SignDetection,
+)
 from polynav.robot.sim.battery import Battery
 from polynav.robot.sim.collision import (
     Collision,
@@ -50,6 +57,7 @@ from polynav.robot.sim.lidar import Lidar
 from polynav.robot.sim.odometry import WheelOdometry
 from polynav.robot.sim.people_detector import PeopleDetector
 from polynav.robot.sim.scene import FloorState, Scene
+from polynav.robot.sim.sign_camera import seen_signs
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind
@@ -266,6 +274,16 @@ class Simulation:
         return self._people_detector.detect(
             self.clock.now(), self._base.pose, people, state.occupied, state.info
         )
+
+    def detect_signs(self) -> list[SignDetection]:
+        """The "no entry" signs the robot's sign camera sees now (robot frame, see
+        :mod:`~polynav.robot.sim.sign_camera`); none for a robot without one."""
+        config = self.config
+        if config.sign_camera_range <= 0.0 or config.sign_camera_fov <= 0.0:
+            return []
+        state = self._floors[self._floor]
+        return seen_signs(self._base.pose, state.floor.signs, reach=config.sign_camera_range,
+                          fov=config.sign_camera_fov, occupied=state.occupied, info=state.info)
 
     # -- operator and test controls ------------------------------------------------------------
 

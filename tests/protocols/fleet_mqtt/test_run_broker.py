@@ -9,9 +9,9 @@ from pathlib import Path
 
 import orjson
 
-from polynav.fleet.building import Building
 from polynav.fleet.vda5050 import validation
 from polynav.fleet.vehicle import VehicleConfig
+from polynav.house.building import Building
 from polynav.runtime.config import RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World

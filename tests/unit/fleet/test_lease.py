@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from polynav.errors import ConfigError, InvalidRequest
-from polynav.fleet.errors import LeaseNotHeld, LeaseRefused
-from polynav.fleet.lease import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind, same_way
+from polynav.leases.book import Lease, LeaseBook, LeaseBookConfig, LeaseEventKind, same_way
+from polynav.leases.errors import LeaseNotHeld, LeaseRefused
 
 K = LeaseEventKind
 

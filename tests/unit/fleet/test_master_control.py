@@ -8,10 +8,10 @@ import pytest
 
 from polynav.errors import InvalidRequest
 from polynav.fleet import messages as m
-from polynav.fleet.lease import LeaseBook, LeaseBookConfig
 from polynav.fleet.master_control import MasterControl, Stop
 from polynav.fleet.transport import InProcessTransport
 from polynav.geometry import Pose2D
+from polynav.leases.book import LeaseBook, LeaseBookConfig
 
 
 class Robot:

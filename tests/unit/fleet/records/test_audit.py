@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from polynav.errors import InvalidRequest
-from polynav.fleet.errors import LeaseNotHeld
 from polynav.fleet.records import FleetRecords
+from polynav.leases.errors import LeaseNotHeld
 
 
 def test_every_change_is_audited_in_order_with_its_detail(records: FleetRecords) -> None:

@@ -7,9 +7,9 @@ from __future__ import annotations
 import pytest
 
 from polynav.errors import InvalidRequest
-from polynav.fleet.errors import LeaseNotHeld
-from polynav.fleet.lease import Lease
 from polynav.fleet.records import FleetRecords
+from polynav.leases.book import Lease
+from polynav.leases.errors import LeaseNotHeld
 
 
 def test_a_free_resource_is_granted_until_now_plus_duration(records: FleetRecords) -> None:

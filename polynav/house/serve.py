@@ -24,9 +24,9 @@ import uvicorn
 
 from polynav.api import ApiConfig, create_app
 from polynav.errors import InvalidRequest, PolynavError
-from polynav.fleet.building import Building
 from polynav.fleet.mqtt_transport import BrokerUnreachable
 from polynav.fleet.vehicle import config_from_args
+from polynav.house.building import Building
 from polynav.listen import tcp_listener
 from polynav.robot.profile import load_profile
 from polynav.runtime.config import RuntimeConfig

@@ -12,7 +12,7 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
 - **Leases expire.** A lease is live while ``now < expires_at``. The holder extends it with
   :meth:`LeaseBook.renew`; one not renewed lapses, so a robot that stops answering never holds a
   lift for ever. A renewal after the expiry is refused
-  (:class:`~polynav.fleet.errors.LeaseNotHeld`): the holder has lost the resource and must ask
+  (:class:`~polynav.leases.errors.LeaseNotHeld`): the holder has lost the resource and must ask
   again.
 - **Waiters are served first come, first served.** When the resource is full, or others already
   wait, the holder joins the end of the queue. When capacity frees (release, expiry) the head of
@@ -41,7 +41,7 @@ Rules, after the zone reservations of VDA 5050 3.0 (a ``zoneRequest`` is granted
   seconds later at the back, behind four robots that came after it (issue 36: past the
   mission timeout on the demo's floor 2, walkers on). And a
   holder cannot keep a resource by renewing for ever while others wait: past ``max_hold`` its
-  renewal is refused (:class:`~polynav.fleet.errors.LeaseRefused`). With both, every waiter is
+  renewal is refused (:class:`~polynav.leases.errors.LeaseRefused`). With both, every waiter is
   either granted or told to give up within a bounded time.
 
 The book is pure: no clock, no threads, no I/O. Every call takes ``now`` [s], first brings the
@@ -58,7 +58,7 @@ from collections import deque
 from dataclasses import dataclass, field, replace
 
 from polynav.errors import ConfigError, InvalidRequest
-from polynav.fleet.errors import LeaseNotHeld, LeaseRefused
+from polynav.leases.errors import LeaseNotHeld, LeaseRefused
 
 log = logging.getLogger(__name__)
 

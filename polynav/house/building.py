@@ -21,13 +21,11 @@ import datetime as dt
 import logging
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-from typing import Literal
 
+from polynav.api.fleet_listing import FleetEntry, OrderState
 from polynav.errors import InvalidRequest
 from polynav.fleet.agent import RobotAgent
 from polynav.fleet.interface import Transport
-from polynav.fleet.lease import LeaseBook, LeaseBookConfig
 from polynav.fleet.master_control import MasterControl, Stop
 from polynav.fleet.messages import DEFAULT_MANUFACTURER, DEFAULT_VERSION, State
 from polynav.fleet.mqtt_transport import MqttTransport
@@ -36,6 +34,7 @@ from polynav.fleet.transport import InProcessTransport
 from polynav.fleet.vehicle import VehicleConfig, VehicleLink
 from polynav.fleet.zones import ZoneConfig, ZoneMap, find_zones
 from polynav.geometry import Pose2D, Twist
+from polynav.leases.book import LeaseBook, LeaseBookConfig
 from polynav.nav.stack import StackConfig
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
@@ -53,29 +52,6 @@ log = logging.getLogger(__name__)
 _EPS = 1e-9
 STANDBY_PREFIX = "standby"
 """Points whose name starts with this are standby points: robots may start there."""
-
-
-OrderState = Literal["none", "running", "succeeded", "failed"]
-
-
-@dataclass(frozen=True, slots=True)
-class FleetEntry:
-    """One robot as ``GET /api/fleet`` lists it."""
-
-    robot_id: str
-    ports: dict[str, int]
-    floor: str | None
-    map_name: str | None
-    pose: Pose2D | None
-    mode: str
-    navigation_state: str
-    order_id: str
-    order_state: OrderState
-    waiting_for: str | None
-    zones: tuple[str, ...]
-    battery_percent: float
-    stamp: float | None = None
-    errors: tuple[str, ...] = field(default=())
 
 
 def start_points(store: SiteData, world: World, *, robot_radius: float) -> list[Point]:

@@ -1,0 +1,82 @@
+"""DESIGN §1's layers, read off the package's imports: dependencies point down only."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[2] / "polynav"
+
+CORE = ("geometry", "maps", "planning", "control")
+ABOVE_CORE = ("runtime", "protocols", "api", "fleet", "house", "web", "cli")
+
+
+def _module(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports() -> list[tuple[str, str]]:
+    """(importing module, imported module) for every polynav import in the package."""
+    found = []
+    for path in PACKAGE.rglob("*.py"):
+        module = _module(path)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            else:
+                continue
+            found += [(module, n) for n in names if n.startswith("polynav.")]
+    return found
+
+
+def _top(module: str) -> str:
+    return module.split(".")[1] if module.count(".") else ""
+
+
+def _sub(module: str, depth: int) -> str:
+    parts = module.split(".")
+    return parts[depth] if len(parts) > depth else ""
+
+
+IMPORTS = _imports()
+
+
+def test_the_package_has_imports_to_check() -> None:
+    assert len(IMPORTS) > 1000
+
+
+@pytest.mark.parametrize("layer", CORE)
+def test_core_imports_nothing_above_it(layer: str) -> None:
+    bad = sorted({(a, b) for a, b in IMPORTS if _top(a) == layer and _top(b) in ABOVE_CORE})
+    assert bad == []
+
+
+def test_no_adapter_imports_another() -> None:
+    """Shared protocol code lives in ``polynav/protocols/*.py``; each package there is one
+    dialect."""
+    dialects = {p.name for p in (PACKAGE / "protocols").iterdir() if (p / "__init__.py").exists()}
+    assert {"galileo", "yunji"} <= dialects
+    bad = sorted({(a, b) for a, b in IMPORTS
+                  if _top(a) == "protocols" and _top(b) == "protocols"
+                  and _sub(a, 2) in dialects and _sub(b, 2) in dialects
+                  and _sub(a, 2) != _sub(b, 2)})
+    assert bad == []
+
+
+def test_only_the_composition_and_the_fleet_import_the_fleet() -> None:
+    """Issue 36 item 3: the fleet holds what a fleet manager and a vehicle run; composing a
+    site (the house, the command line) is above it, and nothing below imports it."""
+    allowed = {"fleet", "house", "cli"}
+    bad = sorted({(a, b) for a, b in IMPORTS if _top(b) == "fleet" and _top(a) not in allowed})
+    assert bad == []
+
+
+def test_only_the_command_line_imports_the_house() -> None:
+    bad = sorted({(a, b) for a, b in IMPORTS if _top(b) == "house" and _top(a) not in
+                  {"house", "cli"}})
+    assert bad == []
