@@ -330,7 +330,9 @@ export class Console {
     if (this.viewMap && (!this.status || this.status.map !== this.viewMap)) body.map = this.viewMap;
     return this.act("go", async () => {
       if (this.status && this.status.mode === "free" && this.viewMap) {
-        await this.api.post("/api/navigation/start", { map: this.viewMap });
+        // Navigation starts on the robot's own floor (a goal on another floor takes a lift).
+        const own = this.maps.find((m) => this.status.floor && m.floor === this.status.floor);
+        await this.api.post("/api/navigation/start", { map: own ? own.name : this.viewMap });
       }
       const answer = await this.api.post("/api/navigation/goal", body);
       this.toast(`going to ${target.point || target.x.toFixed(2) + ", " + target.y.toFixed(2)}`);
