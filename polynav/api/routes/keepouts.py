@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import logging
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Body
 
 from polynav.api.deps import MapNamePath, RuntimeDep, StoreDep
 from polynav.api.errors import BODY, LOOKUP, STATE, responses
+from polynav.api.examples import examples
 from polynav.api.schemas_console import (
     MAX_KEEPOUTS,
     KeepoutIO,
@@ -28,6 +29,12 @@ from polynav.runtime.robot_runtime import RobotRuntime
 log = logging.getLogger(__name__)
 
 router = APIRouter(prefix="/api/maps", tags=["maps"], responses=LOOKUP)
+
+# On the demo's floor1: a wall across the hall west of the lobby, a zone in its corner.
+_WALL = {"kind": "wall", "points": [[2.0, 11.0], [2.0, 13.0]], "thickness": 0.05}
+_ZONE = {"kind": "zone", "polygon": [[0.5, 15.5], [1.5, 15.5], [1.5, 16.5], [0.5, 16.5]]}
+OneBody = Body(openapi_examples=examples(virtual_wall=_WALL, forbidden_zone=_ZONE))
+ListBody = Body(openapi_examples=examples(wall_and_zone=[_WALL, _ZONE], none=[]))
 
 
 def _apply(runtime: RobotRuntime, map_name: str) -> None:
@@ -44,8 +51,8 @@ def list_keepouts(name: MapNamePath, store: StoreDep) -> list[KeepoutIO]:
 
 @router.put("/{name}/keepouts", operation_id="replace_keepouts",
             response_model=list[KeepoutIO], responses=responses(BODY, STATE))
-def replace_keepouts(name: MapNamePath, body: KeepoutList, store: StoreDep,
-                     runtime: RuntimeDep) -> list[KeepoutIO]:
+def replace_keepouts(name: MapNamePath, store: StoreDep, runtime: RuntimeDep,
+                     body: KeepoutList = ListBody) -> list[KeepoutIO]:
     """Replace all the map's walls and zones at once (an empty list clears them)."""
     shapes = [keepout_to_domain(k) for k in body]
     stored = store.set_keepouts(name, shapes)
@@ -55,8 +62,8 @@ def replace_keepouts(name: MapNamePath, body: KeepoutList, store: StoreDep,
 
 @router.post("/{name}/keepouts", operation_id="add_keepout", response_model=list[KeepoutIO],
              status_code=201, responses=responses(BODY, STATE))
-def add_keepout(name: MapNamePath, body: KeepoutIO, store: StoreDep,
-                runtime: RuntimeDep) -> list[KeepoutIO]:
+def add_keepout(name: MapNamePath, store: StoreDep, runtime: RuntimeDep,
+                body: KeepoutIO = OneBody) -> list[KeepoutIO]:
     """Draw one more wall or zone on the map; answers with the whole list (409 when the map
     already has the most keepouts one map may have)."""
     shape = keepout_to_domain(body)
