@@ -122,6 +122,11 @@ def test_the_keyboard_drives_the_robot(page: Any, console: Console) -> None:
                                   console.runtime.status().pose.y - here.y) > 0.3)
     page.mouse.up()
     wait_until(lambda: abs(console.runtime.status().linear) < 0.01)
+    page.click("#estop")
+    wait_until(lambda: console.runtime.status().estop_software)
+    page.wait_for_function("document.getElementById('estop').textContent === 'RELEASE'")
+    page.click("#estop")
+    wait_until(lambda: not console.runtime.status().estop_software)
 
 
 def test_the_initial_pose_is_set_by_dragging_on_the_map(page: Any, console: Console) -> None:
@@ -168,7 +173,7 @@ def test_a_task_made_from_points_runs_and_its_tree_shows_progress(
     screenshot(page, "task-done")
 
 
-def test_a_point_added_on_the_map_is_in_the_site_and_undo_takes_it_back(
+def test_points_and_shapes_edited_on_the_map_are_saved_and_undone(
     page: Any, console: Console
 ) -> None:
     with api(console) as http:
@@ -187,6 +192,43 @@ def test_a_point_added_on_the_map_is_in_the_site_and_undo_takes_it_back(
         page.click("#undo")
         wait_until(lambda: http.get("/api/points/dock_a",
                                     params={"map": "floor1"}).status_code == 404)
+        # Select a point, drag it, rename it, delete it, and undo the delete.
+        kitchen = point(http, "kitchen")
+        page.click("[data-tool=select]")
+        click_world(page, kitchen["x"], kitchen["y"])
+        page.wait_for_selector("#point-editor:not(.hidden)")
+        page.mouse.move(*screen_of(page, kitchen["x"], kitchen["y"]))
+        page.mouse.down()
+        page.mouse.move(*screen_of(page, kitchen["x"] + 0.5, kitchen["y"]), steps=5)
+        page.mouse.up()
+        wait_until(lambda: abs(point(http, "kitchen")["x"] - (kitchen["x"] + 0.5)) < 0.05)
+        page.fill("#point-name", "galley")
+        page.click("#point-rename")
+        wait_until(lambda: http.get("/api/points/galley",
+                                    params={"map": "floor1"}).status_code == 200)
+        assert http.get("/api/points/kitchen", params={"map": "floor1"}).status_code == 404
+        page.click("#point-delete")
+        wait_until(lambda: http.get("/api/points/galley",
+                                    params={"map": "floor1"}).status_code == 404)
+        page.keyboard.press("Control+z")  # undo the delete: the point is back as it was
+        wait_until(lambda: http.get("/api/points/galley",
+                                    params={"map": "floor1"}).status_code == 200)
+        assert point(http, "galley")["kind"] == kitchen["kind"]
+        # A forbidden zone and a path, drawn corner by corner.
+        x0, y0 = lobby["x"], lobby["y"]
+        page.click("[data-tool=zone]")
+        for dx, dy in ((0.5, 0.5), (1.5, 0.5), (1.5, 1.5)):
+            click_world(page, x0 + dx, y0 + dy)
+        page.keyboard.press("Enter")
+        zones = wait_until(lambda: http.get("/api/maps/floor1/keepouts").json())
+        assert zones[0]["kind"] == "zone" and len(zones[0]["polygon"]) == 3
+        page.click("[data-tool=path]")
+        page.once("dialog", lambda dialog: dialog.accept("to_desk"))
+        click_world(page, x0, y0 - 1.0)
+        click_world(page, x0 + 1.0, y0 - 2.0, click_count=2)  # a double-click ends it
+        paths = wait_until(lambda: http.get("/api/maps/floor1/paths").json())
+        assert paths[0]["name"] == "to_desk" and len(paths[0]["points"]) == 2
+        screenshot(page, "edited")
 
 
 def _segment_distance(p: list[float], a: list[float], b: list[float]) -> float:

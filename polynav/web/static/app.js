@@ -143,11 +143,12 @@ export class Console {
     const name = this.viewMap;
     if (!name) return;
     const q = encodeURIComponent(name);
+    const seq = (this.siteSeq = (this.siteSeq || 0) + 1); // only the newest read is shown
     try {
       const [points, keepouts, paths] = await Promise.all([
         this.api.get(`/api/points?map=${q}`), this.api.get(`/api/maps/${q}/keepouts`),
         this.api.get(`/api/maps/${q}/paths`)]);
-      if (this.viewMap !== name) return;
+      if (this.viewMap !== name || seq !== this.siteSeq) return;
       this.points = points;
       this.view.set("points", points);
       this.view.set("keepouts", [...keepouts, ...paths.map((p) => ({ kind: "path", ...p }))]);
@@ -272,6 +273,7 @@ export class Console {
       const [fleet, lifts] = await Promise.all([this.api.get("/api/fleet"),
         this.api.get("/api/lifts")]);
       this.renderFleet(fleet.robots);
+      this.view.set("lifts", lifts.lifts);
       $("lift-list").innerHTML = "";
       for (const l of lifts.lifts) {
         const li = document.createElement("li");

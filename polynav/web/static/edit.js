@@ -28,17 +28,17 @@ export class Editor {
   siteLoaded(keepouts, paths) {
     this.keepouts = keepouts;
     this.paths = paths;
-    if (this.selected) {
-      this.select(this.app.points.find((p) => p.name === this.selected.name) || null);
+    if (this.selected) { // the same point, as stored now; what is being typed stays
+      this.select(this.app.points.find((p) => p.name === this.selected.name) || null, false);
     }
   }
 
-  select(point) {
+  select(point, fillName = true) {
     this.selected = point;
     this.app.view.set("selected", point);
     document.getElementById("point-editor").classList.toggle("hidden", !point);
     document.getElementById("point-none").classList.toggle("hidden", !!point);
-    if (point) {
+    if (point && fillName) {
       document.getElementById("point-name").value = point.name;
       document.getElementById("edit-panel").open = true;
     }

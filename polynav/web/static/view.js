@@ -23,7 +23,7 @@ export class MapView {
     this.offset = { x: 0, y: 0 }; // CSS px of world (0, 0)
     this.fitted = false;
     this.layers = {
-      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null,
+      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [],
       draft: null, selected: null, footprint: { radius: 0.25 },
     };
     this.robot = null; // {x, y, theta} shown, eased toward `target`
@@ -293,6 +293,14 @@ export class MapView {
     ctx.lineWidth = 1.5;
     ctx.stroke();
     this.label(p.x, p.y, p.name, "#222", 9);
+    if (p.kind === "lift-inside") { // the car there: where it is, its doors, its motion
+      const car = this.layers.lifts.find((l) => p.name.startsWith(l.name));
+      if (car) {
+        const motion = car.motion === "up" ? " ▲" : car.motion === "down" ? " ▼" : "";
+        this.label(p.x, p.y, `${car.current_floor}${motion} ${car.door}` +
+          `${car.mode !== "normal" ? " ✕" : ""}`, "#a50", -22);
+      }
+    }
   }
 
   label(x, y, text, color, dy) {
