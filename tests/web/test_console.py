@@ -228,6 +228,8 @@ def test_points_and_shapes_edited_on_the_map_are_saved_and_undone(
         click_world(page, x0 + 1.0, y0 - 2.0, click_count=2)  # a double-click ends it
         paths = wait_until(lambda: http.get("/api/maps/floor1/paths").json())
         assert paths[0]["name"] == "to_desk" and len(paths[0]["points"]) == 2
+        page.wait_for_function(
+            "window.polynav.view.layers.keepouts.some(k => k.kind === 'path')")
         screenshot(page, "edited")
 
 
