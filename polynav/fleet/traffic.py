@@ -110,6 +110,7 @@ class _ZoneLease:
     place: int = 0
     expiry: float = -math.inf
     renew_sent: float = -math.inf
+    flow: str | None = None
 
 
 class TrafficRule:
@@ -169,6 +170,14 @@ class TrafficRule:
             else:
                 log.warning("%s: lease on %s %s", self.holder, response.zone_id, grant.value)
             del self._leases[response.zone_id]
+
+    def resend(self) -> None:
+        """Ask again for every zone asked for or held, with the same request ids: after the
+        link to the fleet was lost, a request or its answer may have been lost with it (the
+        fleet takes a holder's ask as a renewal, a waiter's as keeping its place)."""
+        for zone_id, lease in self._leases.items():
+            self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
+                       self.config.lease_duration, lease.flow)
 
     def resume_goal(self, runtime: RobotRuntime) -> None:
         """Resume the goal this rule paused, if any (the order changes, or the zone is ours)."""
@@ -317,7 +326,7 @@ class TrafficRule:
 
     def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
-        self._leases[zone_id] = _ZoneLease(request_id)
+        self._leases[zone_id] = _ZoneLease(request_id, flow=flow)
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
 

@@ -141,6 +141,9 @@ class DockingSucceeded(NavigationEvent):
 
 @dataclass(frozen=True, slots=True)
 class DockingFailed(NavigationEvent):
-    """``cause``: ``"no_contact"`` or ``"timeout"``."""
+    """``cause``: ``"no_feature"`` (no charger's plate seen near the marker),
+    ``"no_infrared"`` (its beacon not seen), ``"bad_data"`` (contact, but the charger's data
+    link gave no valid frame), ``"no_contact"`` (on the charger pose but no charging current)
+    or ``"timeout"``."""
 
     cause: str = ""

@@ -6,6 +6,7 @@ tell them apart. Readings carry the backend's timestamp (simulated seconds in th
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
@@ -104,6 +105,24 @@ class SignCamera(Protocol):
         ...
 
 
+class DockLink(enum.Enum):
+    """The data link a charger and a robot keep over their contacts."""
+
+    NONE = "none"  # no contact: nothing exchanged
+    VALID = "valid"  # frames exchanged and checked: the charger may switch its current on
+    INVALID = "invalid"  # frames arrive but fail their check
+
+
+@dataclass(frozen=True, slots=True)
+class DockSignals:
+    """A base's docking sensors: whether its infrared receiver sees a charger's beacon, whether
+    its contacts touch a charger's, and how the data link over them stands."""
+
+    beacon: bool
+    contact: bool
+    link: DockLink
+
+
 class Robot(Protocol):
     """What polynav needs from a mobile base."""
 
@@ -127,6 +146,11 @@ class Robot(Protocol):
 
     def read_people(self) -> Sequence[PersonDetection]:
         """The people the base's leg tracker sees now; empty for a base without one."""
+        ...
+
+    def read_dock(self) -> DockSignals | None:
+        """The docking sensors now; ``None`` for a base without them (docking then goes by the
+        scan and the charging current alone)."""
         ...
 
 

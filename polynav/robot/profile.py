@@ -39,7 +39,8 @@ The file, every key optional except ``name`` and ``footprint`` (units SI, angles
     odometry: {translation_noise: 0.02, rotation_noise: 0.02,
                translation_additive: 0.0002, rotation_additive: 0.0002}
     imu: {rate: 50.0, yaw_rate_noise: 0.005, yaw_rate_bias: 0.002, acceleration_noise: 0.05}
-    charger: {distance_tolerance: 0.1, heading_tolerance: 0.3}
+    charger: {distance_tolerance: 0.1, heading_tolerance: 0.3,   # contacts touch within
+              plate_width: 0.6, notch_width: 0.3, notch_depth: 0.1}  # the plate the lidar sees
     reverse: {allowed: true, rear_view: 12.0}   # may it back up in a recovery; how far [m] its
                                                # sensors see behind it (default: the lidar's
                                                # range if it sees behind, else 0)
@@ -65,6 +66,7 @@ from typing import Any
 
 import yaml
 
+from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
@@ -167,10 +169,20 @@ class ImuSpec:
 
 @dataclass(frozen=True, slots=True)
 class ChargerContact:
-    """How precisely the base must stand on a charger point for its contacts to touch."""
+    """How precisely the base must stand on a charger point for its contacts to touch, and the
+    shape of the charger's front plate that docking finds in the scan
+    (:class:`~polynav.docking.shape.DockShape`)."""
 
     distance_tolerance: float = 0.1
     heading_tolerance: float = 0.3
+    plate_width: float = 0.6
+    notch_width: float = 0.3
+    notch_depth: float = 0.1
+
+    @property
+    def plate(self) -> DockShape:
+        """The plate's outline (raises ConfigError when inconsistent)."""
+        return DockShape(self.plate_width, self.notch_width, self.notch_depth)
 
 
 @dataclass(frozen=True, slots=True)
@@ -271,6 +283,9 @@ class RobotProfile:
             dock_heading_tolerance=self.charger.heading_tolerance,
             sign_camera_range=self.sign_camera.range if self.sign_camera is not None else 0.0,
             sign_camera_fov=self.sign_camera.fov if self.sign_camera is not None else 0.0,
+            charger_plate_width=self.charger.plate_width,
+            charger_notch_width=self.charger.notch_width,
+            charger_notch_depth=self.charger.notch_depth,
         )
 
     def to_document(self) -> dict[str, Any]:
@@ -521,8 +536,12 @@ def _validate(p: RobotProfile) -> None:
     _positive(p.imu.rate, "imu.rate")
     for name in ("yaw_rate_noise", "yaw_rate_bias", "acceleration_noise"):
         _non_negative(getattr(p.imu, name), f"imu.{name}")
-    for name in ("distance_tolerance", "heading_tolerance"):
+    for name in ("distance_tolerance", "heading_tolerance", "plate_width", "notch_width",
+                 "notch_depth"):
         _positive(getattr(p.charger, name), f"charger.{name}")
+    if not p.charger.notch_width < p.charger.plate_width:
+        raise ProfileError("charger.notch_width",
+                           f"must be below charger.plate_width ({p.charger.plate_width:g})")
     if p.reverse.rear_view is not None:
         _non_negative(p.reverse.rear_view, "reverse.rear_view")
     if p.sign_camera is not None:

@@ -291,8 +291,10 @@ class DockingSucceeded(AttemptEvent):
 
 @dataclass(frozen=True, slots=True)
 class DockingFailed(RuntimeEvent):
-    """Docking gave up; ``cause`` is ``"no_contact"`` (on the charger pose but no charging
-    current) or ``"timeout"``. The attempt fails next."""
+    """Docking gave up; ``cause`` is ``"no_feature"`` (no charger's plate in the scan near the
+    marker), ``"no_infrared"`` (its infrared beacon not seen), ``"bad_data"`` (the contacts
+    touch but the charger's data link gave no valid frame), ``"no_contact"`` (on the charger
+    pose but no charging current) or ``"timeout"``. The attempt fails next."""
 
     kind: ClassVar[str] = "docking_failed"
 

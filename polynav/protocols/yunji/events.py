@@ -115,9 +115,6 @@ NOTIFICATIONS: dict[str, tuple[str, str]] = {
 _NO_CONTAINERS = "polynav has no container or cabin docking (no product feature behind it)"
 # Codes whose trigger polynav has no feature for: catalogued, never sent (docs/yunji.md).
 NOT_PRODUCED: dict[str, str] = {
-    "01023": "the simulated dock has no data link whose frames could be invalid",
-    "01024": "docking aims at the charger marker's pose; there is no dock-feature detector",
-    "01026": "polynav's robots have no infrared dock beacon",
     "01028": _NO_CONTAINERS,
     "01029": "polynav's bases (simulated and bridged) are differential: there is no lateral "
              "(sideways) mode to switch to, so the switch can neither be made nor fail "
@@ -144,8 +141,8 @@ NOT_PRODUCED: dict[str, str] = {
 # Codes the mapper below sends.
 PRODUCED: frozenset[str] = frozenset({
     "01001", "01002", "01003", "01004", "01005", "01006", "01007",
-    "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
-    "01033", "01034",
+    "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01023", "01024", "01025",
+    "01026", "01027", "01033", "01034",
     "01101", "01102", "01103", "01104",
     "01200", "01201", "01202", "01203", "01204", "01210",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
@@ -173,7 +170,8 @@ _STEP: dict[type[events.RuntimeEvent], str] = {
     # People block the way and the robot waits for them: the same "no local plan" notice.
     events.NavigationWaiting: "01204",
 }
-_DOCK_CAUSE = {"no_contact": "01025", "timeout": "01027"}
+_DOCK_CAUSE = {"bad_data": "01023", "no_feature": "01024", "no_contact": "01025",
+               "no_infrared": "01026", "timeout": "01027"}
 _PATROL: dict[type[events.RuntimeEvent], str] = {
     events.PatrolStarted: "01101",
     events.PatrolFinished: "01102",

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from polynav.geometry import Twist
 from polynav.robot.interface import (
     BatteryState,
+    DockSignals,
     ImuReading,
     LaserScan,
     Odometry,
@@ -60,6 +61,9 @@ class SimRobot:
         """The "no entry" signs the sign camera sees (:class:`~polynav.robot.interface.SignCamera`;
         none for a profile without one)."""
         return self._sim.detect_signs()
+
+    def read_dock(self) -> DockSignals | None:
+        return self._sim.dock_signals()
 
     def dock_contact(self) -> bool:
         """True while the charging contacts touch a charger."""
