@@ -212,6 +212,11 @@ def _run(args: argparse.Namespace) -> int:
                 print(f"polynav: VDA 5050 {args.vda_version} vehicle on {args.broker} as "
                       f"uagv/v2/{args.vda_manufacturer}/{args.vda_serial}/", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
+            if args.open:
+                from polynav.web import open_console_when_serving
+
+                running = server
+                open_console_when_serving(lambda: running.started, f"{base}/")
             try:
                 if not stop_requested:
                     server.run(sockets=[sock])
@@ -366,6 +371,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the local date-time (YYYY-MM-DDTHH:MM[:SS]) that simulated time 0 "
                      "stands for, for schedules; default: now")
     run.add_argument("--no-people", action="store_true", help="no walkers in the simulation")
+    run.add_argument("--open", action="store_true",
+                     help="open the web console (the native API's /) in the browser")
     run.add_argument("--automations", action="store_true",
                      help="let automation tasks (user programs) run, each in its own limited "
                           "process (default: off)")

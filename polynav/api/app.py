@@ -13,14 +13,17 @@ from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
     fleet,
+    keepouts,
     lifts,
     localization,
     mapless,
     mapping,
     maps,
     navigation,
+    paths,
     points,
     robot,
+    scene,
     schedules,
     settings,
     status,
@@ -30,12 +33,13 @@ from polynav.api.routes import (
 from polynav.api.routes.fleet import FleetListing
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
+from polynav.web import install_console
 
 log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, lifts, tasks, schedules, ws,
+    fleet, lifts, tasks, schedules, ws, keepouts, paths, scene,
 )
 
 
@@ -59,7 +63,8 @@ def create_app(
             lone robot lists itself.
 
     Returns:
-        The application, with OpenAPI at ``/docs`` and ``/openapi.json``.
+        The application, with OpenAPI at ``/docs`` and ``/openapi.json`` and the web console
+        at ``/``.
     """
     from polynav import __version__
 
@@ -82,6 +87,7 @@ def create_app(
     install_error_handlers(app)
     for module in ROUTERS:
         app.include_router(module.router)
+    install_console(app)
     if config.login_required:  # beyond loopback (or forced): docs/auth.md
         install_login(app, config)
     return app

@@ -1,8 +1,9 @@
 """The gate in front of the native API when it asks for a login, and what the document says.
 
 A pure ASGI middleware, so it sees every HTTP request and every WebSocket handshake before
-routing: deny by default. Open without a token are only ``/api/login`` and the API's own
-description (``/openapi.json``, ``/docs``, ``/redoc``); everything else, routes added later and
+routing: deny by default. Open without a token are only ``/api/login``, the API's own
+description (``/openapi.json``, ``/docs``, ``/redoc``) and the web console's static files
+(``/``, ``/web/...``); everything else, routes added later and
 unknown paths included, needs a valid token (401 otherwise), and a ``viewer`` may only read:
 GET, HEAD, OPTIONS, the WebSocket's stream, and ``POST /api/logout`` (403 otherwise). Checking
 before routing means a request without a token learns nothing, not even whether its body
@@ -39,7 +40,10 @@ log = logging.getLogger(__name__)
 
 #: Paths served without a token.
 PUBLIC_PATHS = frozenset({"/api/login", "/openapi.json", "/docs", "/docs/oauth2-redirect",
-                          "/redoc"})
+                          "/redoc", "/"})
+#: Path prefixes served without a token: the web console's static files (its page at ``/``
+#: shows the login form, so it must load before one; it holds no data).
+PUBLIC_PREFIXES = ("/web/",)
 #: Methods a viewer may use.
 READ_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 #: Writes any user may make.
@@ -48,6 +52,11 @@ ANY_ROLE = frozenset({("POST", "/api/logout")})
 WRITERS = frozenset({"operator"})
 
 _UNAUTHORIZED = "log in first: POST /api/login, then send 'Authorization: Bearer <token>'"
+
+
+def is_public(path: str) -> bool:
+    """Whether ``path`` is served without a token."""
+    return path in PUBLIC_PATHS or path.startswith(PUBLIC_PREFIXES)
 
 
 def may(user: UserRecord, method: str, path: str) -> bool:
@@ -64,7 +73,7 @@ class AuthGate:
         self.service = service
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] not in ("http", "websocket") or scope["path"] in PUBLIC_PATHS:
+        if scope["type"] not in ("http", "websocket") or is_public(scope["path"]):
             await self.app(scope, receive, send)
             return
         websocket = scope["type"] == "websocket"

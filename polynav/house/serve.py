@@ -150,6 +150,12 @@ def run(args: argparse.Namespace) -> int:
                 print(f"polynav: VDA 5050 {args.vda_version} vehicles on {args.broker} under "
                       f"uagv/v2/{args.vda_manufacturer}/<robot>/", flush=True)
             print("polynav: Ctrl-C to stop", flush=True)
+            if args.open and servers:  # the first robot's console; it lists the others
+                from polynav.web import open_console_when_serving
+
+                first = building.ports[building.serials[0]]["native"]
+                open_console_when_serving(lambda: servers[0].started,
+                                          f"http://{args.host}:{first}/")
             if not stop_requested:
                 asyncio.run(_serve_all(servers, sockets))
         finally:

@@ -249,9 +249,10 @@ class RouteBook:
         return self.store.point(map_name, route.stops[index].point)
 
     def save_polyline(
-        self, map_name: str, name: str, polyline: Sequence[Point3], text: str
+        self, map_name: str, name: str, polyline: Sequence[Point3], text: str | None
     ) -> StopRoute:
-        """Create route ``name`` or replace its drawn polyline (stops and keepouts kept)."""
+        """Create route ``name`` or replace its drawn polyline (stops and keepouts kept);
+        ``text`` is the route file as uploaded, ``None`` for a polyline drawn in the console."""
         _check_route_name(name)
         with self._lock:
             route = self._existing_or_new(map_name, name)

@@ -65,6 +65,26 @@ class _TaskHost:
         return self.calendar_now().isoformat(timespec="seconds")
 
 
+class _NoLidar:
+    """The fake robot's sensors: no scan yet."""
+
+    def read_scan(self) -> None:
+        return None
+
+
+class _NoPlan:
+    """The fake's site queries: a running goal's plan is the straight line to it."""
+
+    def __init__(self, fake: FakeRuntime) -> None:
+        self._fake = fake
+
+    def planned_path(self, max_points: int = 2000) -> list[tuple[float, float]]:
+        fake = self._fake
+        if fake.nav_state != "running" or fake.goal is None:
+            return []
+        return [(fake.pose.x, fake.pose.y), (fake.goal.x, fake.goal.y)][:max_points]
+
+
 class FakeRuntime:
     def __init__(self, store: SiteStore) -> None:
         self.store = store
@@ -91,6 +111,7 @@ class FakeRuntime:
         levels = {f.name: f.level for f in world.floors}
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
                      for car in world.lifts}
+        self.keepouts_reloaded = 0
         self.tasks = TaskCommands(cast(RobotRuntime, _TaskHost(self)))
         self.tasks.load()
 
@@ -132,6 +153,28 @@ class FakeRuntime:
                 self._publish(events.NavigationSucceeded(self.now, self.attempt, 1.0))
             self.velocity = (0.0, 0.0)
             self._finish_job()
+
+    # -- what the console's map view reads (GET /api/scene) and its keepout edits
+    is_simulated = False  # no simulator: no people to show
+
+    @property
+    def map_name(self) -> str | None:
+        return self.map
+
+    @property
+    def robot(self) -> _NoLidar:
+        return _NoLidar()
+
+    @property
+    def queries(self) -> _NoPlan:
+        return _NoPlan(self)
+
+    def run_between_ticks(self, fn: Callable[[], T]) -> T:
+        with self._lock:
+            return fn()
+
+    def reload_keepouts(self) -> None:
+        self.keepouts_reloaded += 1
 
     # -- contract
     def status(self) -> StatusSnapshot:

@@ -46,6 +46,7 @@ NEEDS = {
     "send_goal": "start_navigation",
     "save_mapping": "start_mapping",
     "stop_mapping": "start_mapping",
+    "delete_path": "save_path",
 }
 # Operations that name a resource (a path or a body naming a car, map, point) or need a mode:
 # the ones the issue asks to reach, which must have examples that answer 2xx.

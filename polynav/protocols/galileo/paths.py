@@ -27,9 +27,12 @@ ROUTES = RouteList()
 
 
 def path_text(ctx: Context, route: StopRoute) -> str:
-    """The path file: as uploaded, else the stops' positions (the synthesized default path)."""
+    """The path file: as uploaded, else the polyline drawn (the web console's), else the stops'
+    positions (the synthesized default path)."""
     if route.polyline_text is not None:
         return route.polyline_text
+    if route.polyline:
+        return convert.format_path(route.polyline)
     points = sessions.routes(ctx).stop_points(route)
     return convert.format_path((p.pose.x, p.pose.y, s.z) for p, s in zip(points, route.stops,
                                                                          strict=True))
