@@ -51,6 +51,7 @@ class _Robot:
     state: m.State | None = None
     state_at: float | None = None
     order_count: int = 0
+    last_order: m.Order | None = None
 
 
 class MasterControl:
@@ -107,8 +108,11 @@ class MasterControl:
         """When [s of site time] the robot's last state was read, ``None`` before its first."""
         return self._robot(serial_number).state_at
 
-    def send_order(self, serial_number: str, stops: list[Stop]) -> str:
-        """Send the robot an order through ``stops``; returns the order id.
+    def send_order(self, serial_number: str, stops: list[Stop], *,
+                   order_id: str | None = None) -> str:
+        """Send the robot an order through ``stops``; returns the order id (``order_id``, or
+        ``<serial>-<n>``: a fleet manager that may restart names its orders itself, since a
+        robot ignores an order whose id and update id it has already had).
 
         The order's first node is where the robot stands (its last state's position, named by
         its last node, VDA 5050 §6.6.1: a new order starts where the vehicle is), then one node
@@ -125,7 +129,10 @@ class MasterControl:
         if here is None:
             raise InvalidRequest("robot", f"{serial_number} has not said where it is yet")
         robot.order_count += 1
-        order_id = f"{serial_number}-{robot.order_count}"
+        if order_id is None:
+            order_id = f"{serial_number}-{robot.order_count}"
+        elif not order_id:
+            raise InvalidRequest("order_id", "must not be empty")
         start = robot.state.last_node_id if robot.state and robot.state.last_node_id else (
             f"{serial_number}-here")
         nodes = [m.Node(start, 0, m.NodePosition(here.x, here.y, _angle(here.theta), here.map_id))]
@@ -136,12 +143,36 @@ class MasterControl:
         edges = tuple(
             m.Edge(f"{a.node_id}->{b.node_id}", a.sequence_id + 1, a.node_id, b.node_id)
             for a, b in itertools.pairwise(nodes))
-        self.transport.publish(
-            self._topic(serial_number, m.Order),
-            m.Order(self._vda_headers.stamp(serial_number, m.Order), order_id, 0, tuple(nodes),
-                    edges))
+        order = m.Order(self._vda_headers.stamp(serial_number, m.Order), order_id, 0,
+                        tuple(nodes), edges)
+        self.transport.publish(self._topic(serial_number, m.Order), order)
+        robot.last_order = order
         log.info("order %s to %s: %s", order_id, serial_number, [s.point for s in stops])
         return order_id
+
+    def resend_order(self, serial_number: str, order_id: str) -> bool:
+        """Send the robot's last order again, unchanged (same orderId and orderUpdateId, so a
+        robot that had it ignores it, VDA 5050 §6.6.2: orders travel at QoS 0 and may be
+        lost); False if its last order is not ``order_id``.
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        robot = self._robot(serial_number)
+        order = robot.last_order
+        if order is None or order.order_id != order_id:
+            return False
+        self.transport.publish(self._topic(serial_number, m.Order), order)
+        log.info("order %s re-sent to %s", order_id, serial_number)
+        return True
+
+    def request_state(self, serial_number: str) -> None:
+        """Ask the robot for its state now (the stateRequest instant action).
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        self._instant(serial_number, m.ActionType.STATE_REQUEST, "state")
 
     def cancel_order(self, serial_number: str) -> None:
         """Tell the robot to cancel its order.
@@ -149,9 +180,12 @@ class MasterControl:
         Raises:
             InvalidRequest: an unknown robot.
         """
+        self._instant(serial_number, m.ActionType.CANCEL_ORDER, "cancel")
+
+    def _instant(self, serial_number: str, kind: m.ActionType, name: str) -> None:
         self._robot(serial_number)
         header = self._vda_headers.stamp(serial_number, m.InstantActions)
-        action = m.Action(f"cancel-{header.header_id}", m.ActionType.CANCEL_ORDER.value)
+        action = m.Action(f"{name}-{header.header_id}", kind.value)
         self.transport.publish(self._topic(serial_number, m.InstantActions),
                                m.InstantActions(header, (action,)))
 
