@@ -8,7 +8,8 @@ each robot only through messages on a :class:`~polynav.fleet.interface.Transport
 - it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
   with its expiry, or QUEUED with the waiter's place in line, sent again whenever the place
   changes; a waiter is sent GRANTED when its turn comes, REJECTED when it has waited
-  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
+  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED; an expiry is
+  sent on the asking robot's clock when its request says what its clock read;
 - it keeps the last **state** of each robot, which ``GET /api/fleet`` shows; a message from a
   robot that breaks its schema is logged and not used.
 
@@ -51,6 +52,7 @@ class _Robot:
     state: m.State | None = None
     state_at: float | None = None
     order_count: int = 0
+    clock_offset: float = 0.0  # the robot's site time minus ours [s], from its zone requests
     last_order: m.Order | None = None
 
 
@@ -210,6 +212,11 @@ class MasterControl:
 
     def _answer(self, serial: str, request: m.ZoneRequest, now: float) -> None:
         self.zone_requests += 1
+        if request.sent_at is not None and math.isfinite(request.sent_at):
+            # Its clock, not ours, judges its lease: answer expiries on it (the message's
+            # transit makes the robot's expiry a little later than ours, by milliseconds,
+            # against the seconds it renews ahead).
+            self._robots[serial].clock_offset = request.sent_at - now
         zone = request.zone_id
         key = (zone, serial)
         if request.request_type is m.ZoneRequestType.RELEASE:
@@ -274,6 +281,8 @@ class MasterControl:
 
     def _respond(self, serial: str, request_id: str, zone: str, grant: m.GrantType,
                  expiry: float | None, place: int | None = None) -> None:
+        if expiry is not None:
+            expiry += self._robots[serial].clock_offset
         self.transport.publish(
             self._topic(serial, m.ZoneResponse),
             m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry, place))
