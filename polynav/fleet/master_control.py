@@ -54,6 +54,7 @@ class _Robot:
     order_count: int = 0
     clock_offset: float = 0.0  # the robot's site time minus ours [s], from its zone requests
     last_order: m.Order | None = None
+    offline: bool = False
 
 
 class MasterControl:
@@ -97,6 +98,15 @@ class MasterControl:
             states=self.transport.subscribe(self._topic(serial_number, m.State)),
             zone_requests=self.transport.subscribe(self._topic(serial_number, m.ZoneRequest)),
         )
+
+    def set_online(self, serial_number: str, online: bool) -> None:
+        """Whether the robot's connection is up; an offline robot's zone requests are
+        rejected (the fleet manager revokes its leases when its last will arrives).
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        self._robot(serial_number).offline = not online
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -202,11 +212,24 @@ class MasterControl:
                     log.warning("a state of %s not used: %s", serial, state)
         for serial, robot in self._robots.items():
             for request in robot.zone_requests.drain():
-                if isinstance(request, m.ZoneRequest):
+                if isinstance(request, m.ZoneRequest) and robot.offline:
+                    # Sent before its connection was lost, read after: the leases it had are
+                    # revoked, and it gets none while away.
+                    log.warning("zone request %s of %s refused: it is offline",
+                                request.request_id, serial)
+                    self._respond(serial, request.request_id, request.zone_id,
+                                  m.GrantType.REJECTED, None)
+                elif isinstance(request, m.ZoneRequest):
                     self._answer(serial, request, now)
                 else:
                     log.warning("a zone request of %s not used: %s", serial, request)
         self.leases.tick(now)
+        self.answer_lease_changes()
+
+    def answer_lease_changes(self) -> None:
+        """Tell robots what the lease book did since the last call (grants to waiters,
+        expiries, places in line); :meth:`tick` does, and so may one who changed the book
+        between ticks (leases revoked from a lost robot go at once to those waiting)."""
         self._forward_events()
         self._tell_places()
 

@@ -279,8 +279,11 @@ class FleetManager:
         tried again next tick: the robots keep being answered from memory meanwhile."""
         with self._lock:
             self._now = now
-            self._read_connections(now)
+            # States and zone requests first: what a lost robot sent before its will came is
+            # read before the will revokes its leases (not granted again after).
             self.master.tick(now)
+            if self._read_connections(now):
+                self.master.answer_lease_changes()
             try:
                 self._follow_missions(now)
                 if now >= self._next_dispatch:
@@ -292,7 +295,9 @@ class FleetManager:
 
     # -- connections ---------------------------------------------------------------------------
 
-    def _read_connections(self, now: float) -> None:
+    def _read_connections(self, now: float) -> bool:
+        """Take in the robots' connection messages; whether any robot's changed."""
+        changed = False
         for message in self._connections.drain():
             if not isinstance(message, m.Connection):
                 log.warning("a connection message not used: %s", message)
@@ -307,16 +312,19 @@ class FleetManager:
             before = self._link.get(serial)
             if before == state:
                 continue
+            changed = True
             try:
                 self._connection_changed(serial, state, before, now)
             except PolynavError as exc:
                 log.error("fleet manager: connection of %s to %s: %s", serial, state, exc)
+        return changed
 
     def _connection_changed(self, serial: str, state: str, before: str | None,
                             now: float) -> None:
         if serial not in self._link:
             self.master.add_robot(serial)
         self._link[serial] = state
+        self.master.set_online(serial, state == m.ConnectionState.ONLINE.value)
         log.info("robot %s is %s (was %s)", serial, state, before or "unknown")
         self.records.note("robot.connection", now=now, robot=serial, state=state)
         self._emit("robot.connection", robot=serial, state=state)
@@ -328,14 +336,16 @@ class FleetManager:
                 self.master.cancel_order(serial)
             self.master.request_state(serial)
             return
-        self.leases.release_all(serial, now=now)
-        revoked = self.records.revoke_all(serial, now=now)
+        released = self.leases.release_all(serial, now=now)
+        # Besides those this manager's book held (released above, in the records too): any
+        # another manager granted it.
+        revoked = [lease.resource for lease in self.records.revoke_all(serial, now=now)]
         requeued = self.records.requeue_robot(serial, now=now)
         self._assignments.pop(serial, None)
         if requeued:
             self._orphaned.add(serial)
         log.warning("robot %s lost (%s): leases %s revoked, missions %s requeued", serial,
-                    state, [lease.resource for lease in revoked], list(requeued))
+                    state, sorted({*released, *revoked}), list(requeued))
         for mission_id in requeued:
             self._emit("mission.requeued", mission=mission_id, robot=serial,
                        why=state.lower())

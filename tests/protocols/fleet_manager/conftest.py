@@ -14,6 +14,11 @@ from pathlib import Path
 import pytest
 
 from tests.helpers.mosquitto import Mosquitto
+from tests.helpers.postgres import (  # noqa: F401  (fixtures)
+    postgres_database,
+    postgres_server,
+    postgres_url,
+)
 
 
 @pytest.fixture

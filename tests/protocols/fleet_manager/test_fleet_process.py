@@ -5,6 +5,7 @@ the same speed."""
 from __future__ import annotations
 
 import json
+import socket
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -137,3 +138,48 @@ def test_an_unreachable_broker_or_database_is_one_line_and_exit_1(
     assert status == 1
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "unreachable" in lines[0], err
+
+
+def _sever(building: Building, serial: str) -> None:
+    """Kill robot ``serial``'s MQTT client as a crash would: its network loop ends and its TCP
+    connection drops without DISCONNECT or OFFLINE, so the broker publishes its last will."""
+    (link,) = [link for link in building.links if link.serial_number == serial]
+    client = link.transport._client  # noqa: SLF001 (no public way to crash a client)
+    client.loop_stop()
+    sock = client.socket()
+    assert sock is not None
+    sock.shutdown(socket.SHUT_RDWR)
+
+
+def test_a_robot_killed_mid_mission_loses_its_leases_and_another_robot_finishes_it(
+        broker: Mosquitto, building: Building, store: SiteStore, tmp_path: Path,
+        start_fleet: list[FleetProcess]) -> None:
+    fleet = FleetProcess(fleet_args(broker, store, tmp_path))
+    start_fleet.append(fleet)
+    assert fleet.url, fleet.lines
+    building.start()
+    with httpx.Client(base_url=fleet.url, timeout=10.0) as client:
+        wait_for(lambda: len([r for r in client.get("/api/robots").json()
+                              if r["map"] is not None]) == 2, 15.0, "both robots' states")
+        posted = client.post("/api/missions", json={"stops": [
+            {"point": "office_4", "map": "floor1"}], "mission_id": "m"})
+        assert posted.status_code == 202
+        wait_for(lambda: any(e["what"] == "order.confirmed"
+                             for e in client.get("/api/audit").json()),
+                 20.0, "the robot to take the order")
+        assert mission(client, "m")["robot"] == "robot1"
+        _sever(building, "robot1")
+        wait_for(lambda: client.get("/api/robots/robot1").json()["connection"]
+                 == "CONNECTIONBROKEN", 20.0, "robot1's last will")
+        building.runtimes[0].cancel()  # the dead robot stops where it is
+        assert all(lease["holder"] != "robot1" for lease in client.get("/api/leases").json())
+        done = wait_for(lambda: (got := mission(client, "m"))["state"] in ("done", "failed")
+                        and got, 60.0, "the mission to end")
+        assert (done["state"], done["robot"], done["attempts"]) == ("done", "robot2", 2)
+        audit = client.get("/api/audit").json()
+        assert [e["detail"]["robot"] for e in audit if e["what"] == "mission.requeued"] == [
+            "robot1"]
+        assert {"robot": "robot1", "state": "CONNECTIONBROKEN"} in [
+            e["detail"] for e in audit if e["what"] == "robot.connection"]
+    status, err = fleet.stop()
+    assert status == 0, err
