@@ -210,3 +210,21 @@ def test_malformed_connection_messages_are_logged_not_fatal(
         fm.tick(0.5)
     assert fm.robots() == []
     assert sum("connection message not used" in r.getMessage() for r in caplog.records) == 2
+
+
+def test_a_lease_expiry_is_answered_on_the_asking_robots_clock(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    fm = manager(transport, records)
+    (robot,) = online(transport, fm, ("r1", 0.0))
+    responses = transport.subscribe(m.topic("r1", m.ZoneResponse))
+    robot.responses.drain()
+    # The robot's site time is 500 s ahead of the manager's (started earlier).
+    transport.publish(m.topic("r1", m.ZoneRequest), m.ZoneRequest(
+        1, "r1", "q1", "lift:A", m.ZoneRequestType.ACCESS, 10.0, sent_at=501.0))
+    fm.tick(1.0)
+    (answer,) = responses.drain()
+    assert isinstance(answer, m.ZoneResponse)
+    assert (answer.grant_type, answer.lease_expiry) == (m.GrantType.GRANTED, 511.0)
+    # The records keep the manager's own time.
+    (lease,) = records.live_leases(1.0)
+    assert lease.expires_at == 11.0
