@@ -407,8 +407,11 @@ class FleetManager:
         for mission in self.records.missions(MissionState.QUEUED):
             try:
                 first = self._stop(0, mission.stops[0])
-            except PolynavError as exc:
-                log.warning("mission %s cannot start: %s", mission.mission_id, exc)
+            except (InvalidRequest, NotFound) as exc:
+                # Its point left the site since it was queued: no robot can ever do it.
+                log.warning("mission %s cancelled: %s", mission.mission_id, exc)
+                self.records.cancel_mission(mission.mission_id, now=now)
+                self._emit("mission.cancelled", mission=mission.mission_id, why=str(exc))
                 continue
             serial = choose(self._candidates(), Target(first.map_name, first.pose.x,
                                                        first.pose.y),

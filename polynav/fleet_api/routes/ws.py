@@ -54,7 +54,7 @@ async def fleet_stream(websocket: WebSocket, manager: WsManagerDep,
                     RobotOut.from_domain(v).model_dump(mode="json") for v in views]
                 await websocket.send_json({"type": "robots", "robots": robots})
                 next_robots = loop.time() + period
-            for event in manager.events_after(seq):
+            for event in await run_in_threadpool(manager.events_after, seq):
                 await websocket.send_json(event_json(event))
                 seq = event.seq
             try:

@@ -15,7 +15,7 @@ from polynav.fleet.manager import FleetManager, FleetManagerConfig
 from polynav.fleet.records import FleetRecords, MissionState
 from polynav.fleet.transport import InProcessTransport
 from polynav.leases.book import LeaseBookConfig
-from tests.helpers.scripted_vehicle import Robot, Site
+from tests.helpers.scripted_vehicle import POINTS, Robot, Site
 
 
 @pytest.fixture
@@ -228,3 +228,19 @@ def test_a_lease_expiry_is_answered_on_the_asking_robots_clock(
     # The records keep the manager's own time.
     (lease,) = records.live_leases(1.0)
     assert lease.expires_at == 11.0
+
+
+def test_a_queued_mission_whose_point_left_the_site_is_cancelled_not_retried(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    fm = manager(transport, records)
+    fm.submit([{"point": "door", "map": "floor1"}], mission_id="gone")
+    fm.submit([{"point": "desk", "map": "floor1"}], mission_id="kept")
+    before = dict(POINTS)
+    del POINTS[("floor1", "door")]
+    try:
+        (robot,) = online(transport, fm, ("r1", 0.0))
+        fm.tick(1.0)
+    finally:
+        POINTS.update(before)
+    assert fm.mission("gone").state is MissionState.CANCELLED
+    assert robot.order_ids() == ["kept-1"]
