@@ -37,7 +37,7 @@ def error(response: httpx.Response) -> tuple[int, str]:
     return response.status_code, body["error"]["code"]
 
 
-@pytest.mark.parametrize(("body", "status", "code", "names"), [
+BAD_MISSIONS: list[tuple[dict[str, Any], int, str, str]] = [
     ({"stops": [{"point": "nowhere", "map": "floor1"}]}, 404, "not_found", "floor1/nowhere"),
     ({"stops": [{"point": "lobby", "map": "floor9"}]}, 404, "not_found", "floor9"),
     ({"stops": []}, 422, "validation_error", "stops"),
@@ -48,14 +48,16 @@ def error(response: httpx.Response) -> tuple[int, str]:
      "speed"),
     ({"stops": [{"point": "lobby", "map": "floor1"}], "mission_id": "a/b"}, 422,
      "validation_error", "mission_id"),
-])
-def test_a_bad_mission_is_refused_with_a_clear_4xx(
-        fleet: FleetProcess, body: dict[str, Any], status: int, code: str,
-        names: str) -> None:
+]
+
+
+def test_a_bad_mission_is_refused_with_a_clear_4xx_naming_what_is_wrong(
+        fleet: FleetProcess) -> None:
     with httpx.Client(base_url=fleet.url, timeout=10.0) as client:
-        response = client.post("/api/missions", json=body)
-        assert error(response) == (status, code)
-        assert names in response.json()["error"]["message"]
+        for body, status, code, names in BAD_MISSIONS:
+            response = client.post("/api/missions", json=body)
+            assert error(response) == (status, code), body
+            assert names in response.json()["error"]["message"], body
         assert client.get("/api/missions").json() == []
 
 
