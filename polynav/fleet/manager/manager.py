@@ -67,7 +67,9 @@ class FleetManagerConfig:
         max_sends: an order sent this many times and still not confirmed counts as a failed
             attempt (the robot does not hear the fleet).
         max_attempts: a mission is claimed by robots at most this many times, then fails.
-        dispatch_period: how often the queue is dispatched and orders are re-sent.
+        dispatch_period: how often orders are re-sent and, after a change of the queue or a
+            robot freed, the queue is dispatched.
+        queue_poll_period: how often the queue is dispatched otherwise.
         dispatch: how robots are weighed.
         events_kept: how many events the manager keeps for the API.
     """
@@ -76,11 +78,12 @@ class FleetManagerConfig:
     max_sends: int = 5
     max_attempts: int = 3
     dispatch_period: float = 0.5
+    queue_poll_period: float = 2.0
     dispatch: DispatchConfig = field(default_factory=DispatchConfig)
     events_kept: int = 1000
 
     def __post_init__(self) -> None:
-        for name in ("resend_after", "dispatch_period"):
+        for name in ("resend_after", "dispatch_period", "queue_poll_period"):
             value = getattr(self, name)
             if not value > 0.0:
                 raise ConfigError(_KEY + name, f"must be > 0, got {value}")
@@ -166,6 +169,8 @@ class FleetManager:
         self._lock = threading.RLock()
         self._now = 0.0
         self._next_dispatch = float("-inf")
+        self._next_queue_poll = float("-inf")
+        self._queue_changed = True
         self._link: dict[str, str] = {}
         self._assignments: dict[str, _Assignment] = {}
         self._orphaned: set[str] = set()  # robots whose mission was requeued while away
@@ -288,8 +293,16 @@ class FleetManager:
                 self._follow_missions(now)
                 if now >= self._next_dispatch:
                     self._next_dispatch = now + self.config.dispatch_period
-                    self._resend(now)
-                    self._dispatch(now)
+                    if any(not job.confirmed for job in self._assignments.values()):
+                        self._resend(now)
+                    if self._queue_changed or now >= self._next_queue_poll:
+                        # The records are read when this manager changed the queue or freed
+                        # a robot, else every queue_poll_period (other managers' missions,
+                        # robots freed by orders not ours): a building at 40x real time
+                        # would otherwise query them ~100 times a second for nothing.
+                        self._queue_changed = False
+                        self._next_queue_poll = now + self.config.queue_poll_period
+                        self._dispatch(now)
             except PolynavError as exc:
                 log.error("fleet manager: %s; trying again", exc)
 
@@ -477,8 +490,15 @@ class FleetManager:
                          job.order_id if job else None)
 
     def _emit(self, kind: str, **detail: Any) -> None:
+        if kind in _QUEUE_CHANGES:
+            self._queue_changed = True
         event = FleetEvent(next(self._seq), self._now, kind, detail)
         self._events.append(event)
+
+
+_QUEUE_CHANGES = frozenset({"mission.queued", "mission.requeued", "mission.done",
+                            "mission.failed", "mission.cancelled", "robot.connection"})
+"""Events after which the queue is dispatched at once (a mission to give, a robot free)."""
 
 
 def _running(state: m.State) -> bool:
