@@ -173,12 +173,14 @@ def _run(args: argparse.Namespace) -> int:
             uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
         )
         runtime.start()
-        vehicle = None
+        vehicle = embedded = None
         try:
             if args.broker is not None:  # a VDA 5050 vehicle: polynav/fleet/vehicle.py
                 from polynav.fleet.vehicle import LoneVehicle, config_from_args
+                from polynav.house import broker
 
                 try:
+                    embedded = broker.resolve(args)  # --broker embedded: one in this process
                     vehicle = LoneVehicle(runtime, args.vda_serial, config_from_args(args))
                 except PolynavError as exc:
                     print(f"polynav run: {exc}", file=sys.stderr)
@@ -205,6 +207,8 @@ def _run(args: argparse.Namespace) -> int:
             for one in served:
                 for line in one.lines:
                     print(f"polynav: {line}", flush=True)
+            if embedded is not None:
+                print(f"polynav: {broker.banner(embedded)}", flush=True)
             if vehicle is not None:
                 print(f"polynav: VDA 5050 {args.vda_version} vehicle on {args.broker} as "
                       f"uagv/v2/{args.vda_manufacturer}/{args.vda_serial}/", flush=True)
@@ -217,6 +221,8 @@ def _run(args: argparse.Namespace) -> int:
         finally:
             if vehicle is not None:
                 vehicle.close()
+            if embedded is not None:
+                embedded.close()
             runtime.stop()
             if backend is not None:
                 backend.close()
@@ -380,9 +386,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--robots", type=int, default=None,
                      help="simulate N robots in one building, robot i on every port + i "
                      "(default: one robot)")
-    run.add_argument("--broker", default=None, metavar="mqtt://HOST[:PORT]",
+    run.add_argument("--broker", default=None, metavar="mqtt://HOST[:PORT]|embedded",
                      help="be a VDA 5050 vehicle on this MQTT broker, each robot one client "
-                          "(with --robots, the fleet's master control too; docs/fleet.md)")
+                          "(with --robots, the fleet's master control too; docs/fleet.md); "
+                          "'embedded' starts one in this process")
+    run.add_argument("--broker-port", type=int, default=1883,
+                     help="the embedded broker's port on 127.0.0.1, 0 for any free one "
+                          "(default: %(default)s)")
     run.add_argument("--no-fleet-manager", action="store_true",
                      help="with --robots and --broker: vehicles only, for a `polynav fleet` "
                           "on the same broker")

@@ -11,6 +11,7 @@ from typing import Annotated
 
 from fastapi import Depends, Path, Query, Request
 
+from polynav.api.examples import DEMO_FLOOR, DEMO_MAP, one
 from polynav.api.schemas import Name
 from polynav.runtime.robot_runtime import RobotRuntime
 from polynav.store.site_store import SiteStore
@@ -35,10 +36,18 @@ StoreDep = Annotated[SiteStore, Depends(get_store)]
 
 # Names in paths and queries obey the same schema as names in bodies, so the document says that
 # a name with a control character is refused (422) and never reaches the store.
-MapNamePath = Annotated[Name, Path(description="the map's name")]
-PointNamePath = Annotated[Name, Path(description="the point's name")]
-MapOfPoint = Annotated[
-    Name | None, Query(description="the point's map, when the name is on several maps")
+# The examples name the demo site's (polynav/api/examples.py).
+MapNamePath = Annotated[
+    Name, Path(description="the map's name", openapi_examples=one("a demo map", DEMO_MAP))
 ]
-MapFilter = Annotated[Name | None, Query(description="only this map's points")]
-FloorFilter = Annotated[Name | None, Query(description="only this floor's points")]
+MapOfPoint = Annotated[
+    Name | None, Query(description="the point's map, when the name is on several maps",
+                       openapi_examples=one("a demo map", DEMO_MAP))
+]
+MapFilter = Annotated[Name | None, Query(description="only this map's points",
+                                         openapi_examples=one("a demo map", DEMO_MAP))]
+FloorFilter = Annotated[Name | None, Query(description="only this floor's points",
+                                           openapi_examples=one("a demo floor", DEMO_FLOOR))]
+# A point's name in a path: each route declares its own (polynav/api/routes/points.py), with its
+# own example, so that the delete's example does not take the point the read's names.
+

@@ -197,12 +197,15 @@ class RouteLegOut(BaseModel):
 class RouteLiftOut(BaseModel):
     """The lift sequence now: the car, the phase (``going_to_lift``, ``waiting_for_session``,
     ``calling``, ``waiting_for_car``, ``entering``, ``riding``, ``switching_map``,
-    ``exiting``, ``left``) and the floors."""
+    ``exiting``, ``left``), the floors, and the manoeuvre under way after a blocked door
+    (``avoiding``: out of the car's way after a blocked entry; ``backing_in``: back into the
+    car after a blocked exit)."""
 
     car: str
     phase: str
     from_floor: str
     to_floor: str
+    manoeuvre: Literal["avoiding", "backing_in"] | None = None
 
 
 class RouteOut(BaseModel):
@@ -466,12 +469,12 @@ class GoalIn(_Body):
     y: Coordinate | None = None
     theta: Heading | None = None
     map: Name | None = None
-    precise: bool = Field(
+    precise: StrictBool = Field(
         default=False,
         description="arrive only where localization knows the pose to "
                     f"{PRECISE_POSITION_UNCERTAINTY} m; else fail 'not localized'")
     max_position_uncertainty: float | None = Field(
-        default=None, gt=0.0, le=10.0, allow_inf_nan=False,
+        default=None, gt=0.0, le=10.0, allow_inf_nan=False, strict=True,
         description="the same with its own limit [m] (one standard deviation)")
     frame: Literal["map", "odom", "robot"] | None = Field(
         default=None,

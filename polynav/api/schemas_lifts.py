@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, StrictBool
 
 from polynav.robot.lift import DoorRequest, LiftMode, LiftRequest, LiftState
 
@@ -48,7 +48,7 @@ class LiftRequestIn(BaseModel):
     session: str = Field(default="operator", min_length=1, max_length=64)
     floor: str | None = Field(default=None, min_length=1, max_length=64)
     door: Literal["open", "closed"] = "open"
-    end_session: bool = False
+    end_session: StrictBool = False  # JSON true/false only, as the document says
 
     def to_domain(self) -> LiftRequest:
         return LiftRequest(self.session, self.floor or "", DoorRequest(self.door),

@@ -37,7 +37,8 @@ class TaskIn(BaseModel):
         max_length=2000, description="the root's children: nodes, or names from nodes")
     blackboard: dict[str, Any] | None = Field(None, description="the blackboard's starting "
                                               "values; {key} in string parameters is replaced")
-    loop_flag: bool | None = Field(None, description="a plain task runs again when it ends")
+    loop_flag: bool | None = Field(None, strict=True,
+                                   description="a plain task runs again when it ends")
     nodes: dict[str, Any] | None = Field(None, description="named subtrees to use by name")
 
     def to_domain(self) -> dict[str, Any]:

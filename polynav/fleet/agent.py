@@ -34,15 +34,17 @@ import dataclasses
 import datetime as dt
 import logging
 import math
+import threading
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 from polynav.errors import PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
 from polynav.fleet.lift_sessions import FleetLiftSessions
-from polynav.fleet.order_check import Verdict, check_order
+from polynav.fleet.order_check import MAX_COORDINATE, Verdict, check_order
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import ZoneMap
 from polynav.geometry import Pose2D
@@ -58,6 +60,21 @@ POINT_MATCH = 0.5
 
 ACTION_STATES_KEPT = 20
 """How many instant actions' states the state lists (the latest)."""
+
+OUTCOMES_KEPT = 1000
+"""How many ended orders' outcomes the agent remembers (the latest), for :meth:`outcome_of`."""
+
+ERROR_TEXT = 200
+"""The longest an error's description or reference value in the state may be [characters]: a
+bad message's 300 kB orderId, echoed in every state, would make each state too long for the
+fleet to read (and the logs unreadable)."""
+
+
+@runtime_checkable
+class Reconnecting(Protocol):
+    """A transport that can lose its broker and tell when it is back (the MQTT one)."""
+
+    def add_reconnect_listener(self, listener: Callable[[], None]) -> None: ...
 
 
 @dataclass(slots=True)
@@ -146,6 +163,10 @@ class RobotAgent:
         self._state_dirty = True
         self._seen: tuple[object, ...] = ()
         self._outcomes: dict[str, str] = {}
+        # Set from the transport's network thread when the broker is back; read on the tick.
+        self._relinked = threading.Event()
+        if isinstance(transport, Reconnecting):
+            transport.add_reconnect_listener(self._relinked.set)
 
     def topic(self, kind: type | str) -> str:
         """This robot's topic for messages of ``kind``."""
@@ -177,6 +198,15 @@ class RobotAgent:
 
     def tick(self, now: float) -> None:
         """Read the fleet's messages, follow the order and the traffic rule, report the state."""
+        if self._relinked.is_set():
+            # Back on the broker: what was published meanwhile (QoS 0) is lost, so the state
+            # goes out at once and every zone asked for or held is asked for again.
+            self._relinked.clear()
+            log.info("%s: back on the broker; state and zone requests sent again",
+                     self.serial_number)
+            self._state_dirty = True
+            self.traffic.resend()
+            self.lift_sessions.resend()
         for response in self._responses.drain():
             if isinstance(response, m.ZoneResponse):
                 self.traffic.on_response(response)
@@ -220,10 +250,24 @@ class RobotAgent:
         if rejected.order_id is not None:
             refs.append(m.ErrorReference("orderId", rejected.order_id))
         self._report(m.ErrorEntry("validationError", "WARNING", rejected.reason, tuple(refs)))
-        if rejected.order_id is not None:
-            self._outcomes.setdefault(rejected.order_id, f"failed: {rejected.reason}")
+        if rejected.order_id is not None and rejected.order_id not in self._outcomes:
+            self._remember(rejected.order_id, f"failed: {_clip(rejected.reason)}")
+
+    def _remember(self, order_id: str, outcome: str) -> None:
+        """Keep how ``order_id`` ended, forgetting the oldest beyond :data:`OUTCOMES_KEPT`;
+        an id too long for any master's order (a bad message's) is not kept."""
+        if len(order_id) > ERROR_TEXT:
+            return
+        self._outcomes.pop(order_id, None)
+        self._outcomes[order_id] = outcome
+        while len(self._outcomes) > OUTCOMES_KEPT:
+            del self._outcomes[next(iter(self._outcomes))]
 
     def _report(self, error: m.ErrorEntry) -> None:
+        error = dataclasses.replace(
+            error, error_description=_clip(error.error_description),
+            error_references=tuple(dataclasses.replace(r, reference_value=_clip(
+                r.reference_value)) for r in error.error_references))
         log.warning("%s: %s: %s", self.serial_number, error.error_type, error.error_description)
         self._errors = [e for e in self._errors if e.error_type != "orderFailed"] + [error]
         del self._errors[:-5]
@@ -248,13 +292,13 @@ class RobotAgent:
             assert check.error is not None
             self._report(check.error)
             if run is None or order.order_id != run.order.order_id:
-                self._outcomes[order.order_id] = f"failed: {check.error.error_description}"
+                self._remember(order.order_id, f"failed: {check.error.error_description}")
             return
         if self.runtime.mode is not Mode.NAVIGATING:
             self._report(m.ErrorEntry("validationError", "WARNING",
                                       "the robot is not navigating (start navigation first)",
                                       (m.ErrorReference("orderId", order.order_id),)))
-            self._outcomes[order.order_id] = "failed: the robot is not navigating"
+            self._remember(order.order_id, "failed: the robot is not navigating")
             return
         self._errors = []
         if check.verdict is Verdict.TAKE_UPDATE:
@@ -271,7 +315,7 @@ class RobotAgent:
                      order.order_update_id)
         else:
             if run is not None:
-                self._outcomes[run.order.order_id] = self.outcome or "failed: replaced"
+                self._remember(run.order.order_id, self.outcome or "failed: replaced")
             self._run = _OrderRun(order)
             log.info("%s: order %s with %d nodes", self.serial_number, order.order_id,
                      len(order.nodes))
@@ -412,6 +456,9 @@ class RobotAgent:
             raise _ActionFailed("initPosition needs numbers x, y and theta")
         assert isinstance(x, (int, float)) and isinstance(y, (int, float))
         assert isinstance(theta, (int, float))
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in (x, y, theta)):
+            raise _ActionFailed(f"initPosition out of range: |x|, |y|, |theta| must be <= "
+                                f"{MAX_COORDINATE:g}")
         pose = Pose2D(float(x), float(y), float(theta))
         status = self.runtime.status()
         if map_id is None or map_id == status.map:
@@ -487,6 +534,13 @@ class RobotAgent:
             m.ZoneRequest(self._zone_headers, self.serial_number, request_id, zone_id,
                           request_type, duration, flow, sent_at=self.runtime.now()))
         self._state_dirty = True
+
+
+def _clip(text: str) -> str:
+    """``text``, cut to :data:`ERROR_TEXT` characters (saying how long it was)."""
+    if len(text) <= ERROR_TEXT:
+        return text
+    return f"{text[:ERROR_TEXT]}... ({len(text)} characters)"
 
 
 def _driving(status: StatusSnapshot) -> bool:

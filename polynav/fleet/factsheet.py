@@ -18,6 +18,8 @@ import math
 from typing import Any
 
 from polynav.fleet import messages as m
+from polynav.fleet.mqtt_transport import MAX_MESSAGE
+from polynav.fleet.order_check import MAX_ID, MAX_NODES
 from polynav.fleet.vda5050 import validation
 from polynav.robot.profile import RobotProfile
 
@@ -79,7 +81,11 @@ def factsheet(profile: RobotProfile, *, serial_number: str, header: m.Header,
             "decelerationMax": limits.linear_deceleration,
             "heightMax": DEFAULT_HEIGHT, "width": width, "length": length,
         },
-        "protocolLimits": {"maxStringLens": {}, "maxArrayLens": {}, "timing": timing},
+        # What the vehicle enforces on what it reads (fleet/mqtt_transport.py, order_check.py).
+        "protocolLimits": {"maxStringLens": {"msgLen": MAX_MESSAGE, "idLen": MAX_ID},
+                           "maxArrayLens": {"order.nodes": MAX_NODES,
+                                            "order.edges": MAX_NODES - 1},
+                           "timing": timing},
         "protocolFeatures": {
             "optionalParameters": [
                 {"parameter": "order.nodes.nodePosition", "support": "REQUIRED",

@@ -63,6 +63,14 @@ class FleetLiftSessions:
             self._send(session.request_id, resource(car), m.ZoneRequestType.ACCESS,
                        SESSION_LEASE)
 
+    def resend(self) -> None:
+        """Ask again for every session asked for or held (same request ids), after the link to
+        the fleet was lost with a request or its answer perhaps in it."""
+        for car, session in self._sessions.items():
+            if not session.rejected:
+                self._send(session.request_id, resource(car), m.ZoneRequestType.ACCESS,
+                           SESSION_LEASE)
+
     def granted(self, car: str, now: float) -> bool:
         session = self._sessions.get(car)
         return session is not None and session.granted and session.expiry > now

@@ -13,13 +13,19 @@ visualization, and polynav's zone requests and answers, which 3.0 sends at QoS 0
 not retained (:data:`DELIVERY`).
 
 The connection is kept: when the broker goes away the loop reconnects with exponential backoff
-and subscribes again to every topic it had. A broker that cannot be reached at start-up is an
-error (:class:`BrokerUnreachable`) after a bounded wait, so a misconfigured robot says so instead
-of waiting for ever. A message that does not decode (not JSON, a field missing or of the wrong
-type, a breach of the VDA 5050 schema) is logged and counted as dropped: one bad publisher must
-not stop a robot from hearing the fleet. A fleet-message subscription hands it over as a
-:class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a validationError in
-its state); a raw subscription leaves it out.
+(each failed attempt a log line with the wait before the next) and subscribes again to every
+topic it had; listeners added with :meth:`MqttTransport.add_reconnect_listener` are then told,
+so a vehicle can say ONLINE again and publish its state (a restarted broker has forgotten its
+retained messages, and QoS 0 messages published meanwhile were lost). While the broker is away
+a QoS 0 message cannot be sent: it is counted as unsent, and logged once per outage. A broker
+that cannot be reached at start-up is an error (:class:`BrokerUnreachable`) after a bounded
+wait, so a misconfigured robot says so instead of waiting for ever.
+
+A message that does not decode (not JSON, a field missing or of the wrong type, a breach of the
+VDA 5050 schema, more than :data:`MAX_MESSAGE` bytes) is logged and counted as dropped: one bad
+publisher must not stop a robot from hearing the fleet. A fleet-message subscription hands it
+over as a :class:`~polynav.fleet.messages.Rejected` (so a vehicle can answer it with a
+validationError in its state); a raw subscription leaves it out.
 
 Messages the codec does not cover (``connection``, ``factsheet``, ``visualization`` in their
 VDA form) go through :meth:`MqttTransport.publish_raw` and :meth:`MqttTransport.subscribe_raw`.
@@ -39,6 +45,7 @@ import threading
 import time
 import urllib.parse
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from types import TracebackType
 from typing import Any, Generic, TypeVar
@@ -75,6 +82,11 @@ DELIVERY: dict[str, Delivery] = {
 """QoS and retain by the topic's last level (VDA 5050 2.1 §6.2, §6.14, §6.15); others QoS 0."""
 
 _DEFAULT_DELIVERY = Delivery(qos=0, retain=False)
+
+MAX_MESSAGE = 512 * 1024
+"""The longest message read [bytes] (the factsheet's ``maxStringLens.msgLen``): a 1000-node
+order is about 220 kB; a longer message is refused before it is parsed, so one 2 MB payload
+cannot hold the network thread for seconds of schema checks."""
 
 
 def delivery(topic: str) -> Delivery:
@@ -123,8 +135,9 @@ class TransportStats:
 class _Queue(Generic[T]):
     """A subscription's queue, filled by the network thread and drained by the reader."""
 
-    def __init__(self, topic_filter: str) -> None:
+    def __init__(self, topic_filter: str, max_message: int = MAX_MESSAGE) -> None:
         self.topic_filter = topic_filter
+        self.max_message = max_message
         self.dropped = 0
         self._items: deque[T] = deque()
         self._arrived = threading.Condition()
@@ -144,10 +157,11 @@ class _Queue(Generic[T]):
     def offer(self, message: paho.MQTTMessage) -> bool:
         """Decode and queue ``message``; False (logged, counted) if it does not decode."""
         try:
+            _check_size(message, self.max_message)
             item = self.read(message)
         except InvalidRequest as exc:
             self.dropped += 1
-            log.warning("dropped a message on %s: %s", message.topic, exc)
+            log.warning("dropped a message on %s: %s", message.topic, str(exc)[:300])
             return False
         self._put(item)
         return True
@@ -168,10 +182,19 @@ class MessageInbox(_Queue[Received]):
     :class:`~polynav.fleet.messages.Rejected`, so a vehicle can report it in its state."""
 
     def offer(self, message: paho.MQTTMessage) -> bool:
-        item = codec.read(message.topic.rsplit("/", 1)[-1], bytes(message.payload))
+        kind = message.topic.rsplit("/", 1)[-1]
+        try:
+            _check_size(message, self.max_message)
+            item = self.read(message)
+        except InvalidRequest as exc:
+            item = Rejected(kind, exc.field, str(exc))
+        except Exception as exc:  # a reader's bug: refused like bad input, and said loudly
+            log.error("a message on %s could not be read", message.topic, exc_info=True)
+            item = Rejected(kind, "message", f"could not be read: {type(exc).__name__}")
         if isinstance(item, Rejected):
             self.dropped += 1
-            log.warning("refused a message on %s: %s", message.topic, item.reason)
+            reason = item.reason if len(item.reason) <= 300 else item.reason[:300] + "..."
+            log.warning("refused a message on %s: %s", message.topic, reason)
         self._put(item)
         return not isinstance(item, Rejected)
 
@@ -250,6 +273,10 @@ class MqttTransport:
         self._close_timeout = close_timeout
         self._in_flight: list[paho.MQTTMessageInfo] = []
         self._published = self._unsent = self._received = self._dropped = self._connects = 0
+        self._reconnect_delay = reconnect_delay
+        self._attempts = 0  # failed reconnection attempts since the connection was lost
+        self._unsent_said = False  # an unsent message logged in this outage
+        self._reconnect_listeners: list[Callable[[], None]] = []
 
         client = paho.Client(CallbackAPIVersion.VERSION2, client_id=client_id,
                              clean_session=True, protocol=paho.MQTTv311)
@@ -266,6 +293,7 @@ class MqttTransport:
             client.will_set(topic, payload, qos, retain)
         client.on_connect = self._on_connect
         client.on_disconnect = self._on_disconnect
+        client.on_connect_fail = self._on_connect_fail
         client.on_subscribe = self._on_subscribe
         client.on_message = self._on_message
         self._client = client
@@ -325,6 +353,15 @@ class MqttTransport:
         return inbox
 
     # -- connection state ---------------------------------------------------------------------
+
+    def add_reconnect_listener(self, listener: Callable[[], None]) -> None:
+        """Call ``listener()`` after each reconnection, once the subscriptions are sent again.
+
+        It runs on the network thread: it must be quick and must not wait for the broker (set
+        a flag for the owner's loop, or publish).
+        """
+        with self._lock:
+            self._reconnect_listeners.append(listener)
 
     @property
     def connected(self) -> bool:
@@ -437,7 +474,12 @@ class MqttTransport:
             return
         with self._lock:
             self._unsent += 1
-        log.warning("MQTT message on %s not sent: %s", topic, paho.error_string(info.rc))
+            said, self._unsent_said = self._unsent_said, True
+        if said:
+            log.debug("MQTT message on %s not sent: %s", topic, paho.error_string(info.rc))
+        else:
+            log.warning("MQTT message on %s not sent: %s (more are lost until the broker is "
+                        "back)", topic, paho.error_string(info.rc))
 
     def _add(self, queue: _Queue[Any]) -> None:
         _check_filter(queue.topic_filter)
@@ -475,6 +517,9 @@ class MqttTransport:
             self._connected = True
             self._connects += 1
             reconnect = self._connects > 1
+            self._attempts = 0
+            self._unsent_said = False
+            listeners = list(self._reconnect_listeners) if reconnect else []
             self._acked.clear()
             self._pending.clear()
             self._early_acks.clear()
@@ -484,6 +529,23 @@ class MqttTransport:
                  "reconnected" if reconnect else "connected", self.url)
         for topic_filter in filters:  # a clean session: the broker forgot our subscriptions
             self._send_subscribe(topic_filter)
+        for listener in listeners:
+            try:
+                listener()
+            except Exception:  # a listener's bug must not end the network thread
+                log.exception("MQTT client %s: a reconnect listener failed", self.client_id)
+
+    def _on_connect_fail(self, client: paho.Client, userdata: Any) -> None:
+        # paho waits min(first * 2**n, longest) before its next attempt (reconnect_delay_set).
+        with self._lock:
+            if self._closed:
+                return
+            self._attempts += 1
+            attempts = self._attempts
+        first, longest = self._reconnect_delay
+        wait = min(first * 2 ** min(attempts, 16), longest)
+        log.warning("MQTT client %s: broker at %s still unreachable (attempt %d); next attempt "
+                    "in %g s", self.client_id, self.url, attempts, wait)
 
     def _on_disconnect(self, client: paho.Client, userdata: Any,
                        flags: paho.DisconnectFlags, reason_code: ReasonCode,
@@ -544,6 +606,12 @@ class MqttTransport:
                       exc_info=True)
             with self._lock:
                 self._dropped += 1
+
+
+def _check_size(message: paho.MQTTMessage, limit: int) -> None:
+    if len(message.payload) > limit:
+        raise InvalidRequest("message", f"{len(message.payload)} bytes: more than the {limit} "
+                             "a message may have")
 
 
 def _settled(info: paho.MQTTMessageInfo) -> bool:

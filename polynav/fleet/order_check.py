@@ -4,7 +4,9 @@ Pure: the order, what the vehicle runs now, where it stands and which maps it kn
 verdict out. An order the vehicle cannot take is rejected as a whole, with the standard's error
 type, and the vehicle keeps what it was doing:
 
-- ``validationError``: no nodes, a node without a position, a map the site does not have,
+- ``validationError``: no nodes, more nodes than :data:`MAX_NODES`, an id longer than
+  :data:`MAX_ID`, a node without a position or with one beyond :data:`MAX_COORDINATE`, a map
+  the site does not have,
   edges that do not join the nodes in order, sequence ids out of order, an action polynav does
   not carry out, a base that does not start with released nodes;
 - ``noRouteError``: the first node of a new order is not where the vehicle stands (a new order
@@ -32,6 +34,20 @@ DEFAULT_DEVIATION = 1.0
 NODE_ACTIONS: frozenset[str] = frozenset()
 """The actions polynav carries out on a node or an edge of an order: none yet (its orders are
 drives); an order with any other is rejected rather than driven without it."""
+
+
+MAX_NODES = 1000
+"""The most nodes an order may have (the factsheet's ``maxArrayLens`` ``order.nodes``): a
+building's longest drive has a few dozen; an order of thousands is an error or an attack, and
+is refused before the robot plans anything for it."""
+
+MAX_ID = 200
+"""The longest orderId, nodeId or edgeId [characters] (the factsheet's ``maxStringLens.idLen``):
+ids go back to the fleet in every state, so one of 300 kB would bloat each of them."""
+
+MAX_COORDINATE = 100_000.0
+"""The largest |x|, |y| [m] a node may have: no site is 100 km across, and a coordinate of
+1e308 must be refused here rather than reach the planner's grid arithmetic."""
 
 
 class Verdict(enum.Enum):
@@ -109,9 +125,20 @@ def _stitches(first: m.Node, current: m.Order) -> bool:
 def _shape_problem(order: m.Order, maps: frozenset[str]) -> str | None:
     if not order.nodes:
         return "an order needs at least one node"
+    ids = [order.order_id, *(n.node_id for n in order.nodes), *(e.edge_id for e in order.edges)]
+    if any(len(i) > MAX_ID for i in ids):
+        return f"an id longer than {MAX_ID} characters"
+    if len(order.nodes) > MAX_NODES:
+        return f"{len(order.nodes)} nodes: polynav takes at most {MAX_NODES} in one order"
     for node in order.nodes:
         if node.node_position is None:
             return f"node {node.node_id} has no nodePosition: polynav needs where to go"
+        position = node.node_position
+        if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE
+                   for v in (position.x, position.y)) or (
+                position.theta is not None and not math.isfinite(position.theta)):
+            return (f"node {node.node_id}: position ({position.x:g}, {position.y:g}) is out of "
+                    f"range (|x|, |y| <= {MAX_COORDINATE:g} m)")
         if node.node_position.map_id not in maps:
             return f"node {node.node_id}: map {node.node_position.map_id!r} is not on this site"
         for action in node.actions:

@@ -22,6 +22,11 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    asked), and a holder cannot keep a zone past ``max_hold`` while others wait
    (:mod:`polynav.leases.book`).
 
+The robot tells what it meets on its runtime's bus, for the dialects' notices: a passage held by
+another (:class:`~polynav.runtime.events.TrafficBusy`, when the fleet queues it) and the wait in
+front of it, from the first stop until it goes in or no longer needs it
+(:class:`~polynav.runtime.events.TrafficWaitStarted`, ``TrafficWaitEnded``).
+
 Since a robot never waits for a zone while it stands in another (zones closer than a stop
 distance are merged into one), no two robots can each hold what the other waits for: the
 classic hold-and-wait deadlock cannot form.
@@ -40,6 +45,7 @@ from polynav.fleet import messages as m
 from polynav.fleet.zones import ZoneMap
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
+from polynav.runtime import events
 
 if TYPE_CHECKING:
     from polynav.runtime.robot_runtime import RobotRuntime
@@ -104,6 +110,7 @@ class _ZoneLease:
     place: int = 0
     expiry: float = -math.inf
     renew_sent: float = -math.inf
+    flow: str | None = None
 
 
 class TrafficRule:
@@ -125,6 +132,10 @@ class TrafficRule:
         self._wait_started = 0.0
         # The zone it was resumed to move up in line for: its next stop for it is the same wait.
         self._moving_up_for: str | None = None
+        # The zone of the wait told on the bus (moving up in line is the same wait), and the
+        # zones told busy (queued) while the robot still needs them.
+        self._congested: str | None = None
+        self._told_busy: set[str] = set()
 
     @property
     def waiting_for(self) -> str | None:
@@ -160,8 +171,21 @@ class TrafficRule:
                 log.warning("%s: lease on %s %s", self.holder, response.zone_id, grant.value)
             del self._leases[response.zone_id]
 
+    def resend(self) -> None:
+        """Ask again for every zone asked for or held, with the same request ids: after the
+        link to the fleet was lost, a request or its answer may have been lost with it (the
+        fleet takes a holder's ask as a renewal, a waiter's as keeping its place)."""
+        for zone_id, lease in self._leases.items():
+            self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
+                       self.config.lease_duration, lease.flow)
+
     def resume_goal(self, runtime: RobotRuntime) -> None:
         """Resume the goal this rule paused, if any (the order changes, or the zone is ours)."""
+        if self._congested is not None:
+            self._end_wait(runtime, granted=self._granted(self._congested))
+        self._resume(runtime)
+
+    def _resume(self, runtime: RobotRuntime) -> None:
         if self._paused_for is None:
             return
         self._paused_for = None
@@ -178,6 +202,7 @@ class TrafficRule:
             return
         self._next_check = now + self.config.check_period
         needed, current, ahead, in_zone = self._needed(runtime)
+        self._tell(runtime, needed)
         for zone_id, flow in needed.items():
             if zone_id not in self._leases:
                 self._request(zone_id, flow)
@@ -198,7 +223,7 @@ class TrafficRule:
             elif (ahead is not None and ahead[0] == self._paused_for and ahead[1] > (
                     self._stop_distance(ahead[0], in_zone) + self.config.queue_spacing / 2)):
                 log.info("%s: moving up in line for %s", self.holder, ahead[0])
-                self.resume_goal(runtime)
+                self._resume(runtime)
                 self._moving_up_for = ahead[0]
             return
         if self._moving_up_for is not None and (self._moving_up_for not in needed
@@ -216,11 +241,35 @@ class TrafficRule:
                 and stack.navigator.state is NavigationState.RUNNING):
             runtime.pause()
             self._paused_for = blocking[0]
+            if self._congested != blocking[0]:
+                if self._congested is not None:
+                    self._end_wait(runtime, granted=False)
+                self._congested = blocking[0]
+                runtime.publish(events.TrafficWaitStarted(*_when(runtime), blocking[0]))
             self._wait_started = now
             if blocking[0] != self._moving_up_for:
                 self.waits += 1
             self._moving_up_for = None
             log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
+
+    def _tell(self, runtime: RobotRuntime, needed: dict[str, str | None]) -> None:
+        """Tell a passage newly found held by another (queued), and the end of a wait whose
+        zone the robot got or no longer needs (one it moved up in line for included)."""
+        for zone_id, lease in self._leases.items():
+            if lease.queued and zone_id in needed and zone_id not in self._told_busy:
+                self._told_busy.add(zone_id)
+                runtime.publish(events.TrafficBusy(*_when(runtime), zone_id))
+        self._told_busy &= {z for z in needed if not self._granted(z)}
+        zone = self._congested
+        if zone is not None and self._paused_for is None and (
+                zone not in needed or self._granted(zone)):
+            self._end_wait(runtime, granted=self._granted(zone))
+
+    def _end_wait(self, runtime: RobotRuntime, *, granted: bool) -> None:
+        zone = self._congested
+        assert zone is not None
+        self._congested = None
+        runtime.publish(events.TrafficWaitEnded(*_when(runtime), zone, granted))
 
     def _stop_distance(self, zone_id: str, in_zone: bool) -> float:
         """How far before ``zone_id`` the robot stops if it is not granted: further back the
@@ -277,6 +326,12 @@ class TrafficRule:
 
     def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
-        self._leases[zone_id] = _ZoneLease(request_id)
+        self._leases[zone_id] = _ZoneLease(request_id, flow=flow)
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
+
+
+def _when(runtime: RobotRuntime) -> tuple[float, int]:
+    """The stamp and attempt id of an event the rule tells on the robot's bus."""
+    attempt = runtime.status().attempt_id
+    return runtime.now(), attempt if attempt is not None else 0

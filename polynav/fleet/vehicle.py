@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import datetime as dt
 import logging
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -112,32 +113,50 @@ class VehicleLink:
             will=(self._connection_topic, will, 1, True),
             connect_timeout=config.connect_timeout)
         self._closed = False
-        self.transport.publish(self._connection_topic,
-                               self._connection(m.ConnectionState.ONLINE))
-        self.publish_factsheet()
+        # The network thread (after a reconnection) and the robot's loop both publish here.
+        self._lock = threading.Lock()
+        self._say_online()
+        self.transport.add_reconnect_listener(self._reconnected)
         log.info("vehicle %s/%s on %s (VDA 5050 %s)", config.manufacturer, serial_number,
                  config.broker, config.version)
 
     def publish_factsheet(self) -> None:
         """Publish the factsheet (retained)."""
-        sheet = factsheet(
-            self._profile, serial_number=self.serial_number,
-            header=self.headers.stamp(self.serial_number, "factsheet"),
-            state_period=self.config.state_period,
-            visualization_period=self.config.visualization_period,
-            order_period=self._order_period)
-        self.transport.publish_raw(
-            m.topic(self.serial_number, "factsheet", self.config.manufacturer),
-            orjson.dumps(sheet))
+        with self._lock:
+            sheet = factsheet(
+                self._profile, serial_number=self.serial_number,
+                header=self.headers.stamp(self.serial_number, "factsheet"),
+                state_period=self.config.state_period,
+                visualization_period=self.config.visualization_period,
+                order_period=self._order_period)
+            self.transport.publish_raw(
+                m.topic(self.serial_number, "factsheet", self.config.manufacturer),
+                orjson.dumps(sheet))
 
     def close(self) -> None:
         """Say OFFLINE, then disconnect cleanly (the broker then drops the will)."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            self.transport.publish(self._connection_topic,
+                                   self._connection(m.ConnectionState.OFFLINE))
+        self.transport.close()
+
+    def _say_online(self) -> None:
+        with self._lock:
+            self.transport.publish(self._connection_topic,
+                                   self._connection(m.ConnectionState.ONLINE))
+        self.publish_factsheet()
+
+    def _reconnected(self) -> None:
+        # On the network thread, the broker back: a restarted broker has lost the retained
+        # connection and factsheet, and one that saw the link break has published the will
+        # (CONNECTIONBROKEN): say ONLINE again and publish the factsheet.
         if self._closed:
             return
-        self._closed = True
-        self.transport.publish(self._connection_topic,
-                               self._connection(m.ConnectionState.OFFLINE))
-        self.transport.close()
+        log.info("vehicle %s back on %s: ONLINE again", self.serial_number, self.config.broker)
+        self._say_online()
 
     def _connection(self, state: m.ConnectionState) -> m.Connection:
         return m.Connection(self.headers.stamp(self.serial_number, m.Connection), state)

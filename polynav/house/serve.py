@@ -27,6 +27,7 @@ from polynav.api import ApiConfig, create_app
 from polynav.errors import InvalidRequest, PolynavError
 from polynav.fleet.mqtt_transport import BrokerUnreachable
 from polynav.fleet.vehicle import config_from_args
+from polynav.house import broker
 from polynav.house.building import Building
 from polynav.listen import tcp_listener
 from polynav.robot.profile import load_profile
@@ -81,8 +82,10 @@ def run(args: argparse.Namespace) -> int:
 
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, on_signal)
+    embedded = None
     try:
         try:
+            embedded = broker.resolve(args)  # --broker embedded: one in this process
             building = Building(
                 store, world, robots=args.robots,
                 config=RuntimeConfig(speed=args.speed, seed=args.seed, people=not args.no_people,
@@ -94,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
                 vehicles=config_from_args(args) if args.broker is not None else None,
                 fleet_manager=not getattr(args, "no_fleet_manager", False),
             )
-        except BrokerUnreachable as exc:
+        except (BrokerUnreachable, broker.BrokerStartError) as exc:
             print(f"polynav run: {exc}", file=sys.stderr)
             return 1
         except PolynavError as exc:
@@ -143,6 +146,8 @@ def run(args: argparse.Namespace) -> int:
                 if "yunji" in ports:
                     line += f"  Yunji tcp://{args.host}:{ports['yunji']}"
                 print(line, flush=True)
+            if embedded is not None:
+                print(f"polynav: {broker.banner(embedded)}", flush=True)
             if args.broker is not None:
                 print(f"polynav: VDA 5050 {args.vda_version} vehicles on {args.broker} under "
                       f"uagv/v2/{args.vda_manufacturer}/<robot>/", flush=True)
@@ -156,6 +161,8 @@ def run(args: argparse.Namespace) -> int:
             for sock in sockets:
                 sock.close()
     finally:
+        if embedded is not None:
+            embedded.close()
         store.close()
     print("polynav: stopped", flush=True)
     return 0

@@ -100,7 +100,9 @@ class NavigationCanceled(NavigationEvent):
 @dataclass(frozen=True, slots=True)
 class PlanFailed(NavigationEvent):
     """A global plan failed; ``cause``: ``"start_unknown"``, ``"start_occupied"``,
-    ``"goal_occupied"``, ``"outside_map"`` or ``"no_path"``. A retry or a failure follows."""
+    ``"goal_occupied"``, ``"outside_map"``, ``"walled_in_unknown"`` (only unknown cells part
+    the robot from the goal, with unknown-as-obstacle on: :mod:`polynav.nav.unknown_walls`) or
+    ``"no_path"``. A retry or a failure follows."""
 
     cause: str = ""
 
@@ -139,6 +141,9 @@ class DockingSucceeded(NavigationEvent):
 
 @dataclass(frozen=True, slots=True)
 class DockingFailed(NavigationEvent):
-    """``cause``: ``"no_contact"`` or ``"timeout"``."""
+    """``cause``: ``"no_feature"`` (no charger's plate seen near the marker),
+    ``"no_infrared"`` (its beacon not seen), ``"bad_data"`` (contact, but the charger's data
+    link gave no valid frame), ``"no_contact"`` (on the charger pose but no charging current)
+    or ``"timeout"``."""
 
     cause: str = ""

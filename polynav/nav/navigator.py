@@ -45,6 +45,7 @@ import numpy as np
 from polynav.control.interface import Controller, ControlStatus
 from polynav.control.progress_checker import ProgressChecker
 from polynav.control.tracked_path import TrackedPath
+from polynav.docking.shape import front_reach
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
@@ -59,6 +60,7 @@ from polynav.nav.attempt import (
 )
 from polynav.nav.back_out import BackOut, Trail
 from polynav.nav.charger_phases import ChargerPhases
+from polynav.nav.dock_sight import DockSight
 from polynav.nav.goal_wait import GoalWait
 from polynav.nav.holds import Hold
 from polynav.nav.navigator_config import NavigatorConfig
@@ -81,6 +83,7 @@ from polynav.nav.retry_budget import RetryBudget
 from polynav.planning.errors import NoBodyRoute, PlanningError
 from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
+from polynav.robot.interface import DockSignals, LaserScan
 
 log = logging.getLogger(__name__)
 
@@ -174,6 +177,10 @@ class Navigator(ChargerPhases, PlanFailures):
         self._undock_retries = 0
         self._dock_since = 0.0
         self._contact_since: float | None = None
+        self._scan: LaserScan | None = None
+        self._dock_signals: DockSignals | None = None
+        self._dock_sight = DockSight(front_reach(self._footprint), self.config.dock_plate)
+        self._beacon_seen = False
         # People seen this period, and the current wait for them to make way.
         self._wait = PeopleWait(
             people or PeopleConfig(), costmap, planner, controller, robot_radius=robot_radius,
@@ -299,11 +306,14 @@ class Navigator(ChargerPhases, PlanFailures):
         *,
         charging: bool = False,
         people: PeopleView | None = None,
+        scan: LaserScan | None = None,
+        dock: DockSignals | None = None,
     ) -> Twist:
         """Advance the attempt by one control period; returns the velocity to command.
 
         ``charging``: the charger contacts carry current (docking ends on it). ``people``: the
-        people seen now, in the map frame.
+        people seen now, in the map frame. ``scan``: a scan new since the last period (the
+        dock phase looks for the charger in it); ``dock``: the base's docking sensors, if any.
         """
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
         self._last_tick = now
@@ -311,6 +321,7 @@ class Navigator(ChargerPhases, PlanFailures):
         if self.state is not NavigationState.RUNNING:
             return Twist()
         pose, self._estimate = estimate.pose, estimate
+        self._scan, self._dock_signals = scan, dock
         self._track_distance(pose)
         phase = self._require().phase
         if phase is Phase.LEAVE_CHARGER:

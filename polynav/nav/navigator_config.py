@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError
 
 
@@ -38,7 +39,12 @@ class NavigatorConfig:
     robot
     that cannot turn backs out along its way in by up to ``recovery_backout_distance`` [m]
     (:mod:`~polynav.nav.back_out`). A robot that may not reverse (``reverse_allowed`` false)
-    neither backs out nor backs up.
+    neither backs out nor backs up. Docking finds the charger's plate in the scan near the
+    marker and drives onto the pose seen (``dock_by_sight``; off: onto the marker's pose; the
+    plate's shape ``dock_plate``, from the profile), and
+    fails if the plate is not found, or a base with a beacon receiver does not see the
+    charger's beacon, within ``dock_find_wait`` [s] at the approach
+    (:mod:`~polynav.nav.charger_phases`).
     """
 
     replan_period: float = 3.0
@@ -56,6 +62,9 @@ class NavigatorConfig:
     dock_speed: float = 0.1
     dock_contact_wait: float = 3.0
     dock_timeout: float = 40.0
+    dock_by_sight: bool = True
+    dock_plate: DockShape = DockShape()
+    dock_find_wait: float = 2.0
     retry_min_time: float = 30.0
     recovery_clear_radius: float = 1.5
     recovery_backup_distance: float = 0.3
@@ -82,7 +91,7 @@ class NavigatorConfig:
             "replan_period", "closed_route_replan_period", "blocked_wait", "localization_grace",
             "undock_speed",
             "undock_retry_after", "dock_approach", "dock_speed", "dock_contact_wait",
-            "dock_timeout", "recovery_clear_radius", "recovery_backup_distance",
+            "dock_timeout", "dock_find_wait", "recovery_clear_radius", "recovery_backup_distance",
             "recovery_backup_speed", "recovery_rotate_angle", "goal_wait_period",
             "recovery_backout_distance", "passage_look_ahead",
         ):

@@ -44,6 +44,7 @@ from polynav.nav.passages import ClosedPassages, first_touch
 from polynav.nav.people_wait import PeopleWait
 from polynav.nav.phases import NavPhase
 from polynav.nav.recoveries import ClearCostmap, Recovery
+from polynav.nav.unknown_walls import walled_in_by_unknown
 from polynav.planning.errors import (
     GoalOccupied,
     NoPath,
@@ -171,6 +172,10 @@ class PlanFailures:
     def _on_plan_error(self, exc: PlanningError, pose: Pose2D, now: float) -> None:
         log.warning("planning failed: %s", exc)
         cause = failure_cause(exc, self._costmap.cost_at(pose.x, pose.y))
+        if (cause == "no_path" and self._costmap.config.track_unknown
+                and walled_in_by_unknown(self._costmap.costs, self._costmap.info, pose,
+                                         self._target)):
+            cause = "walled_in_unknown"
         self._emit(events.PlanFailed(now, self._require(), cause=cause))
         if isinstance(exc, (NoPath, GoalOccupied)) and self._wait.blocks(pose, self._path):
             self._wait_for_people(pose, now)

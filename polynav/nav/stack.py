@@ -155,6 +155,7 @@ def stack_config_for(profile: RobotProfile, base: StackConfig | None = None) -> 
         reverse_allowed=nav.reverse_allowed and profile.reverse.allowed,
         recovery_backout_distance=min(nav.recovery_backout_distance,
                                       max(profile.rear_view, BLIND_BACKOUT)),
+        dock_plate=profile.charger.plate,
     )
     return replace(base, controller=controller, costmap=costmap, navigator=navigator,
                    footprint=profile.footprint)
@@ -257,7 +258,8 @@ class NavigationStack:
         estop = self.software_estop or self.robot.estop_pressed()
         charging = self.robot.read_battery().charging
         self._command = self.navigator.tick(
-            now, estimate, odometry.twist, estop, charging=charging, people=self.people
+            now, estimate, odometry.twist, estop, charging=charging, people=self.people,
+            scan=scan, dock=self.robot.read_dock(),
         )
         if estop:
             self._command = Twist()

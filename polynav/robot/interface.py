@@ -6,9 +6,10 @@ tell them apart. Readings carry the backend's timestamp (simulated seconds in th
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import numpy.typing as npt
@@ -86,6 +87,42 @@ class PersonDetection:
     vy: float
 
 
+@dataclass(frozen=True, slots=True)
+class SignDetection:
+    """A "no entry" sign a sign camera sees: where it stands [m] in the robot frame (+x
+    forward, +y left)."""
+
+    x: float
+    y: float
+
+
+@runtime_checkable
+class SignCamera(Protocol):
+    """A base with a camera that spots "no entry" signs (only some robots have one)."""
+
+    def read_signs(self) -> Sequence[SignDetection]:
+        """The signs the camera sees now."""
+        ...
+
+
+class DockLink(enum.Enum):
+    """The data link a charger and a robot keep over their contacts."""
+
+    NONE = "none"  # no contact: nothing exchanged
+    VALID = "valid"  # frames exchanged and checked: the charger may switch its current on
+    INVALID = "invalid"  # frames arrive but fail their check
+
+
+@dataclass(frozen=True, slots=True)
+class DockSignals:
+    """A base's docking sensors: whether its infrared receiver sees a charger's beacon, whether
+    its contacts touch a charger's, and how the data link over them stands."""
+
+    beacon: bool
+    contact: bool
+    link: DockLink
+
+
 class Robot(Protocol):
     """What polynav needs from a mobile base."""
 
@@ -109,6 +146,11 @@ class Robot(Protocol):
 
     def read_people(self) -> Sequence[PersonDetection]:
         """The people the base's leg tracker sees now; empty for a base without one."""
+        ...
+
+    def read_dock(self) -> DockSignals | None:
+        """The docking sensors now; ``None`` for a base without them (docking then goes by the
+        scan and the charging current alone)."""
         ...
 
 

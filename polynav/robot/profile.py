@@ -39,10 +39,13 @@ The file, every key optional except ``name`` and ``footprint`` (units SI, angles
     odometry: {translation_noise: 0.02, rotation_noise: 0.02,
                translation_additive: 0.0002, rotation_additive: 0.0002}
     imu: {rate: 50.0, yaw_rate_noise: 0.005, yaw_rate_bias: 0.002, acceleration_noise: 0.05}
-    charger: {distance_tolerance: 0.1, heading_tolerance: 0.3}
+    charger: {distance_tolerance: 0.1, heading_tolerance: 0.3,   # contacts touch within
+              plate_width: 0.6, notch_width: 0.3, notch_depth: 0.1}  # the plate the lidar sees
     reverse: {allowed: true, rear_view: 12.0}   # may it back up in a recovery; how far [m] its
                                                # sensors see behind it (default: the lidar's
                                                # range if it sees behind, else 0)
+    sign_camera: {range: 4.0, fov: 1.2}   # a camera that spots "no entry" signs ahead (only some
+                                          # robots: left out, the robot has none)
 
 Frame conventions (REP 103): x forward, y left, the base's origin is its centre of rotation. A
 polygon is listed in order (either winding), must not cross itself, and must contain the
@@ -63,6 +66,7 @@ from typing import Any
 
 import yaml
 
+from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
@@ -165,10 +169,20 @@ class ImuSpec:
 
 @dataclass(frozen=True, slots=True)
 class ChargerContact:
-    """How precisely the base must stand on a charger point for its contacts to touch."""
+    """How precisely the base must stand on a charger point for its contacts to touch, and the
+    shape of the charger's front plate that docking finds in the scan
+    (:class:`~polynav.docking.shape.DockShape`)."""
 
     distance_tolerance: float = 0.1
     heading_tolerance: float = 0.3
+    plate_width: float = 0.6
+    notch_width: float = 0.3
+    notch_depth: float = 0.1
+
+    @property
+    def plate(self) -> DockShape:
+        """The plate's outline (raises ConfigError when inconsistent)."""
+        return DockShape(self.plate_width, self.notch_width, self.notch_depth)
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,6 +193,15 @@ class Reverse:
 
     allowed: bool = True
     rear_view: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class SignCamera:
+    """A forward camera that spots "no entry" signs: how far [m] and how wide [rad] it sees
+    (centred on the base's heading)."""
+
+    range: float = 4.0
+    fov: float = 1.2
 
 
 @dataclass(frozen=True, slots=True)
@@ -199,6 +222,8 @@ class RobotProfile:
     imu: ImuSpec = field(default_factory=ImuSpec)
     charger: ChargerContact = field(default_factory=ChargerContact)
     reverse: Reverse = field(default_factory=Reverse)
+    #: The camera that spots "no entry" signs; ``None``: the robot has none.
+    sign_camera: SignCamera | None = None
     #: How the robot's ROS driver is reached over rosbridge (``polynav run --robot-bridge``):
     #: topic and frame names; ``None``: ROS's defaults.
     ros: BridgeConfig | None = None
@@ -256,6 +281,11 @@ class RobotProfile:
             imu_acceleration_noise=imu.acceleration_noise,
             dock_distance_tolerance=self.charger.distance_tolerance,
             dock_heading_tolerance=self.charger.heading_tolerance,
+            sign_camera_range=self.sign_camera.range if self.sign_camera is not None else 0.0,
+            sign_camera_fov=self.sign_camera.fov if self.sign_camera is not None else 0.0,
+            charger_plate_width=self.charger.plate_width,
+            charger_notch_width=self.charger.notch_width,
+            charger_notch_depth=self.charger.notch_depth,
         )
 
     def to_document(self) -> dict[str, Any]:
@@ -283,6 +313,8 @@ class RobotProfile:
             "charger": asdict(self.charger),
             "reverse": {"allowed": self.reverse.allowed, "rear_view": self.rear_view},
             **({"ros": asdict(self.ros)} if self.ros is not None else {}),
+            **({"sign_camera": asdict(self.sign_camera)}
+               if self.sign_camera is not None else {}),
         }
 
 
@@ -332,7 +364,7 @@ def parse_profile(doc: object) -> RobotProfile:
     """
     top = _mapping(doc, "robot")
     _known(top, "robot", ("name", "description", "footprint", "limits", "cruise", "lidar",
-                          "odometry", "imu", "charger", "reverse", "ros"))
+                          "odometry", "imu", "charger", "reverse", "ros", "sign_camera"))
     name = top.get("name")
     if not isinstance(name, str) or not name.strip():
         raise ProfileError("name", f"expected a non-empty string, got {name!r}")
@@ -361,6 +393,8 @@ def parse_profile(doc: object) -> RobotProfile:
         charger=_section(ChargerContact, top.get("charger", {}), "charger"),
         reverse=_reverse(top.get("reverse", {})),
         ros=_ros(top.get("ros")),
+        sign_camera=(None if top.get("sign_camera") is None
+                     else _section(SignCamera, top["sign_camera"], "sign_camera")),
     )
 
 
@@ -502,10 +536,19 @@ def _validate(p: RobotProfile) -> None:
     _positive(p.imu.rate, "imu.rate")
     for name in ("yaw_rate_noise", "yaw_rate_bias", "acceleration_noise"):
         _non_negative(getattr(p.imu, name), f"imu.{name}")
-    for name in ("distance_tolerance", "heading_tolerance"):
+    for name in ("distance_tolerance", "heading_tolerance", "plate_width", "notch_width",
+                 "notch_depth"):
         _positive(getattr(p.charger, name), f"charger.{name}")
+    if not p.charger.notch_width < p.charger.plate_width:
+        raise ProfileError("charger.notch_width",
+                           f"must be below charger.plate_width ({p.charger.plate_width:g})")
     if p.reverse.rear_view is not None:
         _non_negative(p.reverse.rear_view, "reverse.rear_view")
+    if p.sign_camera is not None:
+        _positive(p.sign_camera.range, "sign_camera.range")
+        if not 0.0 < p.sign_camera.fov <= 2.0 * math.pi + 1e-9:
+            raise ProfileError("sign_camera.fov",
+                               f"must be within (0, 2π], got {p.sign_camera.fov:g}")
     physics = SimConfig().physics_rate
     for key, rate in (("lidar.rate", li.rate), ("imu.rate", p.imu.rate)):
         if rate > physics:

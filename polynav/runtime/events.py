@@ -149,7 +149,9 @@ class NavigationStuck(RuntimeEvent):
 class PlanningFailed(RuntimeEvent):
     """A global plan failed during an attempt; ``cause`` is ``"start_unknown"`` (the robot
     stands in unknown space), ``"start_occupied"`` (on or in an obstacle), ``"goal_occupied"``,
-    ``"outside_map"`` or ``"no_path"``. The attempt retries or fails as the navigator decides."""
+    ``"outside_map"``, ``"walled_in_unknown"`` (unknown space, taken as an obstacle, is all that
+    parts the robot from the goal) or ``"no_path"``. The attempt retries or fails as the
+    navigator decides."""
 
     kind: ClassVar[str] = "planning_failed"
 
@@ -177,6 +179,54 @@ class NavigationWaiting(RuntimeEvent):
 
     attempt_id: int
     cause: str
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficBusy(RuntimeEvent):
+    """The narrow passage (traffic ``zone``) on the robot's way is held by another robot: the
+    fleet queued the robot's request for it. Once per zone until the robot gets it or no
+    longer needs it."""
+
+    kind: ClassVar[str] = "traffic_busy"
+
+    attempt_id: int
+    zone: str
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficWaitStarted(RuntimeEvent):
+    """The robot stopped in front of (or inside) narrow passage ``zone`` that another robot
+    holds, and waits for it (moving up in line is still the same wait)."""
+
+    kind: ClassVar[str] = "traffic_wait_started"
+
+    attempt_id: int
+    zone: str
+
+
+@dataclass(frozen=True, slots=True)
+class TrafficWaitEnded(RuntimeEvent):
+    """The wait for ``zone`` is over: ``granted`` when the robot got the passage and goes on,
+    otherwise its goal ended or changed and it no longer needs it."""
+
+    kind: ClassVar[str] = "traffic_wait_ended"
+
+    attempt_id: int
+    zone: str
+    granted: bool
+
+
+@dataclass(frozen=True, slots=True)
+class NoEntrySignSeen(RuntimeEvent):
+    """The robot's sign camera spotted a "no entry" sign at (``x``, ``y``) [m, map frame]
+    during attempt ``attempt_id``: the way it stands in is closed (the navigator stops and
+    plans round it, or the goal fails). Once per sign and map."""
+
+    kind: ClassVar[str] = "no_entry_sign_seen"
+
+    attempt_id: int
+    x: float
+    y: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -241,8 +291,10 @@ class DockingSucceeded(AttemptEvent):
 
 @dataclass(frozen=True, slots=True)
 class DockingFailed(RuntimeEvent):
-    """Docking gave up; ``cause`` is ``"no_contact"`` (on the charger pose but no charging
-    current) or ``"timeout"``. The attempt fails next."""
+    """Docking gave up; ``cause`` is ``"no_feature"`` (no charger's plate in the scan near the
+    marker), ``"no_infrared"`` (its infrared beacon not seen), ``"bad_data"`` (the contacts
+    touch but the charger's data link gave no valid frame), ``"no_contact"`` (on the charger
+    pose but no charging current) or ``"timeout"``. The attempt fails next."""
 
     kind: ClassVar[str] = "docking_failed"
 

@@ -17,7 +17,9 @@ The lift sequence of a lift leg (``docs/lifts.md``), each step a :class:`LiftPha
    :data:`CALL_TIMEOUT`: the car is excluded and the goal re-routed). A car that stands open
    is driven into at once, without stopping at the outside point first.
 4. ``entering``: drive to the inside point. A full car is given up for the next one; blocked
-   (the navigator failed): retry after a pause, up to :data:`MAX_DOOR_RETRIES`.
+   (the navigator failed): get out of the car's way (back to the outside point, so whoever
+   or whatever is in the door can come out), then retry after a pause, up to
+   :data:`MAX_DOOR_RETRIES`.
 5. ``riding``: the car is asked to the target floor; when it stands there the map is switched
    and localization restarted at the lift's known position (``switching_map``). A ride over
    :data:`RIDE_TIMEOUT` fails the goal.
@@ -339,6 +341,13 @@ class LiftCommands(LiftAccess):
         if result is None:
             return
         run.nav_id = None
+        if run.avoiding:
+            run.avoiding = False
+            run.resume_at = now + RETRY_PAUSE
+            out = "succeeded" if result is NavigationState.SUCCEEDED else "failed"
+            self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, LiftPhase.ENTERING,
+                                           leg.from_floor, leg.to_floor, f"avoided: {out}"))
+            return
         if result is NavigationState.SUCCEEDED:
             try:
                 car.request(LiftRequest(self.robot_id, leg.to_floor, DoorRequest.OPEN))
@@ -354,8 +363,9 @@ class LiftCommands(LiftAccess):
             self._reroute(run, now, f"could not enter lift {leg.car}")
             return
         self._publish(LiftPhaseChanged(now, run.attempt_id, leg.car, LiftPhase.ENTERING,
-                                       leg.from_floor, leg.to_floor, "blocked: retrying"))
-        run.resume_at = now + RETRY_PAUSE
+                                       leg.from_floor, leg.to_floor, "blocked: avoid, retry"))
+        run.avoiding = True
+        self._leg_go(run, leg.outside_from, AT_DOOR)
 
     def _ride_tick(self, run: RouteRun, leg: LiftLeg, car: Lift, now: float) -> None:
         state = car.state()

@@ -84,6 +84,7 @@ from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_commands import NavigationCommands
 from polynav.runtime.navigation_events import AttemptBook, translate
+from polynav.runtime.no_entry import NoEntrySigns
 from polynav.runtime.patrols import Patrols
 from polynav.runtime.placement import Placement, ReportedPlacement, SimulatedPlacement
 from polynav.runtime.relocalization import LostRecovery
@@ -192,6 +193,7 @@ class RobotRuntime(
         # False while the (simulated) robot is powered off: commands are refused.
         self.powered = True
         self.device = Device(self)
+        self._no_entry = NoEntrySigns(self._robot, self._publish, lambda: self._keepouts)
         devices = simulated_devices(self._clock.now(), self._robot.read_scan,
                                     seed=self.config.seed)
         self.peripherals = Peripherals(self, devices, getattr(store, "data_dir", None))
@@ -472,6 +474,7 @@ class RobotRuntime(
             self._route_tick(now)
             stack = self._stack  # a lift ride switches maps: a new stack
         self._hold_tick(now)
+        self._no_entry.tick(now, stack, self._attempts.attempt_id)
         explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()

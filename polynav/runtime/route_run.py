@@ -53,6 +53,8 @@ class RouteRun:
         since: when the current phase began [s]; ``retries`` door retries in it.
         resume_at: a retry waits until then [s].
         backing_in: leaving the car failed; the robot drives back in before trying again.
+        avoiding: entering the car failed; the robot gets out of the car's way (back to its
+            outside point) before trying again.
         distance: metres driven by finished legs.
     """
 
@@ -76,6 +78,7 @@ class RouteRun:
     retries: int = 0
     resume_at: float = 0.0
     backing_in: bool = False
+    avoiding: bool = False
     called: bool = False
     announced_wait: bool = False
     wait_started: float | None = None
@@ -102,6 +105,7 @@ class RouteRun:
         self.since = now
         self.retries = 0
         self.backing_in = False
+        self.avoiding = False
         self.called = False
         self.announced_wait = False
 
@@ -174,7 +178,9 @@ def status_dict(run: RouteRun) -> dict[str, object]:
     target = leg if isinstance(leg, LiftLeg) else run.next_leg_lift()
     if run.phase is not None and target is not None:
         lift = {"car": target.car, "phase": run.phase.value, "from_floor": target.from_floor,
-                "to_floor": target.to_floor}
+                "to_floor": target.to_floor,
+                "manoeuvre": "avoiding" if run.avoiding else
+                             "backing_in" if run.backing_in else None}
     return {
         "goal_map": run.goal_map,
         "legs": [leg_dict(leg) for leg in run.legs],

@@ -11,6 +11,7 @@ navigation map of the demo site, as if it had been surveyed perfectly.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Protocol, TypeVar
@@ -48,6 +49,26 @@ class PersonRoute:
             raise InvalidRequest("speed", f"must be > 0, got {self.speed}")
         if not self.radius > 0.0:
             raise InvalidRequest("radius", f"must be > 0, got {self.radius}")
+
+
+@dataclass(frozen=True, slots=True)
+class NoEntrySign:
+    """A "no entry" sign standing on a floor (a stand in a doorway, a board across a corridor),
+    for a simulated sign camera: seen from the side it faces, within the camera's reach.
+
+    Attributes:
+        x, y: where it stands [m], world frame.
+        theta: the way its face looks [rad]: it is seen from within 90 degrees of that way.
+    """
+
+    x: float
+    y: float
+    theta: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (self.x, self.y, self.theta)):
+            raise InvalidRequest("sign", f"x, y, theta must be finite, got {self.x}, {self.y}, "
+                                         f"{self.theta}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -171,6 +192,7 @@ class WorldFloor:
         lift: the lift car's area on this floor, if a lift stops here.
         people: routes of the people walking on this floor.
         access_points: the Wi-Fi access points on this floor.
+        signs: the "no entry" signs standing on this floor.
     """
 
     name: str
@@ -181,6 +203,7 @@ class WorldFloor:
     lift: LiftShaft | None
     people: tuple[PersonRoute, ...]
     access_points: tuple[AccessPoint, ...] = ()
+    signs: tuple[NoEntrySign, ...] = ()
 
     def point(self, name: str) -> Point:
         """The point called ``name`` on this floor.

@@ -18,6 +18,8 @@ The layout, every length in metres and every angle in radians::
           - {waypoints: [[10.0, 11.5], [30.0, 11.5]], speed: 1.0, radius: 0.25, loop: false}
         access_points:
           - {ssid: office, x: 12.0, y: 12.0, frequency: 2437, security: WPA2, password: pw}
+        signs:                      # "no entry" signs, facing theta (seen from that side)
+          - {x: 11.6, y: 13.0, theta: -1.5708}
     lifts:                          # optional: the building's lift cars
       - {name: lift_1, x: 38.0, y: 22.0, width: 2.0, depth: 2.0, door_heading: -1.5708,
          door_width: 1.2, floors: [floor1, floor2], outside: lift_1_outside,
@@ -26,12 +28,12 @@ The layout, every length in metres and every angle in radians::
 
 ``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
 ``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``,
-``loop`` and ``access_points`` (Wi-Fi for the simulated wireless card; ``frequency`` in MHz,
-``security`` and ``password`` empty for an open network) may be left out. A lift car's
-``outside`` and ``inside`` name points present on every floor it serves (the inside one in its
-shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`` and ``capacity`` may be left out.
-Ground truth is loaded with :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the
-reality of a simulated floor.
+``loop``, ``signs`` and ``access_points`` (Wi-Fi for the simulated wireless card;
+``frequency`` in MHz, ``security`` and ``password`` empty for an open network) may be left out.
+A lift car's ``outside`` and ``inside`` name points present on every floor it serves (the
+inside one in its shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`` and
+``capacity`` may be left out. Ground truth is loaded with
+:func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a simulated floor.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from polynav.worlds.world import (
     AccessPoint,
     LiftCar,
     LiftShaft,
+    NoEntrySign,
     PersonRoute,
     World,
     WorldFloor,
@@ -160,10 +163,20 @@ def _floor(root: Path, raw: object, key: str) -> WorldFloor:
         _access_point(a, f"{key}.access_points[{n}]")
         for n, a in enumerate(_list(doc.get("access_points", []), f"{key}.access_points"))
     )
+    signs = tuple(
+        _sign(s, f"{key}.signs[{n}]")
+        for n, s in enumerate(_list(doc.get("signs", []), f"{key}.signs"))
+    )
     return WorldFloor(
         name=name, level=level, map_name=map_name, map=grid, points=points, lift=lift,
-        people=people, access_points=access_points,
+        people=people, access_points=access_points, signs=signs,
     )
+
+
+def _sign(raw: object, key: str) -> NoEntrySign:
+    doc = _mapping(raw, key)
+    return NoEntrySign(_num(doc, "x", key), _num(doc, "y", key),
+                       _num(doc, "theta", key, default=0.0))
 
 
 def _access_point(raw: object, key: str) -> AccessPoint:

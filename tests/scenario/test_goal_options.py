@@ -107,7 +107,7 @@ def test_leaving_the_charger_retries_every_10_s_then_fails(runtime: RobotRuntime
     assert all(abs(gap - 10.0) < 0.1 for gap in gaps), gaps
 
 
-def test_docking_where_no_charger_stands_fails_for_want_of_contact(
+def test_docking_where_no_charger_stands_fails_having_seen_none(
     runtime: RobotRuntime,
 ) -> None:
     runtime.store.add_point(
@@ -118,7 +118,7 @@ def test_docking_where_no_charger_stands_fails_for_want_of_contact(
     assert _run(runtime) == "failed"
     assert runtime.status().reason == "dock failed"
     failed = [e for e in sub.get_nowait() if isinstance(e, events.DockingFailed)]
-    assert [e.cause for e in failed] == ["no_contact"]
+    assert [e.cause for e in failed] == ["no_feature"]  # the robot looked, and saw no plate
     assert not runtime.status().charging
 
 

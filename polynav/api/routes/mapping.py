@@ -5,11 +5,12 @@ from __future__ import annotations
 import logging
 from typing import Annotated
 
-from fastapi import APIRouter, Path
+from fastapi import APIRouter, Body, Path
 from fastapi.responses import Response
 
 from polynav.api.deps import RuntimeDep
 from polynav.api.errors import BODY, LOOKUP, STATE, responses
+from polynav.api.examples import DEMO_MAP, NEW_MAP, START_POINT, examples
 from polynav.api.schemas import GridOut, MappingStartIn, MapSaveIn, Ok
 from polynav.api.schemas_mapping import MappingJobOut
 from polynav.maps.ros_map import png_bytes
@@ -21,11 +22,19 @@ commands = APIRouter(prefix="/api/mapping", tags=["mapping"], responses=STATE)
 jobs = APIRouter(prefix="/api/mapping/jobs", tags=["mapping"])  # a read: no 409
 
 JobId = Annotated[str, Path(min_length=1, max_length=200, description="the job's id")]
+StartBody = Annotated[MappingStartIn | None, Body(openapi_examples=examples(
+    a_new_map={},
+    extend_a_map_from_a_point={"map": DEMO_MAP, "point": START_POINT},
+    extend_a_map_from_a_pose={"map": DEMO_MAP, "x": 8.0, "y": 8.5, "theta": 0.0},
+))]
+SaveBody = Annotated[MapSaveIn, Body(openapi_examples=examples(
+    under_a_new_name={"name": NEW_MAP},
+))]
 
 
 @commands.post("/start", operation_id="start_mapping", response_model=Ok,
              responses=responses(BODY, LOOKUP))
-def start_mapping(runtime: RuntimeDep, body: MappingStartIn | None = None) -> Ok:
+def start_mapping(runtime: RuntimeDep, body: StartBody = None) -> Ok:
     """Start a new map where the robot stands (no body; 409 unless free: stop navigation
     first), or update ``map``: extend it in its own frame, the robot localized on it at
     ``point``, at the pose, by navigation when navigating on it, or by global relocalization
@@ -68,7 +77,7 @@ def get_mapping_map_image(runtime: RuntimeDep) -> Response:
 
 @commands.post("/save", operation_id="save_mapping", response_model=MappingJobOut,
              status_code=202, responses=responses(BODY))
-def save_mapping(body: MapSaveIn, runtime: RuntimeDep) -> MappingJobOut:
+def save_mapping(body: SaveBody, runtime: RuntimeDep) -> MappingJobOut:
     """Save the map so far under ``name``; mapping goes on. Answers at once with the job
     (``saving``): the files are written off the robot's control loop, the status's
     ``mapping.job`` and ``GET /api/mapping/jobs/{id}`` follow it to ``saved`` (the map is then
@@ -80,7 +89,7 @@ def save_mapping(body: MapSaveIn, runtime: RuntimeDep) -> MappingJobOut:
 
 @commands.post("/stop", operation_id="stop_mapping", response_model=MappingJobOut,
              status_code=202, responses=responses(BODY))
-def stop_mapping(body: MapSaveIn, runtime: RuntimeDep) -> MappingJobOut:
+def stop_mapping(body: SaveBody, runtime: RuntimeDep) -> MappingJobOut:
     """Finish the map (its last optimisation), save it under ``name`` and become free.
     Answers at once with the job (``saving``), always 202: the finish runs off the robot's
     control loop, the robot ``busy`` (halted) meanwhile, the status's ``mapping`` showing the

@@ -7,10 +7,11 @@ from __future__ import annotations
 import logging
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Query, Response
+from fastapi import APIRouter, Body, Path, Query, Response
 
 from polynav.api.deps import RuntimeDep
 from polynav.api.errors import BODY, LOOKUP, STATE, responses
+from polynav.api.examples import NAP_TASK, examples, link, links
 from polynav.api.schemas_tasks import LoopIn, TaskIn, TaskOut, TriggeredOut
 
 log = logging.getLogger(__name__)
@@ -18,6 +19,17 @@ log = logging.getLogger(__name__)
 router = APIRouter(prefix="/api/tasks", tags=["tasks"], responses=LOOKUP)
 
 TaskId = Annotated[str, Path(min_length=1, max_length=200, description="the task's id")]
+TaskBody = Annotated[TaskIn, Body(openapi_examples=examples(a_nap=NAP_TASK))]
+# Only a new task has an example: the others name a task by its id, made at run time (a uuid),
+# which no example can know; the links below hand it on instead.
+# A task made leads to what can be done with it: its start, and a schedule that starts it.
+_MADE = "$response.body#/id"
+MADE = links(
+    StartMadeTask=link("start_task", parameters={"task_id": _MADE},
+                       description="run the task just made"),
+    ScheduleMadeTask=link("create_schedule", body={"task_id": _MADE},
+                          description="start the task just made on the robot's calendar"),
+)
 NodeId = Annotated[str | None, Query(max_length=200,
                                      description="a node of the task (at any depth)")]
 
@@ -29,8 +41,8 @@ def list_tasks(runtime: RuntimeDep) -> list[TaskOut]:
 
 
 @router.post("", operation_id="create_task", response_model=TaskOut, status_code=201,
-             responses=responses(BODY, STATE))
-def create_task(body: TaskIn, runtime: RuntimeDep,
+             responses=responses(BODY, STATE, {201: MADE}))
+def create_task(body: TaskBody, runtime: RuntimeDep,
                 start: Annotated[bool, Query(description="start it at once")] = False
                 ) -> TaskOut:
     """Make a task from its tree (409 naming the node for a bad tree; nothing is made)."""

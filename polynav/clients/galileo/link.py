@@ -18,7 +18,8 @@ from typing import Any
 
 import httpx
 from websockets.exceptions import WebSocketException
-from websockets.sync.client import ClientConnection, connect
+from websockets.sync.client import connect
+from websockets.sync.connection import Connection
 
 from polynav.clients.galileo.codes import ServerInfo
 from polynav.protocols.galileo.native.ros_message import encode_native_cmds
@@ -53,8 +54,9 @@ class RobotLink:
         self._on_lost = on_lost
         self._closed = threading.Event()
         self._send_lock = threading.Lock()
-        self._writers: dict[str, ClientConnection] = {}
-        self._status_ws: ClientConnection | None = None
+        # Typed as the base class: websockets 15 (amqtt's pin) types an entered client as it.
+        self._writers: dict[str, Connection] = {}
+        self._status_ws: Connection | None = None
         try:
             reply = self.http.get("/token", params={"username": username, "password": password})
             body = reply.json()

@@ -80,6 +80,8 @@ _TARGET = {
 }
 
 
+_RUNNING_TASK = frozenset({"WAITTING", "WORKING", "PAUSED"})
+
 # an angle command's task state -> angleGoalStatus
 _ANGLE = {
     "WAITTING": AngleGoalStatus.NOT_DONE, "WORKING": AngleGoalStatus.NOT_DONE,
@@ -194,14 +196,16 @@ def _native_marks(ctx: Context, snap: StatusSnapshot, body: dict[str, Any]) -> N
         body.update({"targetNumID": bad, "targetStatus": int(TargetStatus.ERROR),
                      "targetDistance": -1.0, "angleGoalStatus": int(AngleGoalStatus.INVALID)})
         return
-    with mark.lock:
-        angle_task = mark.angle_task
+    angle_task = mark.angle_task_now(snap.attempt_id)
     if angle_task is None:
         return
     try:
         state = ctx.runtime.tasks.get(angle_task)["state"]
     except NotFound:
+        mark.forget_angle_task(angle_task)
         return
+    if state not in _RUNNING_TASK:
+        mark.angle_task_ended(angle_task, snap.attempt_id)
     body["angleGoalStatus"] = int(_ANGLE.get(state, AngleGoalStatus.ERROR))
 
 

@@ -60,6 +60,8 @@ _LIFT_RUNNING_STATUS = {
     "switching_map": "take_lift",
     "exiting": "exit_lift",
 }
+# Out of the car's way after a failed entry, back into it after a failed exit (L251, L253).
+_LIFT_MANOEUVRE = {"avoiding": "avoid_lift", "backing_in": "back_to_lift"}
 
 
 @dataclass
@@ -184,6 +186,9 @@ def running_status(snapshot: StatusSnapshot) -> str:
         return "idle"
     lift = (snapshot.route or {}).get("lift")
     if isinstance(lift, dict):
+        manoeuvre = lift.get("manoeuvre")
+        if manoeuvre is not None:
+            return _LIFT_MANOEUVRE.get(str(manoeuvre), "running")
         lift_status = _LIFT_RUNNING_STATUS.get(str(lift.get("phase")))
         if lift_status is not None:
             return lift_status

@@ -9,8 +9,9 @@
 Sequences (§3.10.4): ``01001`` -> [``01010`` -> ``01011``] -> (``01005``)* -> [``01020`` ->
 ``01021``] -> ``01002``; a move that cannot plan from the start sends ``01007`` then ``01003``
 with no retries; too many retries without progress send ``01006`` then ``01003``. ``01203``
-(and ``01202`` when the robot stands on an obstacle or in a forbidden zone) is sent at most every
-5 s of the runtime's clock while planning keeps failing.
+(and ``01202`` when the robot stands on an obstacle or in a forbidden zone, ``01201`` when it
+stands in unknown space or unknown space walls it in) is sent at most every 5 s of the runtime's
+clock while planning keeps failing.
 """
 
 from __future__ import annotations
@@ -112,20 +113,15 @@ NOTIFICATIONS: dict[str, tuple[str, str]] = {
 }
 
 _NO_CONTAINERS = "polynav has no container or cabin docking (no product feature behind it)"
-_AVOID = ("a blocked entry waits in front of the car and tries again: polynav has no separate "
-          "get-out-of-the-way manoeuvre")
 # Codes whose trigger polynav has no feature for: catalogued, never sent (docs/yunji.md).
 NOT_PRODUCED: dict[str, str] = {
-    "01023": "the simulated dock has no data link whose frames could be invalid",
-    "01024": "docking aims at the charger marker's pose; there is no dock-feature detector",
-    "01026": "polynav's robots have no infrared dock beacon",
     "01028": _NO_CONTAINERS,
-    "01029": "polynav drives differential bases only: there is no lateral mode",
+    "01029": "polynav's bases (simulated and bridged) are differential: there is no lateral "
+             "(sideways) mode to switch to, so the switch can neither be made nor fail "
+             "(docs/decisions.md)",
     "01030": "polynav controls no electronic doors or gates",
     "01031": "polynav controls no electronic doors or gates",
     "01032": "polynav controls no electronic doors or gates",
-    "01033": "polynav has no narrow-area congestion control (no multi-robot traffic)",
-    "01034": "polynav has no narrow-area congestion control (no multi-robot traffic)",
     "01050": _NO_CONTAINERS,
     "01051": _NO_CONTAINERS,
     "01052": _NO_CONTAINERS,
@@ -140,28 +136,20 @@ NOT_PRODUCED: dict[str, str] = {
     "01080": _NO_CONTAINERS,
     "01081": _NO_CONTAINERS,
     "01082": _NO_CONTAINERS,
-    "01200": "polynav runs one robot: there is no multi-robot traffic control",
-    "01201": "polynav's costmap takes unknown (grey) space as free by default, and with "
-             "track_unknown the lidar clears the grey cells it sees: the robot is never walled "
-             "in by grey area; a goal in unknown space is answered 01007",
-    "01210": "polynav has no no-entry sign detector",
-    "04040": _AVOID,
-    "04041": _AVOID,
-    "04062": "a return into the car that fails is tried again before the exit is given up "
-             "(04052, 01003); it is not reported on its own",
 }
 
 # Codes the mapper below sends.
 PRODUCED: frozenset[str] = frozenset({
     "01001", "01002", "01003", "01004", "01005", "01006", "01007",
-    "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01025", "01027",
+    "01010", "01011", "01012", "01013", "01020", "01021", "01022", "01023", "01024", "01025",
+    "01026", "01027", "01033", "01034",
     "01101", "01102", "01103", "01104",
-    "01202", "01203", "01204",
+    "01200", "01201", "01202", "01203", "01204", "01210",
     "02000", "02001", "02002", "02003", "02004", "02005", "02006", "02010",
     "03001",
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
-    "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061",
-    "04070", "04071",
+    "04030", "04031", "04032", "04033", "04040", "04041", "04050", "04051", "04052", "04060",
+    "04061", "04062", "04070", "04071",
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
@@ -182,7 +170,8 @@ _STEP: dict[type[events.RuntimeEvent], str] = {
     # People block the way and the robot waits for them: the same "no local plan" notice.
     events.NavigationWaiting: "01204",
 }
-_DOCK_CAUSE = {"no_contact": "01025", "timeout": "01027"}
+_DOCK_CAUSE = {"bad_data": "01023", "no_feature": "01024", "no_contact": "01025",
+               "no_infrared": "01026", "timeout": "01027"}
 _PATROL: dict[type[events.RuntimeEvent], str] = {
     events.PatrolStarted: "01101",
     events.PatrolFinished: "01102",
@@ -194,6 +183,13 @@ _STATUS: dict[type[events.RuntimeEvent], str] = {
     events.RobotDisplaced: "02005",
     events.SoftwareShutdownNotice: "02006",
     events.ForeignObjectDetected: "03001",
+    # The fleet's traffic rule (§3.10.1): a narrow passage held by another robot, the wait in
+    # front of it and its end (data not covered by the spec, §A-N2: ``{}``).
+    events.TrafficBusy: "01200",
+    events.TrafficWaitStarted: "01033",
+    events.TrafficWaitEnded: "01034",
+    # A "no entry" sign spotted: the robot stops before it and plans round it or fails.
+    events.NoEntrySignSeen: "01210",
 }
 # Retries that are the navigator's check of a first plan (clear the lidar marks, plan again),
 # not a move retry: the move then either goes or fails with 01007 (no retries, L634).
@@ -202,7 +198,9 @@ _UNREACHABLE_REASONS = {"no path", "goal occupied"}
 # A precise goal reached where the scan could not confirm the pose: "maybe lost" (02010), then
 # the move failure; Yunji has no code of its own for an arrival it cannot vouch for.
 _NOT_LOCALIZED_REASONS = {"not localized"}
-_TRAPPED = {"start_occupied": "01202"}
+# Trapped: on an obstacle (01202); standing in unknown space, or walled in by it with
+# unknown-as-obstacle on (01201).
+_TRAPPED = {"start_occupied": "01202", "start_unknown": "01201", "walled_in_unknown": "01201"}
 
 
 def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
@@ -210,9 +208,13 @@ def _lift_detail(phase: LiftPhase, detail: str) -> list[str]:
     if detail == HELD:
         return ["04070"]
     if detail.startswith("back in: "):
-        return ["04061"] if detail.endswith("succeeded") else []
+        return ["04061"] if detail.endswith("succeeded") else ["04062"]
+    if detail.startswith("avoided: "):
+        return ["04041"]  # out of the car's way (or as far as it got): it tries again
     if phase is LiftPhase.EXITING:
         return ["04052", "04060"]  # blocked: back in, retry
+    if phase is LiftPhase.ENTERING and "avoid" in detail:
+        return ["04032", "04040"]  # blocked: out of the car's way, retry
     if "is full" in detail:
         return ["04033"]
     if "did not come within" in detail:

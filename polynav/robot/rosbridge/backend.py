@@ -29,6 +29,7 @@ from typing import Any
 from polynav.geometry import Pose2D, Twist
 from polynav.robot.interface import (
     BatteryState,
+    DockSignals,
     ImuReading,
     LaserScan,
     Odometry,
@@ -162,6 +163,10 @@ class RosbridgeRobot:
 
     def read_people(self) -> Sequence[PersonDetection]:
         return ()
+
+    def read_dock(self) -> DockSignals | None:
+        """The standard driver topics carry no beacon or dock link."""
+        return None
 
     # -- from the client's thread -----------------------------------------------------------------
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
+from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError
 
 
@@ -61,11 +62,17 @@ class SimConfig:
         dock_distance_tolerance: the base touches a charger's contacts when it stands this close
             to a charger point's position [m] ...
         dock_heading_tolerance: ... facing that point's heading within this angle [rad].
+        charger_plate_width: the chargers' front plates are this wide [m] ...
+        charger_notch_width: ... with a V notch this wide [m] ...
+        charger_notch_depth: ... and this deep [m] (:class:`~polynav.docking.shape.DockShape`).
         person_pause: a walker pauses this long at the ends of its route [s].
         person_stop_distance: a walker stops rather than come within this much walking [m] of
             contact with the robot.
         person_patience: a walker held up this long by robots turns round [s] (walking on
             wears a hold-up off at a quarter of the rate).
+        sign_camera_range: how far [m] the camera that spots "no entry" signs sees (0: the
+            robot has none).
+        sign_camera_fov: how wide [rad] it sees, centred on the base's heading.
         collision_release_distance: a contact ends, and the next one is a new collision, once
             the robot is this far clear of every obstacle [m].
     """
@@ -106,10 +113,15 @@ class SimConfig:
     battery_internal_resistance: float = 0.1
     dock_distance_tolerance: float = 0.1
     dock_heading_tolerance: float = 0.3
+    charger_plate_width: float = 0.6
+    charger_notch_width: float = 0.3
+    charger_notch_depth: float = 0.1
     person_pause: float = 2.0
     person_stop_distance: float = 0.3
     person_patience: float = 15.0
     collision_release_distance: float = 0.05
+    sign_camera_range: float = 0.0
+    sign_camera_fov: float = 0.0
 
     def __post_init__(self) -> None:
         positive = (
@@ -124,7 +136,7 @@ class SimConfig:
             "imu_yaw_rate_noise", "imu_yaw_rate_bias", "imu_acceleration_noise",
             "battery_idle_drain", "battery_drain_per_metre", "battery_charge_rate",
             "battery_empty_voltage", "battery_internal_resistance", "dock_distance_tolerance",
-            "dock_heading_tolerance",
+            "dock_heading_tolerance", "sign_camera_range", "sign_camera_fov",
             "person_pause", "person_stop_distance", "person_patience",
         )
         for f in fields(self):
@@ -158,9 +170,27 @@ class SimConfig:
         if not 0.0 <= self.battery_start_percent <= 100.0:
             _fail("battery_start_percent", f"must be within 0..100, got "
                                            f"{self.battery_start_percent}")
+        try:
+            self.charger_plate  # noqa: B018 - validates the plate's sizes
+        except ConfigError as exc:
+            _fail("charger_plate_width", str(exc))
         if not self.battery_empty_voltage < self.battery_full_voltage:
             _fail("battery_empty_voltage",
                   f"must be below battery_full_voltage ({self.battery_full_voltage})")
+
+    @property
+    def charger_plate(self) -> DockShape:
+        """The chargers' front plate."""
+        return DockShape(self.charger_plate_width, self.charger_notch_width,
+                         self.charger_notch_depth)
+
+    @property
+    def front_reach(self) -> float:
+        """How far [m] ahead of the centre the body's front is (where a charger's face meets
+        it): the disk's radius, or the polygon's foremost vertex."""
+        if self.footprint_polygon:
+            return max(x for x, _ in self.footprint_polygon)
+        return self.robot_radius
 
     @property
     def physics_period(self) -> float:

@@ -23,6 +23,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
 from polynav.maps.raycast import cast_rays
 from polynav.robot.interface import LaserScan
+from polynav.robot.sim.charger import segment_ranges
 from polynav.robot.sim.config import SimConfig
 
 log = logging.getLogger(__name__)
@@ -56,6 +57,7 @@ class Lidar:
         pose: Pose2D,
         people: npt.NDArray[np.float64],
         stamp: float,
+        segments: npt.NDArray[np.float64] | None = None,
     ) -> LaserScan:
         """One sweep from ``pose`` (true, world frame).
 
@@ -65,6 +67,8 @@ class Lidar:
             pose: the robot's true pose.
             people: (K, 3) rows of person x, y, radius [m] on this floor.
             stamp: time of the sweep [s].
+            segments: (S, 4) rows ``x0, y0, x1, y1`` of thin bodies cast exactly (the
+                chargers' plates, :mod:`~polynav.robot.sim.charger`).
         """
         c = self._config
         sensor = pose.compose(self._mount)
@@ -73,6 +77,9 @@ class Lidar:
         if people.shape[0]:
             ranges = np.minimum(ranges, circle_ranges(sensor.x, sensor.y, world, people,
                                                       c.lidar_range))
+        if segments is not None and segments.shape[0]:
+            ranges = np.minimum(ranges, segment_ranges(sensor.x, sensor.y, world, segments,
+                                                       c.lidar_range))
         if c.lidar_range_noise > 0.0:
             ranges = ranges + c.lidar_range_noise * self._rng.standard_normal(ranges.shape[0])
         ranges[(ranges > c.lidar_range) | (ranges < c.lidar_range_min)] = np.inf

@@ -37,8 +37,8 @@ import numpy.typing as npt
 
 from polynav.clock import ManualClock
 from polynav.errors import InvalidRequest
-from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
+from polynav.robot.sim.charger import SimCharger
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.lift_car import Arrival, SimLiftCar
 from polynav.robot.sim.people import Person, as_circles
@@ -56,13 +56,15 @@ _EPS = 1e-9
 
 @dataclass(frozen=True, slots=True, eq=False)
 class FloorState:
-    """What the scene keeps per floor: ground truth ready for the kernels, and its people."""
+    """What the scene keeps per floor: ground truth ready for the kernels, its people, and its
+    chargers with the segments of their plates (rows ``x0, y0, x1, y1``, all chargers)."""
 
     floor: WorldFloor
     occupied: npt.NDArray[np.bool_]
     info: MapInfo
     people: list[Person]
-    chargers: tuple[Pose2D, ...]
+    chargers: tuple[SimCharger, ...]
+    charger_segments: npt.NDArray[np.float64]
 
 
 class Scene:
@@ -214,6 +216,11 @@ def floor_state(floor: WorldFloor, config: SimConfig) -> FloorState:
         )
         for route in floor.people
     ]
-    chargers = tuple(p.pose for p in floor.points if p.kind is PointKind.CHARGER)
+    # A charger stands at each charger point, its face where the robot's front is when docked.
+    reach = config.front_reach
+    chargers = tuple(SimCharger.at(p.pose, reach, config.charger_plate)
+                     for p in floor.points if p.kind is PointKind.CHARGER)
+    segments = (np.concatenate([c.segments for c in chargers]) if chargers
+                else np.empty((0, 4), dtype=np.float64))
     occupied = np.ascontiguousarray(floor.map.occupied())
-    return FloorState(floor, occupied, info, people, chargers)
+    return FloorState(floor, occupied, info, people, chargers, segments)

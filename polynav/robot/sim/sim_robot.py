@@ -14,10 +14,12 @@ from typing import TYPE_CHECKING
 from polynav.geometry import Twist
 from polynav.robot.interface import (
     BatteryState,
+    DockSignals,
     ImuReading,
     LaserScan,
     Odometry,
     PersonDetection,
+    SignDetection,
 )
 
 if TYPE_CHECKING:
@@ -54,6 +56,14 @@ class SimRobot:
 
     def read_people(self) -> Sequence[PersonDetection]:
         return self._sim.detect_people()
+
+    def read_signs(self) -> Sequence[SignDetection]:
+        """The "no entry" signs the sign camera sees (:class:`~polynav.robot.interface.SignCamera`;
+        none for a profile without one)."""
+        return self._sim.detect_signs()
+
+    def read_dock(self) -> DockSignals | None:
+        return self._sim.dock_signals()
 
     def dock_contact(self) -> bool:
         """True while the charging contacts touch a charger."""

@@ -34,9 +34,20 @@ import numpy as np
 import numpy.typing as npt
 
 from polynav.errors import InvalidRequest
-from polynav.geometry import Pose2D, Twist, angle_diff
-from polynav.robot.interface import BatteryState, ImuReading, LaserScan, Odometry, PersonDetection
+from polynav.geometry import Pose2D, Twist
+from polynav.robot.interface import (
+    BatteryState,
+    DockLink,
+    DockSignals,
+    ImuReading,
+    LaserScan,
+    Odometry,
+    PersonDetection,
+    SignDetection,
+)
+from polynav.robot.sim import charger as charger_faults
 from polynav.robot.sim.battery import Battery
+from polynav.robot.sim.charger import SimCharger, body_clearance
 from polynav.robot.sim.collision import (
     Collision,
     Obstacle,
@@ -50,6 +61,7 @@ from polynav.robot.sim.lidar import Lidar
 from polynav.robot.sim.odometry import WheelOdometry
 from polynav.robot.sim.people_detector import PeopleDetector
 from polynav.robot.sim.scene import FloorState, Scene
+from polynav.robot.sim.sign_camera import seen_signs
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind
@@ -59,7 +71,7 @@ log = logging.getLogger(__name__)
 
 _EPS = 1e-9
 LASER_SLOT_OBJECT = "laser_slot_object"
-FAULTS = frozenset({LASER_SLOT_OBJECT})
+FAULTS = frozenset({LASER_SLOT_OBJECT}) | charger_faults.FAULTS
 _SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
 
 
@@ -135,6 +147,7 @@ class Simulation:
         self._next_scan = now
         self._next_imu = now
         self._wall_gap = self._check_placement(self._floor, pose)
+        self._plate_gap = self._plate_clearance(self._floor, pose)
         self.robot = SimRobot(self)
         scene.add(self)
         log.info("simulation of world %r: %s on %s at %s, seed %d", world.name, name, self._floor,
@@ -174,16 +187,41 @@ class Simulation:
 
     @property
     def docked(self) -> bool:
-        """True while the base stands still on a charger point of its floor (contacts touch)."""
+        """True while the base stands still on a charger of its floor (contacts touch)."""
+        return self._charger_touched() is not None
+
+    @property
+    def charger_current(self) -> bool:
+        """True while a charger's current flows into the battery: docked, the data link's
+        frames valid and the charger's mains on (:mod:`~polynav.robot.sim.charger`)."""
+        return (self.docked and charger_faults.LINK_INVALID not in self._faults
+                and charger_faults.NO_POWER not in self._faults)
+
+    def dock_signals(self) -> DockSignals:
+        """What the robot's docking sensors report now: the beacon of a charger on its floor
+        seen, contact, and the data link's state."""
+        pose = self._base.pose
+        beacon = charger_faults.BEACON_OFF not in self._faults and any(
+            c.beacon_seen(pose) for c in self._floors[self._floor].chargers)
+        contact = self.docked
+        if not contact:
+            link = DockLink.NONE
+        elif charger_faults.LINK_INVALID in self._faults:
+            link = DockLink.INVALID
+        else:
+            link = DockLink.VALID
+        return DockSignals(beacon=beacon, contact=contact, link=link)
+
+    def _charger_touched(self) -> SimCharger | None:
         c = self.config
-        pose, twist = self._base.pose, self._base.twist
+        twist = self._base.twist
         if twist.linear != 0.0 or twist.angular != 0.0:
-            return False
-        return any(
-            pose.distance_to(dock) <= c.dock_distance_tolerance
-            and abs(angle_diff(pose.theta, dock.theta)) <= c.dock_heading_tolerance
-            for dock in self._floors[self._floor].chargers
-        )
+            return None
+        pose = self._base.pose
+        for charger in self._floors[self._floor].chargers:
+            if charger.touches(pose, c.dock_distance_tolerance, c.dock_heading_tolerance):
+                return charger
+        return None
 
     @property
     def odometry(self) -> Odometry:
@@ -244,7 +282,9 @@ class Simulation:
 
     def inject_fault(self, fault: str) -> None:
         """Break something, for tests and demos: ``"laser_slot_object"`` puts an object into
-        the lidar's slot (it then returns a few centimetres over a sector).
+        the lidar's slot (it then returns a few centimetres over a sector); the charger's
+        ``"charger_beacon_off"``, ``"charger_link_invalid"`` and ``"charger_no_power"`` (see
+        :mod:`~polynav.robot.sim.charger`).
 
         Raises:
             InvalidRequest: an unknown fault.
@@ -266,6 +306,16 @@ class Simulation:
         return self._people_detector.detect(
             self.clock.now(), self._base.pose, people, state.occupied, state.info
         )
+
+    def detect_signs(self) -> list[SignDetection]:
+        """The "no entry" signs the robot's sign camera sees now (robot frame, see
+        :mod:`~polynav.robot.sim.sign_camera`); none for a robot without one."""
+        config = self.config
+        if config.sign_camera_range <= 0.0 or config.sign_camera_fov <= 0.0:
+            return []
+        state = self._floors[self._floor]
+        return seen_signs(self._base.pose, state.floor.signs, reach=config.sign_camera_range,
+                          fov=config.sign_camera_fov, occupied=state.occupied, info=state.info)
 
     # -- operator and test controls ------------------------------------------------------------
 
@@ -298,6 +348,7 @@ class Simulation:
         """
         name = self.world.floor(floor).name
         self._wall_gap = self._check_placement(name, pose)
+        self._plate_gap = self._plate_clearance(name, pose)
         self._floor = name
         self._base.place(pose)
         self._in_contact = False
@@ -367,6 +418,7 @@ class Simulation:
                     here.occupied, here.info, step.pose, radius=c.robot_radius,
                     polygon=c.footprint_polygon, horizon=c.collision_release_distance,
                 )
+                self._plate_gap = self._plate_clearance(self._floor, step.pose)
             else:
                 base.halt()
                 distance = rotation = 0.0
@@ -378,7 +430,7 @@ class Simulation:
         else:
             base.apply(step)  # a standing base stays put; its velocity may still change
         if self._in_contact and min(
-            self._wall_gap,
+            self._wall_gap, self._plate_gap,
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, people),
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, robots),
         ) >= c.collision_release_distance:
@@ -387,7 +439,7 @@ class Simulation:
         self._odometry.update(distance, rotation, h, now)
         self._imu.accumulate(rotation)
         travel = abs(distance) + c.robot_radius * abs(rotation)
-        self._battery.update(h, travel, charging=self.docked, stamp=now)
+        self._battery.update(h, travel, charging=self.charger_current, stamp=now)
         self._accel = (base.twist.linear - v_before) / h
 
     def _sense(self, now: float, people: npt.NDArray[np.float64],
@@ -418,6 +470,9 @@ class Simulation:
                                    horizon=c.collision_release_distance)
         if wall < 0.0 and wall < self._wall_gap - _EPS:
             return "wall"
+        plate = self._plate_clearance(self._floor, pose)  # a charger's plate: a wall too
+        if plate < 0.0 and plate < self._plate_gap - _EPS:
+            return "wall"
         checks: tuple[tuple[npt.NDArray[np.float64], Obstacle], ...] = (
             (people, "person"), (robots, "robot"))
         for circles, kind in checks:
@@ -437,10 +492,16 @@ class Simulation:
         if robots is None:
             robots = self._scene.robots_near(self)
         circles = np.concatenate((people, robots)) if robots.shape[0] else people
-        scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now)
+        scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now,
+                                here.charger_segments)
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
+
+    def _plate_clearance(self, floor: str, pose: Pose2D) -> float:
+        c = self.config
+        return body_clearance(pose, c.robot_radius, c.footprint_polygon,
+                              self._floors[floor].chargers)
 
     def _default_pose(self, floor: str) -> Pose2D:
         if floor == self.world.start_floor:

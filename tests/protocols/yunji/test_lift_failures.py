@@ -10,7 +10,7 @@ from typing import Any
 
 from polynav.robot.lift import LiftMode, LiftRequest
 from polynav.robot.sim.lift_car import SimLiftCar
-from polynav.runtime.route_run import MAX_REQUEUES
+from polynav.runtime.route_run import MAX_DOOR_RETRIES, MAX_REQUEUES
 from tests.protocols.yunji.conftest import Client, Harness
 
 TIMEOUT = 600.0  # simulated seconds
@@ -109,12 +109,19 @@ def _tries(codes: list[str]) -> list[list[str]]:
     return tries
 
 
-def test_something_in_the_car_blocks_the_entry_with_04032(
+def test_something_in_the_car_blocks_the_entry_with_04032_04040_04041(
     harness: Harness, client: Client
 ) -> None:
-    """Entering retried, the car given up (the only one: queued for again twice), then failed."""
+    """Each blocked entry gets out of the car's way (04040, ``avoid_lift``; back at the waiting
+    spot, 04041) and tries again; the last one gives the car up (the only one: queued for
+    again twice), then the move fails."""
     harness.runtime.simulation.place_obstacle("floor1", 37.0, 20.4, 0.35)
     _ok(client, "/api/move?marker=room_301")
+    _run_until(harness, client, "avoid_lift")
+    # Out of the way: back at the outside point, clear of the car's door.
+    outside = harness.runtime.store.point("floor1", "lift_1_outside").pose
+    _run_until(harness, client, "enter_lift")
+    assert harness.runtime.simulation.true_pose.distance_to(outside) < 0.5
     assert _run_until(harness, client, None)["move_status"] == "failed"
     codes = _lift_codes(client)
     assert codes[0] == "01001" and codes[-1] == "01003"
@@ -122,7 +129,7 @@ def test_something_in_the_car_blocks_the_entry_with_04032(
     assert len(tries) == 1 + MAX_REQUEUES
     for codes_of_try in tries:
         assert codes_of_try[:5] == ["04000", "04001", "04010", "04011", "04030"]
-        assert codes_of_try[5:] and set(codes_of_try[5:]) == {"04032"}
+        assert codes_of_try[5:] == ["04032", "04040", "04041"] * MAX_DOOR_RETRIES + ["04032"]
 
 
 def test_a_blocked_way_to_the_door_sends_04002(harness: Harness, client: Client) -> None:
@@ -153,13 +160,34 @@ def test_a_blocked_way_out_goes_back_in_and_retries(harness: Harness, client: Cl
     assert exit_part[-1] == "01003" and "04051" not in exit_part
 
 
+def test_a_way_back_into_the_car_blocked_too_sends_04062(
+    harness: Harness, client: Client
+) -> None:
+    """The way out blocked, and while the robot turns back (``back_to_lift``) something is
+    left in the car where it stood: each return fails (04062), each exit is tried again
+    (04052, 04060) until the exit is given up (01003)."""
+    _ok(client, "/api/move?marker=room_301")
+    _run_until(harness, client, "take_lift")
+    harness.runtime.simulation.place_obstacle("floor3", 37.0, 18.2, 0.7)
+    _run_until(harness, client, "back_to_lift")
+    harness.runtime.simulation.place_obstacle("floor3", 37.0, 20.6, 0.25)
+    assert _run_until(harness, client, None)["move_status"] == "failed"
+    assert harness.runtime.simulation.collisions == []
+    codes = _lift_codes(client)
+    exit_part = codes[codes.index("04050"):]
+    assert exit_part == ["04050", *(["04052", "04060", "04062"] * MAX_DOOR_RETRIES), "01003"]
+
+
 COVERED: dict[str, str] = {
     "notify 10 04070": "test_car_held_by_an_operator_waits_for_the_unlock",
     "notify 10 04071": "test_car_held_by_an_operator_waits_for_the_unlock",
     "notify 10 04033": "test_a_full_car_is_given_up_with_04033",
     "notify 10 04013": "test_a_car_that_does_not_come_within_3_minutes_sends_04013",
     "notify 10 04023": "test_a_ride_over_3_minutes_sends_04023",
-    "notify 10 04032": "test_something_in_the_car_blocks_the_entry_with_04032",
+    "notify 10 04032": "test_something_in_the_car_blocks_the_entry_with_04032_04040_04041",
+    "notify 10 04040": "test_something_in_the_car_blocks_the_entry_with_04032_04040_04041",
+    "notify 10 04041": "test_something_in_the_car_blocks_the_entry_with_04032_04040_04041",
+    "notify 10 04062": "test_a_way_back_into_the_car_blocked_too_sends_04062",
     "notify 10 04002": "test_a_blocked_way_to_the_door_sends_04002",
     "notify 10 04052": "test_a_blocked_way_out_goes_back_in_and_retries",
     "notify 10 04060": "test_a_blocked_way_out_goes_back_in_and_retries",

@@ -252,7 +252,7 @@ def test_leaving_the_pile_under_estop_retries_01013_then_fails_01012(
     assert all(data == {"target": "lobby"} for code, data in notes if code in ("01012", "01013"))
 
 
-def test_docking_where_no_pile_answers_sends_01022_and_01025(
+def test_docking_where_no_pile_stands_sends_01022_and_01024(
     harness: Harness, client: Client
 ) -> None:
     _ok(client, "/api/markers/insert_by_pose?name=dead_pile&x=5.5&y=12.5&theta=3.14&type=11")
@@ -260,8 +260,9 @@ def test_docking_where_no_pile_answers_sends_01022_and_01025(
     statuses = _wait(harness, client)
     assert statuses[-1]["move_status"] == "failed"
     notes = _codes_until(client, "01003")
-    assert _codes(notes) == ["01001", "01020", "01022", "01025", "01003"]
-    assert notes[2][1] == {"target": "dead_pile"}
+    assert _codes(notes) == ["01001", "01020", "01022", "01024", "01003"]
+    assert notes[2][1] == notes[3][1] == {"target": "dead_pile"}
+    assert not _status(client)["charge_state"]
 
 
 def test_docking_held_too_long_times_out_with_01027(harness: Harness, client: Client) -> None:
@@ -334,7 +335,7 @@ COVERED: dict[str, str] = {
     "notify 10 02002": "test_a_move_from_the_charging_pile_leaves_it_first",
     "notify 10 01012": "test_leaving_the_pile_under_estop_retries_01013_then_fails_01012",
     "notify 10 01013": "test_leaving_the_pile_under_estop_retries_01013_then_fails_01012",
-    "notify 10 01022": "test_docking_where_no_pile_answers_sends_01022_and_01025",
-    "notify 10 01025": "test_docking_where_no_pile_answers_sends_01022_and_01025",
+    "notify 10 01022": "test_docking_where_no_pile_stands_sends_01022_and_01024",
+    "notify 10 01024": "test_docking_where_no_pile_stands_sends_01022_and_01024",
     "notify 10 01027": "test_docking_held_too_long_times_out_with_01027",
 }

@@ -13,6 +13,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.map import Map
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
+from polynav.runtime import events
 from tests.unit.fleet.test_zones import _two_rooms
 
 
@@ -30,6 +31,7 @@ class _Stack:
 @dataclass
 class _Status:
     pose: Pose2D
+    attempt_id: int | None = 1
 
 
 @dataclass
@@ -40,6 +42,7 @@ class _Robot:
     path: Path
     map_name: str = "m"
     navigation_stack: _Stack = field(init=False)
+    published: list[events.RuntimeEvent] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.navigation_stack = _Stack(_Navigator(self.path))
@@ -49,6 +52,9 @@ class _Robot:
 
     def now(self) -> float:
         return 0.0
+
+    def publish(self, event: events.RuntimeEvent) -> None:
+        self.published.append(event)
 
     def pause(self) -> None:
         self.navigation_stack.navigator.state = NavigationState.PAUSED
@@ -115,6 +121,12 @@ def test_a_waiting_robot_whose_new_path_leads_away_goes_on() -> None:
     assert rule.waiting_for is None
     assert robot.navigation_stack.navigator.state is NavigationState.RUNNING
     assert sent[-1][1:] == ("zone:m/1", m.ZoneRequestType.RELEASE)
+    # Told on the bus: busy (queued), the wait, and its end without the zone.
+    assert [(e.kind, e.zone) for e in robot.published] == [  # type: ignore[attr-defined]
+        ("traffic_busy", "zone:m/1"), ("traffic_wait_started", "zone:m/1"),
+        ("traffic_wait_ended", "zone:m/1")]
+    last = robot.published[-1]
+    assert isinstance(last, events.TrafficWaitEnded) and not last.granted
 
 
 def _told_place(rule: TrafficRule, sent: list[tuple[str, str, m.ZoneRequestType]],
@@ -148,6 +160,17 @@ def test_a_robot_further_back_in_line_waits_further_back_and_moves_up() -> None:
     rule.tick(5.0, robot)  # type: ignore[arg-type]
     assert rule.waiting_for == "zone:m/1" and navigator.state is NavigationState.PAUSED
     assert [k for _, _, k in sent] == [m.ZoneRequestType.ACCESS]  # one request throughout
+    # One wait told, moving up included (no end and start again for each step up).
+    assert [e.kind for e in robot.published] == ["traffic_busy", "traffic_wait_started"]
+    rid, zone, _ = sent[0]
+    rule.on_response(m.ZoneResponse(header_id=2, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.GRANTED,
+                                    lease_expiry=60.0))
+    rule.tick(6.0, robot)  # type: ignore[arg-type]
+    assert navigator.state is NavigationState.RUNNING
+    last = robot.published[-1]
+    assert isinstance(last, events.TrafficWaitEnded) and last.granted
+    assert len(robot.published) == 3
 
 
 def test_a_robot_next_in_line_stops_at_the_stop_distance() -> None:

@@ -17,6 +17,7 @@ from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.maps import costs
+from polynav.maps.costmap import CostmapConfig
 from polynav.maps.map import MapInfo
 from polynav.nav import events
 from polynav.nav.attempt import FailureReason, GoalOptions, NavigationState
@@ -39,6 +40,7 @@ class FakeCostmap:
     goal_in_wall: bool = False
     info: MapInfo = MapInfo(0.05, 800, 800, Pose2D(-20.0, -20.0, 0.0))
     costs: np.ndarray = field(default_factory=lambda: np.zeros((800, 800), dtype=np.uint8))
+    config: CostmapConfig = field(default_factory=CostmapConfig)  # unknown taken as free
 
     def clear_obstacles(self) -> None:
         self.cleared += 1

@@ -84,6 +84,8 @@ def test_profile_loads_from_a_file(tmp_path: Path) -> None:
         ({"odometry": {"rotation_noise": -0.1}}, "robot.odometry.rotation_noise"),
         ({"imu": {"rate": 0.0}}, "robot.imu.rate"),
         ({"charger": {"distance_tolerance": 0.0}}, "robot.charger.distance_tolerance"),
+        ({"charger": {"notch_depth": 0.0}}, "robot.charger.notch_depth"),
+        ({"charger": {"plate_width": 0.2}}, "robot.charger.notch_width"),
         ({"reverse": {"allowed": "yes"}}, "robot.reverse.allowed"),
         ({"reverse": {"rear_view": -1.0}}, "robot.reverse.rear_view"),
         ({"reverse": {"mirrors": 2}}, "robot.reverse.mirrors"),

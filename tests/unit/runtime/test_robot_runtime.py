@@ -340,8 +340,8 @@ def test_docking_on_the_charger_publishes_charging(runtime: RobotRuntime) -> Non
     assert runtime.advance_until(lambda: runtime.status().charging, timeout=120.0)
     charges = [e for e in sub.get_nowait() if isinstance(e, events.ChargeChanged)]
     assert [e.charging for e in charges] == [True]
-    runtime.local_move(distance=0.3)
-    runtime.advance(2.0)
+    runtime.local_move(distance=-0.3)  # back off: the charger's plate is in front
+    runtime.advance(3.0)
     charges = [e for e in sub.get_nowait() if isinstance(e, events.ChargeChanged)]
     assert [e.charging for e in charges] == [False]
 

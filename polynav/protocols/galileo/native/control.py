@@ -70,10 +70,11 @@ def _ignored(reason: str) -> Outcome:
 
 
 @dataclass
-class _Inserted:
-    """The goals ``g i`` inserted, per map."""
+class _Remembered:
+    """What the native commands leave set for later ones: the goals ``g i`` inserted, per map,
+    and the loop's dwell time ``m 5 t``."""
 
-    by_map: dict[str, list[tuple[float, float]]] = field(default_factory=dict)
+    inserted: dict[str, list[tuple[float, float]]] = field(default_factory=dict)
     loop_wait: int = 0
     lock: threading.Lock = field(default_factory=threading.Lock)
 
@@ -83,7 +84,7 @@ class NativeControl:
 
     def __init__(self, ctx: Context) -> None:
         self._ctx = ctx
-        self._inserted = _Inserted()
+        self._remembered = _Remembered()
         self._commands: dict[str, Callable[[NativeCommand], Outcome]] = {
             "m 0": lambda c: self.start_navigation(),
             "m 4": lambda c: self.stop_navigation(),
@@ -166,8 +167,8 @@ class NativeControl:
         """Target points of the path in use, and the goals inserted on the map in use."""
         map_name, path = self._map_and_path()
         stops = len(sessions.routes(self._ctx).route(map_name, path).stops)
-        with self._inserted.lock:
-            return stops + len(self._inserted.by_map.get(map_name, []))
+        with self._remembered.lock:
+            return stops + len(self._remembered.inserted.get(map_name, []))
 
     def _map_and_path(self) -> tuple[str, str]:
         map_name = sessions.current_map(self._ctx)
@@ -183,8 +184,8 @@ class NativeControl:
             self._ctx.runtime.cancel()
         map_name, path = self._map_and_path()
         stops = len(sessions.routes(self._ctx).route(map_name, path).stops)
-        with self._inserted.lock:
-            inserted = list(self._inserted.by_map.get(map_name, []))
+        with self._remembered.lock:
+            inserted = list(self._remembered.inserted.get(map_name, []))
         if not 0 <= number < stops + len(inserted):
             marks(self._ctx).mark_bad_goal(number, self._ctx.runtime.status().attempt_id)
             return _ignored(f"goal {number} does not exist ({stops + len(inserted)} goals)")
@@ -207,15 +208,15 @@ class NativeControl:
         if not (math.isfinite(x) and math.isfinite(y)):
             return _ignored(f"goal ({x}, {y}) is not a finite coordinate")
         map_name = sessions.current_map(self._ctx)
-        with self._inserted.lock:
-            self._inserted.by_map.setdefault(map_name, []).append((float(x), float(y)))
+        with self._remembered.lock:
+            self._remembered.inserted.setdefault(map_name, []).append((float(x), float(y)))
         return ACCEPTED
 
     def reset_goals(self) -> Outcome:
         """``g r 0``: forget the inserted goals of the map in use."""
         map_name = sessions.current_map(self._ctx)
-        with self._inserted.lock:
-            self._inserted.by_map.pop(map_name, None)
+        with self._remembered.lock:
+            self._remembered.inserted.pop(map_name, None)
         return ACCEPTED
 
     def move_to(self, x: float, y: float, theta: float) -> Outcome:
@@ -288,8 +289,7 @@ class NativeControl:
         turn = wrap_angle(math.radians(degrees) - self._ctx.runtime.status().pose.theta)
         action = {"type": "local_move_action", "angle": turn, "distance": 0.0, "method": 0}
         task = objects.run(self._ctx, ANGLE_TASK, [action], kind=objects.NAVIGATION)
-        with marks(self._ctx).lock:
-            marks(self._ctx).angle_task = str(task["id"])
+        marks(self._ctx).mark_angle_task(str(task["id"]))
         return ACCEPTED
 
     def shutdown(self) -> Outcome:
@@ -356,15 +356,15 @@ class NativeControl:
 
     @property
     def loop_wait(self) -> int:
-        with self._inserted.lock:
-            return self._inserted.loop_wait
+        with self._remembered.lock:
+            return self._remembered.loop_wait
 
     def set_loop_wait(self, seconds: int) -> Outcome:
         """``m 5 t``: the dwell [s] at each goal of the next loop."""
         if not 0 <= seconds <= MAX_LOOP_WAIT:
             return _ignored(f"a dwell is 0..{MAX_LOOP_WAIT} s, not {seconds}")
-        with self._inserted.lock:
-            self._inserted.loop_wait = seconds
+        with self._remembered.lock:
+            self._remembered.loop_wait = seconds
         return ACCEPTED
 
     # -- mapping -----------------------------------------------------------------------------

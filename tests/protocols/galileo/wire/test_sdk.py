@@ -294,10 +294,14 @@ def test_mapping_charging_voice_bridge_and_shutdown(robot: Robot) -> None:
     assert math.hypot(dock["x"] - robot.status()["currentPosX"],
                       dock["y"] - robot.status()["currentPosY"]) < 0.05
     assert sdk.StopCharge() is CODE.OK
-    # V1: drive to the dock's position first, then dock
+    # V1: drive to the dock's position first, then dock. The docked pose itself touches the
+    # charger's plate (a goal there is refused as occupied): the position given is in front
+    # of the dock, where a user stands the robot to save it.
     assert sdk.SetGoal(1) is CODE.OK  # away from the dock
     assert sdk.WaitForGoal(1) is CODE.OK
-    assert sdk.StartCharge(dock["x"], dock["y"], timeout=WALL) is CODE.OK
+    theta = dock["theta"]
+    assert sdk.StartCharge(dock["x"] - 0.6 * math.cos(theta), dock["y"] - 0.6 * math.sin(theta),
+                           timeout=WALL) is CODE.OK
     assert sdk.StopChargeLocal() is CODE.OK
     assert sdk.SetGoal(1) is CODE.OK and sdk.WaitForGoal(1) is CODE.OK
     assert sdk.StartChargeLocal() is CODE.OK

@@ -268,6 +268,9 @@ def test_angle_command_turns_to_a_heading(line: Line) -> None:
     assert line.until(lambda s: s["angleGoalStatus"] == 1, 30.0)
     heading = line.runtime.simulation.true_pose.theta
     assert abs(math.remainder(heading + math.pi / 2, math.tau)) < 0.1
+    # the angle's mark fades once a newer goal starts: that goal's own state shows
+    line.send(c.go_to_goal(0))
+    assert line.until(lambda s: s["targetStatus"] == 1 and s["angleGoalStatus"] == 0, 10.0)
 
 
 def test_loop_with_its_dwell_time(line: Line) -> None:
