@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 from polynav import users_cli
 from polynav.errors import PolynavError
+from polynav.house import fleet_process
 from polynav.mapping import cli as mapping_cli
 from polynav.site import PointKind
 from polynav.worlds import cli as world_cli
@@ -399,6 +400,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--broker-port", type=int, default=1883,
                      help="the embedded broker's port on 127.0.0.1, 0 for any free one "
                           "(default: %(default)s)")
+    run.add_argument("--no-fleet-manager", action="store_true",
+                     help="with --robots and --broker: vehicles only, for a `polynav fleet` "
+                          "on the same broker")
     run.add_argument("--vda-version", default="2.0.0", choices=("2.0.0", "2.1.0"),
                      help="VDA 5050 version spoken on the broker (default: %(default)s)")
     run.add_argument("--vda-manufacturer", default="polynav",
@@ -495,6 +499,7 @@ def build_parser() -> argparse.ArgumentParser:
     mapping_cli.add_parser(sub)
     world_cli.add_parser(sub)
     users_cli.add_parser(sub, default_data_dir())
+    fleet_process.add_parser(sub, default_data_dir())
     bench = sub.add_parser(
         "bench",
         help="run a benchmark (planner, sim, api, slam, nav, fleet); extra arguments go to the "
@@ -517,6 +522,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run_bench(args.area, args.args)
     if args.command == "run":
         return _run(args)
+    if args.command == "fleet":
+        return fleet_process.run(args)
     try:
         if args.command == "map":
             return _map_command(args)

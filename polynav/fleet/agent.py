@@ -532,7 +532,7 @@ class RobotAgent:
         self._transport.publish(
             self.topic(m.ZoneRequest),
             m.ZoneRequest(self._zone_headers, self.serial_number, request_id, zone_id,
-                          request_type, duration, flow))
+                          request_type, duration, flow, sent_at=self.runtime.now()))
         self._state_dirty = True
 
 

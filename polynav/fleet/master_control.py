@@ -8,7 +8,8 @@ each robot only through messages on a :class:`~polynav.fleet.interface.Transport
 - it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
   with its expiry, or QUEUED with the waiter's place in line, sent again whenever the place
   changes; a waiter is sent GRANTED when its turn comes, REJECTED when it has waited
-  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED;
+  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED; an expiry is
+  sent on the asking robot's clock when its request says what its clock read;
 - it keeps the last **state** of each robot, which ``GET /api/fleet`` shows; a message from a
   robot that breaks its schema is logged and not used.
 
@@ -51,6 +52,9 @@ class _Robot:
     state: m.State | None = None
     state_at: float | None = None
     order_count: int = 0
+    clock_offset: float = 0.0  # the robot's site time minus ours [s], from its zone requests
+    last_order: m.Order | None = None
+    offline: bool = False
 
 
 class MasterControl:
@@ -95,6 +99,15 @@ class MasterControl:
             zone_requests=self.transport.subscribe(self._topic(serial_number, m.ZoneRequest)),
         )
 
+    def set_online(self, serial_number: str, online: bool) -> None:
+        """Whether the robot's connection is up; an offline robot's zone requests are
+        rejected (the fleet manager revokes its leases when its last will arrives).
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        self._robot(serial_number).offline = not online
+
     @property
     def robots(self) -> tuple[str, ...]:
         return tuple(self._robots)
@@ -107,8 +120,11 @@ class MasterControl:
         """When [s of site time] the robot's last state was read, ``None`` before its first."""
         return self._robot(serial_number).state_at
 
-    def send_order(self, serial_number: str, stops: list[Stop]) -> str:
-        """Send the robot an order through ``stops``; returns the order id.
+    def send_order(self, serial_number: str, stops: list[Stop], *,
+                   order_id: str | None = None) -> str:
+        """Send the robot an order through ``stops``; returns the order id (``order_id``, or
+        ``<serial>-<n>``: a fleet manager that may restart names its orders itself, since a
+        robot ignores an order whose id and update id it has already had).
 
         The order's first node is where the robot stands (its last state's position, named by
         its last node, VDA 5050 §6.6.1: a new order starts where the vehicle is), then one node
@@ -125,7 +141,10 @@ class MasterControl:
         if here is None:
             raise InvalidRequest("robot", f"{serial_number} has not said where it is yet")
         robot.order_count += 1
-        order_id = f"{serial_number}-{robot.order_count}"
+        if order_id is None:
+            order_id = f"{serial_number}-{robot.order_count}"
+        elif not order_id:
+            raise InvalidRequest("order_id", "must not be empty")
         start = robot.state.last_node_id if robot.state and robot.state.last_node_id else (
             f"{serial_number}-here")
         nodes = [m.Node(start, 0, m.NodePosition(here.x, here.y, _angle(here.theta), here.map_id))]
@@ -136,12 +155,36 @@ class MasterControl:
         edges = tuple(
             m.Edge(f"{a.node_id}->{b.node_id}", a.sequence_id + 1, a.node_id, b.node_id)
             for a, b in itertools.pairwise(nodes))
-        self.transport.publish(
-            self._topic(serial_number, m.Order),
-            m.Order(self._vda_headers.stamp(serial_number, m.Order), order_id, 0, tuple(nodes),
-                    edges))
+        order = m.Order(self._vda_headers.stamp(serial_number, m.Order), order_id, 0,
+                        tuple(nodes), edges)
+        self.transport.publish(self._topic(serial_number, m.Order), order)
+        robot.last_order = order
         log.info("order %s to %s: %s", order_id, serial_number, [s.point for s in stops])
         return order_id
+
+    def resend_order(self, serial_number: str, order_id: str) -> bool:
+        """Send the robot's last order again, unchanged (same orderId and orderUpdateId, so a
+        robot that had it ignores it, VDA 5050 §6.6.2: orders travel at QoS 0 and may be
+        lost); False if its last order is not ``order_id``.
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        robot = self._robot(serial_number)
+        order = robot.last_order
+        if order is None or order.order_id != order_id:
+            return False
+        self.transport.publish(self._topic(serial_number, m.Order), order)
+        log.info("order %s re-sent to %s", order_id, serial_number)
+        return True
+
+    def request_state(self, serial_number: str) -> None:
+        """Ask the robot for its state now (the stateRequest instant action).
+
+        Raises:
+            InvalidRequest: an unknown robot.
+        """
+        self._instant(serial_number, m.ActionType.STATE_REQUEST, "state")
 
     def cancel_order(self, serial_number: str) -> None:
         """Tell the robot to cancel its order.
@@ -149,9 +192,12 @@ class MasterControl:
         Raises:
             InvalidRequest: an unknown robot.
         """
+        self._instant(serial_number, m.ActionType.CANCEL_ORDER, "cancel")
+
+    def _instant(self, serial_number: str, kind: m.ActionType, name: str) -> None:
         self._robot(serial_number)
         header = self._vda_headers.stamp(serial_number, m.InstantActions)
-        action = m.Action(f"cancel-{header.header_id}", m.ActionType.CANCEL_ORDER.value)
+        action = m.Action(f"{name}-{header.header_id}", kind.value)
         self.transport.publish(self._topic(serial_number, m.InstantActions),
                                m.InstantActions(header, (action,)))
 
@@ -166,16 +212,34 @@ class MasterControl:
                     log.warning("a state of %s not used: %s", serial, state)
         for serial, robot in self._robots.items():
             for request in robot.zone_requests.drain():
-                if isinstance(request, m.ZoneRequest):
+                if isinstance(request, m.ZoneRequest) and robot.offline:
+                    # Sent before its connection was lost, read after: the leases it had are
+                    # revoked, and it gets none while away.
+                    log.warning("zone request %s of %s refused: it is offline",
+                                request.request_id, serial)
+                    self._respond(serial, request.request_id, request.zone_id,
+                                  m.GrantType.REJECTED, None)
+                elif isinstance(request, m.ZoneRequest):
                     self._answer(serial, request, now)
                 else:
                     log.warning("a zone request of %s not used: %s", serial, request)
         self.leases.tick(now)
+        self.answer_lease_changes()
+
+    def answer_lease_changes(self) -> None:
+        """Tell robots what the lease book did since the last call (grants to waiters,
+        expiries, places in line); :meth:`tick` does, and so may one who changed the book
+        between ticks (leases revoked from a lost robot go at once to those waiting)."""
         self._forward_events()
         self._tell_places()
 
     def _answer(self, serial: str, request: m.ZoneRequest, now: float) -> None:
         self.zone_requests += 1
+        if request.sent_at is not None and math.isfinite(request.sent_at):
+            # Its clock, not ours, judges its lease: answer expiries on it (the message's
+            # transit makes the robot's expiry a little later than ours, by milliseconds,
+            # against the seconds it renews ahead).
+            self._robots[serial].clock_offset = request.sent_at - now
         zone = request.zone_id
         key = (zone, serial)
         if request.request_type is m.ZoneRequestType.RELEASE:
@@ -240,6 +304,8 @@ class MasterControl:
 
     def _respond(self, serial: str, request_id: str, zone: str, grant: m.GrantType,
                  expiry: float | None, place: int | None = None) -> None:
+        if expiry is not None:
+            expiry += self._robots[serial].clock_offset
         self.transport.publish(
             self._topic(serial, m.ZoneResponse),
             m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry, place))

@@ -174,6 +174,9 @@ class ZoneRequest:
 
     ``flow`` (a polynav extension) is the way the robot goes through the zone, e.g. ``"E"``:
     robots going the same way may share it (:mod:`polynav.leases.book`); None asks for it alone.
+    ``sent_at`` (a polynav extension) is the robot's site time [s] when it asked: the answer's
+    ``lease_expiry`` is then on the robot's clock, whatever the fleet manager's (a ``polynav
+    fleet`` started at another moment than the robots' ``polynav run``).
     """
 
     header_id: int
@@ -183,6 +186,7 @@ class ZoneRequest:
     request_type: ZoneRequestType
     duration: float = 30.0
     flow: str | None = None
+    sent_at: float | None = None
 
 
 class GrantType(enum.Enum):

@@ -47,20 +47,29 @@ class InProcessTransport:
 
     def __init__(self) -> None:
         self._subscribers: dict[str, list[QueueInbox]] = {}
+        self._filters: list[tuple[tuple[str, ...], QueueInbox]] = []
         self._lock = threading.Lock()
         self.published = 0
 
     def subscribe(self, topic: str) -> QueueInbox:
-        """A new inbox for ``topic`` (exact match; the last segment names the message kind).
+        """A new inbox for ``topic``: a topic, or a filter with MQTT's single-level wildcard
+        ``+`` (``uagv/v2/polynav/+/connection``: every robot's); the last level names the
+        message kind, so it is never a wildcard.
 
         Raises:
-            InvalidRequest: an empty topic.
+            InvalidRequest: an empty topic, a ``#``, a ``+`` inside a level or as the last one.
         """
-        if not topic:
-            raise InvalidRequest("topic", "must not be empty")
-        inbox = QueueInbox(topic.rsplit("/", 1)[-1])
+        levels = topic.split("/")
+        if not topic or "#" in topic or levels[-1] == "+" or any(
+                "+" in level and level != "+" for level in levels):
+            raise InvalidRequest("topic", f"{topic!r}: a topic, or one with whole-level '+' "
+                                          "before its last level")
+        inbox = QueueInbox(levels[-1])
         with self._lock:
-            self._subscribers.setdefault(topic, []).append(inbox)
+            if "+" in levels:
+                self._filters.append((tuple(levels), inbox))
+            else:
+                self._subscribers.setdefault(topic, []).append(inbox)
         return inbox
 
     def publish(self, topic: str, message: Message) -> None:
@@ -77,6 +86,15 @@ class InProcessTransport:
         wire.debug("-> %s %s", topic, data)
         with self._lock:
             inboxes = list(self._subscribers.get(topic, ()))
+            if self._filters:
+                levels = topic.split("/")
+                inboxes += [inbox for pattern, inbox in self._filters
+                            if _matches(pattern, levels)]
             self.published += 1
         for inbox in inboxes:
             inbox.put(data)
+
+
+def _matches(pattern: tuple[str, ...], levels: list[str]) -> bool:
+    return len(pattern) == len(levels) and all(
+        p in ("+", level) for p, level in zip(pattern, levels, strict=True))

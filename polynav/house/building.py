@@ -3,9 +3,12 @@
 ``polynav run --robots N`` and ``polynav bench fleet`` build one :class:`Building`: a
 :class:`~polynav.robot.sim.scene.Scene` of the site's world with N robot bodies in it, one
 :class:`~polynav.runtime.robot_runtime.RobotRuntime` per robot (each still the single owner of its
-robot's state, DESIGN §9), a :class:`~polynav.fleet.master_control.MasterControl` with the lease
-book, and one :class:`~polynav.fleet.agent.RobotAgent` per robot, joined by an in-process
-transport.
+robot's state, DESIGN §9), the fleet's :class:`~polynav.fleet.manager.FleetManager` (its
+master control with the lease book, missions dispatched from its records: SQLite in memory
+unless given a database), and one :class:`~polynav.fleet.agent.RobotAgent` per robot, joined by
+an in-process transport or an MQTT broker. With ``fleet_manager=False`` (``polynav run
+--robots N --broker URL --no-fleet-manager``) the building holds only the vehicles, for a
+``polynav fleet`` in another process.
 
 One :class:`~polynav.runtime.loop.CommandLoop` drives them all. Each physics step it ticks every
 runtime (timers, control), then, every control period, the master control and the agents, then
@@ -26,15 +29,17 @@ from polynav.api.fleet_listing import FleetEntry, OrderState
 from polynav.errors import InvalidRequest
 from polynav.fleet.agent import RobotAgent
 from polynav.fleet.interface import Transport
+from polynav.fleet.manager import FleetManager
 from polynav.fleet.master_control import MasterControl, Stop
 from polynav.fleet.messages import DEFAULT_MANUFACTURER, DEFAULT_VERSION, State
 from polynav.fleet.mqtt_transport import MqttTransport
+from polynav.fleet.records import FleetRecords, Mission
 from polynav.fleet.traffic import TrafficConfig
 from polynav.fleet.transport import InProcessTransport
 from polynav.fleet.vehicle import VehicleConfig, VehicleLink
 from polynav.fleet.zones import ZoneConfig, ZoneMap, find_zones
 from polynav.geometry import Pose2D, Twist
-from polynav.leases.book import LeaseBook, LeaseBookConfig
+from polynav.leases.book import LeaseBookConfig
 from polynav.nav.stack import StackConfig
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
@@ -89,6 +94,9 @@ class Building:
         vehicles: VDA 5050 over MQTT: each robot a client of this broker (connection,
             factsheet, its own will) and the master control another; None for the in-process
             transport. Only the transport changes.
+        fleet_manager: run the fleet manager here (False: vehicles only, needs ``vehicles``;
+            a fleet manager elsewhere on the broker runs the fleet).
+        records: the fleet manager's records database URL; SQLite in memory if None.
 
     Raises:
         InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
@@ -110,12 +118,17 @@ class Building:
         leases: LeaseBookConfig | None = None,
         profile: RobotProfile | None = None,
         vehicles: VehicleConfig | None = None,
+        fleet_manager: bool = True,
+        records: str | None = None,
     ) -> None:
         config = config or RuntimeConfig()
         profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
         sim_config = profile.sim_config(sim_config)
         if robots < 1:
             raise InvalidRequest("robots", f"must be at least 1, got {robots}")
+        if not fleet_manager and vehicles is None:
+            raise InvalidRequest("fleet_manager", "a building without its fleet manager needs "
+                                                  "a broker for one elsewhere")
         points = list(starts) if starts is not None else start_points(
             store, world, robot_radius=sim_config.robot_radius)
         if robots > len(points):
@@ -148,15 +161,21 @@ class Building:
         version = vehicles.version if vehicles is not None else DEFAULT_VERSION
         manufacturer = vehicles.manufacturer if vehicles is not None else DEFAULT_MANUFACTURER
         self.transport: Transport
+        self.fleet: FleetManager | None = None
+        self.records: FleetRecords | None = None
         if vehicles is None:
             self.transport = InProcessTransport()
-        else:
+        elif fleet_manager:
             master_client = MqttTransport(vehicles.broker, f"{manufacturer}/master",
                                           connect_timeout=vehicles.connect_timeout)
             self._mqtt.append(master_client)
             self.transport = master_client
-        self.master = MasterControl(self.transport, LeaseBook(leases), version=version,
-                                    manufacturer=manufacturer, epoch=epoch)
+        if fleet_manager:
+            self.records = FleetRecords.open(records or "sqlite://", name="building")
+            levels = {f.map_name: f.level for f in world.floors}
+            self.fleet = FleetManager(self.transport, self.records, store, levels=levels,
+                                      leases=leases, version=version,
+                                      manufacturer=manufacturer, epoch=epoch)
         zone_config = ZoneConfig(robot_radius=sim_config.robot_radius)
         self.zones: dict[str, ZoneMap] = {
             name: find_zones(name, store.load_map(name), zone_config) for name in floors
@@ -173,10 +192,13 @@ class Building:
             runtime = RobotRuntime(store, sim, config=config, stack_config=stack_config,
                                    loop=self._loop, profile=profile)
             self.runtimes.append(runtime)
-            self.master.add_robot(serial)
-            transport = self.transport
-            on_factsheet_request = None
-            if vehicles is not None:
+            if self.fleet is not None:
+                self.fleet.add_robot(serial)
+            transport: Transport
+            on_factsheet_request: Callable[[], None] | None
+            if vehicles is None:
+                transport, on_factsheet_request = self.transport, None
+            else:
                 link = VehicleLink(serial, profile, vehicles, clock=self.scene.clock.now,
                                    epoch=epoch, order_period=1.0 / config.control_rate)
                 self.links.append(link)
@@ -195,6 +217,18 @@ class Building:
         log.info("building of %d robots on world %r", robots, world.name)
 
     # -- reads ---------------------------------------------------------------------------------
+
+    @property
+    def master(self) -> MasterControl:
+        """The fleet's master control (orders, leases).
+
+        Raises:
+            InvalidRequest: the building runs without its fleet manager.
+        """
+        if self.fleet is None:
+            raise InvalidRequest("fleet_manager", "this building's fleet manager runs "
+                                                  "elsewhere")
+        return self.fleet.master
 
     @property
     def serials(self) -> tuple[str, ...]:
@@ -219,11 +253,13 @@ class Building:
         out = []
         for agent in self.agents:
             serial = agent.serial_number
-            state = self.master.state(serial)
+            state = (self.fleet.master.state(serial) if self.fleet is not None
+                     else agent.state())
             status = agent.runtime.status()  # mode is not in VDA's state; read the snapshot
             position = state.agv_position if state is not None else None
             errors = tuple(e.error_description for e in state.errors) if state else ()
-            stamp = self.master.state_time(serial)
+            stamp = (self.fleet.master.state_time(serial) if self.fleet is not None
+                     else self.now())
             out.append(FleetEntry(
                 robot_id=serial,
                 ports=dict(self.ports.get(serial, {})),
@@ -257,6 +293,31 @@ class Building:
         return self._loop.call(
             lambda: self.master.send_order(serial, [Stop(point, map_name, pose)]))
 
+    def submit(self, stops: list[tuple[str, str]], *, mission_id: str | None = None) -> str:
+        """Queue a mission through ``stops`` (``(point, map_name)`` in order) with the fleet
+        manager, which gives it to the best robot; returns its id.
+
+        Raises:
+            InvalidRequest: no stops, or no fleet manager here. NotFound: no such point.
+        """
+        fleet = self._fleet()
+        return fleet.submit([{"point": p, "map": m} for p, m in stops],
+                            mission_id=mission_id).mission_id
+
+    def mission(self, mission_id: str) -> Mission:
+        """A mission as the fleet manager's records hold it.
+
+        Raises:
+            NotFound: no such mission. InvalidRequest: no fleet manager here.
+        """
+        return self._fleet().mission(mission_id)
+
+    def _fleet(self) -> FleetManager:
+        if self.fleet is None:
+            raise InvalidRequest("fleet_manager", "this building's fleet manager runs "
+                                                  "elsewhere")
+        return self.fleet
+
     def outcome(self, serial: str, order_id: str) -> str | None:
         """How robot ``serial``'s order ended (``"succeeded"``, ``"failed: <why>"``), None
         while it runs or before the robot has it."""
@@ -285,6 +346,8 @@ class Building:
             link.close()
         for client in self._mqtt:
             client.close()
+        if self.records is not None:
+            self.records.close()
 
     def _prime(self, wait: float) -> None:
         """Publish every robot's state and read them on the master's side, waiting up to
@@ -295,9 +358,12 @@ class Building:
         now = self.scene.clock.now()
         for agent in self.agents:
             agent.publish_state(now)
+        fleet = self.fleet
+        if fleet is None:
+            return
         while True:
-            self.master.tick(now)
-            if all(self.master.state(s) is not None for s in self.serials):
+            fleet.tick(now)
+            if all(fleet.master.state(s) is not None for s in self.serials):
                 return
             if time.monotonic() >= deadline:
                 log.warning("not every robot's first state reached the master")
@@ -311,7 +377,8 @@ class Building:
         for runtime in self.runtimes:
             runtime.tick()
         if now >= self._next_fleet - _EPS:
-            self.master.tick(now)
+            if self.fleet is not None:
+                self.fleet.tick(now)
             for agent in self.agents:
                 agent.tick(now)
             self._next_fleet += self._fleet_period

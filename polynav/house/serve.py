@@ -1,7 +1,8 @@
 """``polynav run --robots N``: a building of N simulated robots, each with its own addresses.
 
-With ``--broker mqtt://...`` each robot is a VDA 5050 vehicle on that broker and the master
-control another client (:mod:`polynav.fleet.vehicle`); without, they share an in-process
+With ``--broker mqtt://...`` each robot is a VDA 5050 vehicle on that broker and the fleet
+manager another client (:mod:`polynav.fleet.vehicle`), or, with ``--no-fleet-manager``, none:
+a ``polynav fleet`` elsewhere runs the fleet; without a broker, they share an in-process
 transport. Robot ``i`` (0-based) serves its native API on ``--port + i`` and each dialect on
 that dialect's port ``+ i``, as a building of N vendor robots has N addresses; a port of 0
 stays 0 (each server on a free port). Every robot's ``GET /api/fleet`` lists them all. The
@@ -94,6 +95,7 @@ def run(args: argparse.Namespace) -> int:
                                      calendar_epoch=args.calendar_epoch),
                 profile=profile,
                 vehicles=config_from_args(args) if args.broker is not None else None,
+                fleet_manager=not getattr(args, "no_fleet_manager", False),
             )
         except (BrokerUnreachable, broker.BrokerStartError) as exc:
             print(f"polynav run: {exc}", file=sys.stderr)

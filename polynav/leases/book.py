@@ -48,6 +48,12 @@ The book is pure: no clock, no threads, no I/O. Every call takes ``now`` [s], fi
 book up to that time (expiring leases, timing out waiters, granting to the next in line), then acts.
 What happened is recorded as :class:`LeaseEvent` values that the fleet drains with
 :meth:`LeaseBook.take_events` and turns into messages to the robots.
+
+A book may be given a :class:`~polynav.leases.interface.LeaseLedger` that has the last word on
+every grant (the fleet manager's database, shared by several managers): a grant the ledger
+refuses is not made, the holder waits in the queue as if the resource were full, and the book
+asks the ledger again at each tick until it agrees. Renewals and every lease given back
+(released, expired) are told to the ledger too.
 """
 
 from __future__ import annotations
@@ -59,6 +65,7 @@ from dataclasses import dataclass, field, replace
 
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.leases.errors import LeaseNotHeld, LeaseRefused
+from polynav.leases.interface import LeaseLedger
 
 log = logging.getLogger(__name__)
 
@@ -165,8 +172,10 @@ class _Resource:
 class LeaseBook:
     """Leases on named resources, with FIFO queues, expiries and wait deadlines (see module doc)."""
 
-    def __init__(self, config: LeaseBookConfig | None = None) -> None:
+    def __init__(self, config: LeaseBookConfig | None = None, *,
+                 ledger: LeaseLedger | None = None) -> None:
         self.config = config or LeaseBookConfig()
+        self.ledger = ledger
         self._resources: dict[str, _Resource] = {}
         self._events: list[LeaseEvent] = []
         self._now = float("-inf")
@@ -262,6 +271,8 @@ class LeaseBook:
                 if not lease.live_at(now):
                     del res.leases[holder]
                     log.info("lease on %s for %s expired at t=%.3f", name, holder, now)
+                    if self.ledger is not None:
+                        self.ledger.dropped(name, holder, now=now)
                     self._emit(LeaseEventKind.EXPIRED, lease, at=lease.expires_at)
             self._serve_queue(name, res, now)
 
@@ -303,7 +314,8 @@ class LeaseBook:
             return held
         if any(w.holder == holder for w in res.queue):
             return None
-        if not res.queue and _admits(res, flow):
+        if not res.queue and _admits(res, flow) and self._ledger_takes(
+                resource, res, holder, now, length, flow):
             return self._grant(resource, res, holder, now, length, flow)
         before = self._timed_out.pop((resource, holder), None)
         waiter = Waiter(holder=holder, since=now if before is None else before.since,
@@ -341,6 +353,16 @@ class LeaseBook:
             raise LeaseRefused(resource, holder,
                                f"held for {now - held.granted_at:.1f} s while "
                                f"{len(res.queue)} wait (max_hold {self.config.max_hold} s)")
+        if self.ledger is not None:
+            try:
+                self.ledger.renewed(resource, holder, now=now, duration=length)
+            except LeaseNotHeld:
+                # The ledger no longer has it (revoked by another manager, lapsed there): the
+                # holder has lost the resource here too.
+                del res.leases[holder]
+                self._emit(LeaseEventKind.RELEASED, held, at=now)
+                self._serve_queue(resource, res, now)
+                raise
         renewed = replace(held, expires_at=max(held.expires_at, now + length))
         res.leases[holder] = renewed
         self._emit(LeaseEventKind.RENEWED, renewed, at=now)
@@ -363,6 +385,8 @@ class LeaseBook:
         held = res.leases.pop(holder, None)
         if held is not None:
             log.info("%s released %s at t=%.3f", holder, resource, now)
+            if self.ledger is not None:
+                self.ledger.dropped(resource, holder, now=now)
             self._emit(LeaseEventKind.RELEASED, held, at=now)
             self._serve_queue(resource, res, now)
             return True
@@ -409,7 +433,10 @@ class LeaseBook:
                     LeaseEvent(LeaseEventKind.WAIT_TIMED_OUT, name, w.holder, w.deadline))
         let_in = False
         while res.queue and _admits(res, res.queue[0].flow):
-            w = res.queue.popleft()
+            w = res.queue[0]
+            if not self._ledger_takes(name, res, w.holder, now, w.duration, w.flow):
+                break  # the head stays first in line; the ledger is asked again next tick
+            res.queue.popleft()
             self._grant(name, res, w.holder, now, w.duration, w.flow)
             let_in = True
         if not let_in:
@@ -417,9 +444,18 @@ class LeaseBook:
         # The head went in: those further back going its way (and the way of everyone inside)
         # go in with it (module docstring).
         for w in list(res.queue):
-            if w.flow is not None and _admits(res, w.flow):
+            if w.flow is not None and _admits(res, w.flow) and self._ledger_takes(
+                    name, res, w.holder, now, w.duration, w.flow):
                 res.queue.remove(w)
                 self._grant(name, res, w.holder, now, w.duration, w.flow)
+
+    def _ledger_takes(self, name: str, res: _Resource, holder: str, now: float,
+                      duration: float, flow: str | None) -> bool:
+        """Whether the ledger (if any) agrees to this grant, and has recorded it."""
+        if self.ledger is None:
+            return True
+        return self.ledger.take(name, holder, now=now, duration=duration,
+                                capacity=res.capacity, flow=flow)
 
     def _grant(self, name: str, res: _Resource, holder: str, now: float,
                duration: float, flow: str | None = None) -> Lease:

@@ -12,6 +12,7 @@ from polynav.cli import main
     ["map", "list", "--help"],
     ["map", "import", "--help"], ["map", "export", "--help"], ["points", "--help"],
     ["points", "list", "--help"], ["points", "add", "--help"], ["points", "rm", "--help"],
+    ["fleet", "--help"],
 ])
 def test_every_command_has_help(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as exit_:
@@ -25,6 +26,16 @@ def test_unknown_bench_area_is_a_usage_error(capsys: pytest.CaptureFixture[str])
         main(["bench", "nothing"])
     assert exit_.value.code == 2
     assert "invalid choice" in capsys.readouterr().err
+
+
+def test_fleet_needs_a_broker_and_a_positive_speed(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    for argv in (["fleet"], ["fleet", "--broker", "mqtt://127.0.0.1:1", "--speed", "0"]):
+        with pytest.raises(SystemExit) as exit_:
+            main(argv)
+        assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "--broker" in err and "must be > 0" in err
 
 
 def test_run_rejects_a_non_positive_speed(capsys: pytest.CaptureFixture[str]) -> None:

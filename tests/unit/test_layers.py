@@ -10,7 +10,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[2] / "polynav"
 
 CORE = ("geometry", "maps", "planning", "control")
-ABOVE_CORE = ("runtime", "protocols", "api", "fleet", "house", "web", "cli")
+ABOVE_CORE = ("runtime", "protocols", "api", "fleet", "fleet_api", "house", "web", "cli")
 
 
 def _module(path: Path) -> str:
@@ -71,9 +71,21 @@ def test_no_adapter_imports_another() -> None:
 def test_only_the_composition_and_the_fleet_import_the_fleet() -> None:
     """Issue 36 item 3: the fleet holds what a fleet manager and a vehicle run; composing a
     site (the house, the command line) is above it, and nothing below imports it."""
-    allowed = {"fleet", "house", "cli"}
+    allowed = {"fleet", "fleet_api", "house", "cli"}
     bad = sorted({(a, b) for a, b in IMPORTS if _top(b) == "fleet" and _top(a) not in allowed})
     assert bad == []
+
+
+def test_the_fleet_api_is_an_adapter_of_the_fleet_only_the_composition_imports() -> None:
+    """The fleet manager's API (issue 36 item 2) adapts ``polynav.fleet`` as ``polynav.api``
+    adapts one robot: it may import the fleet, and only the house and the command line import
+    it (never the robot's API, nor the fleet itself)."""
+    bad = sorted({(a, b) for a, b in IMPORTS if _top(b) == "fleet_api" and _top(a) not in
+                  {"fleet_api", "house", "cli"}})
+    assert bad == []
+    into_robot_api = sorted({(a, b) for a, b in IMPORTS
+                             if _top(a) == "fleet_api" and _top(b) in ("api", "house")})
+    assert into_robot_api == []
 
 
 def test_only_the_command_line_imports_the_house() -> None:

@@ -42,8 +42,13 @@ missions = Table(
     Column("created", Double, nullable=False),
     Column("updated", Double, nullable=False),
     Column("attempts", Integer, nullable=False, default=0),
-    CheckConstraint("state IN ('queued', 'active', 'done', 'failed')", name="mission_state"),
-    CheckConstraint("(state = 'queued') = (robot IS NULL)", name="mission_robot"),
+    CheckConstraint("state IN ('queued', 'active', 'done', 'failed', 'cancelled')",
+                    name="mission_state"),
+    # Queued: no robot; active or done: one robot. Failed or cancelled: the last robot, if
+    # any (a mission cancelled while queued never had one).
+    CheckConstraint("(state <> 'queued' OR robot IS NULL) AND "
+                    "(state NOT IN ('active', 'done') OR robot IS NOT NULL)",
+                    name="mission_robot"),
 )
 Index("fleet_missions_queue", missions.c.state, missions.c.created, missions.c.seq)
 # A robot does one mission at a time: a second claim for it (a retried one, or two fleet

@@ -209,6 +209,31 @@ class FleetRecords:
 
         return self._db.run(work, _RC)
 
+    def cancel_mission(self, mission_id: str, *, now: float) -> Mission:
+        """Cancel a queued or active mission; returns it as it was before (an active one names
+        the robot to tell). Cancelling it again returns it, cancelled, unchanged.
+
+        Raises:
+            NotFound: no such mission.
+            Conflict: it has already ended (done or failed).
+        """
+        now = _check_time(now)
+
+        def work(conn: Connection) -> Mission:
+            mission = self._mission_in(conn, mission_id)
+            if mission.state is MissionState.CANCELLED:
+                return mission
+            if mission.state not in (MissionState.QUEUED, MissionState.ACTIVE):
+                raise Conflict(f"mission {mission_id!r} has already ended "
+                               f"({mission.state.value})")
+            conn.execute(update(s.missions).where(s.missions.c.id == mission_id).values(
+                state=MissionState.CANCELLED.value, updated=now))
+            self._audit(conn, now, "mission.cancelled", mission=mission_id,
+                        robot=mission.robot)
+            return mission
+
+        return self._db.run(work, _RC)
+
     def mission(self, mission_id: str) -> Mission:
         """The mission called ``mission_id``.
 

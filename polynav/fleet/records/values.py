@@ -15,12 +15,14 @@ from typing import Any
 
 class MissionState(enum.Enum):
     """Where a mission is in its life: queued, then active on one robot, then done or failed.
-    A requeued mission goes back to queued, keeping its place by when it was created."""
+    A requeued mission goes back to queued, keeping its place by when it was created; one
+    cancelled (queued or active) is cancelled for good."""
 
     QUEUED = "queued"
     ACTIVE = "active"
     DONE = "done"
     FAILED = "failed"
+    CANCELLED = "cancelled"
 
 
 @dataclass(frozen=True, slots=True)
