@@ -14,7 +14,7 @@ from polynav.geometry import Pose2D
 from polynav.localization.interface import LocalizationState
 from polynav.maps.keepout import VirtualWall
 from polynav.nav import events
-from polynav.nav.attempt import FailureReason, NavigationState
+from polynav.nav.attempt import FailureReason, GoalOptions, NavigationState
 from polynav.runtime.sim_driver import SimDriver, simulate
 from polynav.site import PointKind
 from polynav.worlds.world import World
@@ -38,7 +38,9 @@ def test_reaches_every_named_point_of_floor_one(world: World) -> None:
     driver = simulate(world, seed=1, people=False)
     reached = []
     for point in floor.points:
-        driver.stack.go_to(point.pose, driver.now)
+        # A charger point is the docked pose, its plate touching the body: it is docked onto.
+        docking = GoalOptions(dock=True) if point.kind is PointKind.CHARGER else None
+        driver.stack.go_to(point.pose, driver.now, docking)
         assert driver.run_until(lambda: _finished(driver), timeout=180.0), point.name
         attempt = driver.stack.navigator.attempt
         assert attempt is not None
