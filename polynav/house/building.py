@@ -231,6 +231,11 @@ class Building:
         return self.fleet.master
 
     @property
+    def mqtt_clients(self) -> tuple[MqttTransport, ...]:
+        """Every MQTT client of the building (the master's, each robot's), none in process."""
+        return (*self._mqtt, *(link.transport for link in self.links))
+
+    @property
     def serials(self) -> tuple[str, ...]:
         return tuple(agent.serial_number for agent in self.agents)
 

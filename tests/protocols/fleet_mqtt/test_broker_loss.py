@@ -84,6 +84,10 @@ def test_a_broker_restarted_mid_mission_costs_no_order(
         # of it (asked again once the broker is back, it is granted and goes on).
         assert any(building.agent(s).traffic.waiting_for for s in orders)
         broker.restart()  # same port; it has forgotten every retained message
+        # Reconnecting takes wall time (the backoff); the simulation waits for it rather than
+        # racing through its timeout on a loaded machine.
+        _paced(building, 1.0, 5.0)
+        assert all(t.wait_connected(WAIT) for t in building.mqtt_clients)
 
         def done() -> bool:
             time.sleep(0.002)
