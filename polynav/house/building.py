@@ -89,6 +89,13 @@ class Building:
         vehicles: VDA 5050 over MQTT: each robot a client of this broker (connection,
             factsheet, its own will) and the master control another; None for the in-process
             transport. Only the transport changes.
+        first_serial: robot ``i`` is ``robot<first_serial + i>``: the buildings of several
+            processes sharing one site number their robots apart.
+        master: whether this building runs the site's master control; False over a broker
+            where another process does (its robots then wait for that one's orders and
+            leases, and :attr:`master` is not available here).
+        epoch: the UTC moment site time 0 stands for; processes sharing one site pass one, so
+            their headers' timestamps agree; by default, when the building is made.
 
     Raises:
         InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
@@ -110,6 +117,9 @@ class Building:
         leases: LeaseBookConfig | None = None,
         profile: RobotProfile | None = None,
         vehicles: VehicleConfig | None = None,
+        first_serial: int = 1,
+        master: bool = True,
+        epoch: dt.datetime | None = None,
     ) -> None:
         config = config or RuntimeConfig()
         profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
@@ -142,7 +152,10 @@ class Building:
             on_failure=self._brake,
         )
         # One calendar for every header in the building: site time 0 is now.
-        epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
+        if epoch is None:
+            epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
+        if not master and vehicles is None:
+            raise InvalidRequest("master", "a building without a master needs a broker")
         self.links: list[VehicleLink] = []
         self._mqtt: list[MqttTransport] = []
         version = vehicles.version if vehicles is not None else DEFAULT_VERSION
@@ -150,13 +163,13 @@ class Building:
         self.transport: Transport
         if vehicles is None:
             self.transport = InProcessTransport()
-        else:
+        elif master:
             master_client = MqttTransport(vehicles.broker, f"{manufacturer}/master",
                                           connect_timeout=vehicles.connect_timeout)
             self._mqtt.append(master_client)
             self.transport = master_client
-        self.master = MasterControl(self.transport, LeaseBook(leases), version=version,
-                                    manufacturer=manufacturer, epoch=epoch)
+        self._master = MasterControl(self.transport, LeaseBook(leases), version=version,
+                                     manufacturer=manufacturer, epoch=epoch) if master else None
         zone_config = ZoneConfig(robot_radius=sim_config.robot_radius)
         self.zones: dict[str, ZoneMap] = {
             name: find_zones(name, store.load_map(name), zone_config) for name in floors
@@ -166,17 +179,19 @@ class Building:
         self.starts = tuple(points[:robots])
         self.ports: dict[str, dict[str, int]] = {}
         for i, point in enumerate(self.starts):
-            serial = f"robot{i + 1}"
+            serial = f"robot{i + first_serial}"
             sim = Simulation(world, config=sim_config, seed=config.seed + i,
                              floor=floors[point.map_name], pose=point.pose, scene=self.scene,
                              name=serial)
             runtime = RobotRuntime(store, sim, config=config, stack_config=stack_config,
                                    loop=self._loop, profile=profile)
             self.runtimes.append(runtime)
-            self.master.add_robot(serial)
-            transport = self.transport
+            if self._master is not None:
+                self._master.add_robot(serial)
             on_factsheet_request = None
-            if vehicles is not None:
+            if vehicles is None:
+                transport = self.transport
+            else:
                 link = VehicleLink(serial, profile, vehicles, clock=self.scene.clock.now,
                                    epoch=epoch, order_period=1.0 / config.control_rate)
                 self.links.append(link)
@@ -195,6 +210,17 @@ class Building:
         log.info("building of %d robots on world %r", robots, world.name)
 
     # -- reads ---------------------------------------------------------------------------------
+
+    @property
+    def master(self) -> MasterControl:
+        """The site's master control.
+
+        Raises:
+            InvalidRequest: this building runs none (``master=False``).
+        """
+        if self._master is None:
+            raise InvalidRequest("master", "this building runs no master control")
+        return self._master
 
     @property
     def serials(self) -> tuple[str, ...]:
@@ -295,6 +321,8 @@ class Building:
         now = self.scene.clock.now()
         for agent in self.agents:
             agent.publish_state(now)
+        if self._master is None:
+            return
         while True:
             self.master.tick(now)
             if all(self.master.state(s) is not None for s in self.serials):
@@ -311,7 +339,8 @@ class Building:
         for runtime in self.runtimes:
             runtime.tick()
         if now >= self._next_fleet - _EPS:
-            self.master.tick(now)
+            if self._master is not None:
+                self._master.tick(now)
             for agent in self.agents:
                 agent.tick(now)
             self._next_fleet += self._fleet_period
