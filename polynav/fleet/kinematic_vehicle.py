@@ -266,10 +266,17 @@ class KinematicVehicle:
         return min(stops, key=lambda s: math.hypot(s[0] - x, s[1] - y))
 
     def _move(self, dt: float) -> None:
-        self._moving = 0.0
+        """Move ``dt`` [s] along the legs; then it drives if a leg's end is still ahead."""
         run = self._run
         if self._paused or run is None or run.failed is not None:
+            self._moving = 0.0
             return
+        self._advance(run, dt)
+        ahead = self._legs[0] if self._legs else None
+        self._moving = self.config.speed if ahead is not None and math.hypot(
+            ahead.x - self.x, ahead.y - self.y) > 1e-9 else 0.0
+
+    def _advance(self, run: _Run, dt: float) -> None:
         budget = dt
         while budget > 1e-9 and self._legs:
             leg = self._legs[0]
@@ -282,7 +289,6 @@ class KinematicVehicle:
                 self.y += dy / gap * step
                 self.distance += step
                 budget -= step / self.config.speed
-                self._moving = self.config.speed
                 if step < gap:
                     return
             if self._waited < leg.wait:  # in the lift

@@ -65,6 +65,7 @@ class SharedClient:
         self._observer = observer
         self._raw: dict[str, RawInbox] = {}
         self._local: dict[tuple[str, str], LocalInbox] = {}
+        self._touched: set[str] = set()
         self.ignored = 0
 
     def publish(self, topic: str, message: m.Message) -> None:
@@ -114,6 +115,13 @@ class SharedClient:
                 if self._observer is not None:
                     self._observer(serial or "", kind, item, now)
                 inbox.items.append(item)
+                self._touched.add(serial or "")
+
+    def take_touched(self) -> set[str]:
+        """The serial numbers that messages were handed to since the last call: a process of
+        many vehicles ticks those at once rather than all of them."""
+        touched, self._touched = self._touched, set()
+        return touched
 
     def _split(self, topic: str) -> tuple[str | None, str | None]:
         parts = topic.split("/")
