@@ -68,6 +68,7 @@ from polynav.worlds import load_world
 from polynav.worlds.world import World
 
 BUDGET_LATENCY_P99 = 0.100  # [s], 1,000 kinematic agents
+STATE_PERIOD = 1.0  # [s of site time] a full robot's longest between two states
 CONTACT_WINDOW = 2.0  # [s of site time]: one pair's contacts closer than this are one collision
 READY_TIMEOUT = 600.0  # [s of wall time] for the workers to build their share
 
@@ -315,8 +316,10 @@ class Mission:
 class Watch:
     """What the coordinator learns from every state it reads (SharedClient's observer)."""
 
+    epoch: dt.datetime
     missions: dict[str, Mission] = field(default_factory=dict)
     latencies: list[float] = field(default_factory=list)
+    clocks: dict[str, float] = field(default_factory=dict)
     last_header: dict[str, int] = field(default_factory=dict)
     lost: int = 0
     reordered: int = 0
@@ -334,6 +337,8 @@ class Watch:
                 self.reordered += 1
         if last is None or item.header.header_id > last:
             self.last_header[serial] = item.header.header_id
+            moment = dt.datetime.fromisoformat(item.header.timestamp.replace("Z", "+00:00"))
+            self.clocks[serial] = (moment - self.epoch).total_seconds()
         mission = self.missions.get(serial)
         if mission is None or mission.outcome is not None:
             return
@@ -398,7 +403,7 @@ def run_mqtt(args: argparse.Namespace, starts_of: Starts) -> dict[str, Any]:
 def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: list[str],
                 goals: list[tuple[str, str, Pose2D]], epoch: dt.datetime,
                 kinematic: bool) -> dict[str, Any]:
-    watch = Watch()
+    watch = Watch(epoch)
     mqtt = MqttTransport(broker.url, "polynav/fleet-bench", max_queued=100000)
     shared = SharedClient(mqtt, observer=watch.observe)
     master = MasterControl(shared, LeaseBook(), epoch=epoch)
@@ -429,13 +434,14 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
     next_tick = t0
     now = 0.0
     time.sleep(max(0.0, t0 - time.monotonic()))
+    give_up = t0 + args.sim_seconds / args.speed * 5.0 + 120.0
     while True:
         shared.wait("state", 0.005)
         wall = time.monotonic()
-        now = (wall - t0) * args.speed
-        if now >= args.sim_seconds:
-            break
         shared.pump()
+        now = _site_time(watch, serials, (wall - t0) * args.speed, kinematic)
+        if now >= args.sim_seconds - (0.0 if kinematic else STATE_PERIOD) or wall > give_up:
+            break
         _read_counters(sys_counts.drain(), counters, wall)
         if wall < next_tick and not any(
                 ms.outcome is not None for ms in watch.missions.values()):
@@ -494,6 +500,17 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
         raise SystemExit(f"polynav bench fleet: workers failed: {errors or 'no results'}")
     return _figures(args, results, watch, done, succeeded, deadlocks, failures, counters,
                     wall_seconds, coordinator_cpu, broker_cpu)
+
+
+def _site_time(watch: Watch, serials: list[str], paced: float, kinematic: bool) -> float:
+    """The coordinator's site time: the paced clock, held back to the slowest robot's last
+    state (full robots state at least every second), so that a worker that falls behind its pace
+    does not see its leases expire early. Light vehicles keep the paced clock by construction."""
+    if kinematic:
+        return paced
+    if len(watch.clocks) < len(serials):
+        return 0.0
+    return min(paced, min(watch.clocks.values()))
 
 
 def _read_counters(messages: Sequence[Any], counters: list[tuple[float, dict[str, int]]],
