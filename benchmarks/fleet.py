@@ -203,6 +203,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--visualization-period", type=float, default=0.25,
                         help="[s] between two visualization messages of a robot, which the "
                         "other processes draw it from (--transport mqtt; default 0.25)")
+    parser.add_argument("--max-wall", type=float, default=None,
+                        help="[s] with --transport mqtt, end after this much wall time even if "
+                        "the simulated time is not reached (a machine that cannot keep the "
+                        "pace); the figures cover the simulated time reached")
     parser.add_argument("--kinematic-speed", type=float, default=1.0,
                         help="[m/s] the light vehicles drive at (default 1)")
     parser.add_argument("--lift-wait", type=float, default=30.0,

@@ -18,7 +18,9 @@ forks P worker processes and dispatches random missions from this process (the c
 Every process runs on one site clock: site time = ``--speed`` x (wall time since a common
 start), the workers' loops catching up when they fall behind (the real-time factor says whether
 they kept the pace). The coordinator's master control (lease book, zone requests, orders) runs
-on it; missions go out through :func:`dispatch` (the one place to swap for the fleet manager).
+on it; missions go out through :func:`dispatch` (the one place to swap for the fleet manager),
+to at most one robot in 20 per coordinator tick of 20 ms (a starting fleet of 1,000 does not
+publish 1,000 orders in one burst).
 
 Figures: missions per hour, success, lease waits, order latency (the order's publication to the
 first state that acknowledges it: names the order, or rejects it) p50/p99, broker messages/s
@@ -69,6 +71,7 @@ from polynav.worlds.world import World
 
 BUDGET_LATENCY_P99 = 0.100  # [s], 1,000 kinematic agents
 STATE_PERIOD = 1.0  # [s of site time] a full robot's longest between two states
+DISPATCH_SHARE = 20  # at most 1/20 of the robots are sent an order per coordinator tick (20 ms)
 CONTACT_WINDOW = 2.0  # [s of site time]: one pair's contacts closer than this are one collision
 READY_TIMEOUT = 600.0  # [s of wall time] for the workers to build their share
 
@@ -434,7 +437,8 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
     next_tick = t0
     now = 0.0
     time.sleep(max(0.0, t0 - time.monotonic()))
-    give_up = t0 + args.sim_seconds / args.speed * 5.0 + 120.0
+    give_up = t0 + (args.max_wall if args.max_wall is not None
+                    else args.sim_seconds / args.speed * 5.0 + 120.0)
     while True:
         shared.wait("state", 0.005)
         wall = time.monotonic()
@@ -464,15 +468,16 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
             if args.verbose:
                 print(f"t={now:8.1f}s {serial} {mission.target}: {mission.outcome}",
                       flush=True)
-        taken = set(bound.values()) if not kinematic else set()
+        taken = set() if kinematic else set(bound.values()) | _stood_on(master, serials, goals)
+        budget = max(1, len(serials) // DISPATCH_SHARE)
         for serial in serials:
             state = master.state(serial)
             if serial in watch.missions or state is None or state.agv_position is None:
                 continue
+            if budget == 0:
+                break
+            budget -= 1
             here = state.agv_position
-            if not kinematic:
-                taken |= {(g[0], g[1]) for g in goals if g[0] == here.map_id and math.hypot(
-                    g[2].x - here.x, g[2].y - here.y) <= 1.0}
             options = [g for g in goals if (g[0], g[1]) not in taken
                        and (args.cross_floor or g[0] == here.map_id)]
             if not options:
@@ -500,6 +505,20 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
         raise SystemExit(f"polynav bench fleet: workers failed: {errors or 'no results'}")
     return _figures(args, results, watch, done, succeeded, deadlocks, failures, counters,
                     wall_seconds, coordinator_cpu, broker_cpu)
+
+
+def _stood_on(master: MasterControl, serials: list[str],
+              goals: list[tuple[str, str, Pose2D]]) -> set[tuple[str, str]]:
+    """The points some robot stands within 1 m of, by its last state (one bound elsewhere
+    may not have left yet): no robot is sent there."""
+    stood: set[tuple[str, str]] = set()
+    for serial in serials:
+        state = master.state(serial)
+        here = state.agv_position if state is not None else None
+        if here is not None:
+            stood |= {(g[0], g[1]) for g in goals if g[0] == here.map_id
+                      and math.hypot(g[2].x - here.x, g[2].y - here.y) <= 1.0}
+    return stood
 
 
 def _site_time(watch: Watch, serials: list[str], paced: float, kinematic: bool) -> float:
