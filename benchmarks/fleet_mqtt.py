@@ -72,6 +72,7 @@ from polynav.worlds.world import World
 BUDGET_LATENCY_P99 = 0.100  # [s], 1,000 kinematic agents
 STATE_PERIOD = 1.0  # [s of site time] a full robot's longest between two states
 DISPATCH_SHARE = 20  # at most 1/20 of the robots are sent an order per coordinator tick (20 ms)
+MAX_LEAD = 1.0  # [s of site time] a worker may run ahead of the slowest other one
 CONTACT_WINDOW = 2.0  # [s of site time]: one pair's contacts closer than this are one collision
 READY_TIMEOUT = 600.0  # [s of wall time] for the workers to build their share
 
@@ -184,7 +185,8 @@ def _full_worker(spec: WorkerSpec, sync: Sync, starts_of: Starts) -> dict[str, A
         client = MqttTransport(spec.broker, f"polynav/remote{spec.index}")
         remote = RemoteRobots(building.scene, client, local=building.serials,
                               floors={f.map_name: f.name for f in world.floors},
-                              epoch=spec.epoch, radius=building.scene.config.robot_radius)
+                              epoch=spec.epoch, radius=building.scene.config.robot_radius,
+                              max_lead=MAX_LEAD)
         remote.attach(building.runtimes[0])
         client.wait_subscribed(10.0)
         sync.ready.put(spec.index)
@@ -214,6 +216,7 @@ def _full_worker(spec: WorkerSpec, sync: Sync, starts_of: Starts) -> dict[str, A
             "lift_waits": [w for r in building.runtimes for w in r.lift_waits],
             "staleness": [staleness.samples, staleness.mean, staleness.p99, staleness.worst],
             "unsent": sum(s.unsent for s in stats),
+            "held": remote.held,
         }
         building.close()
         client.close()
@@ -610,6 +613,7 @@ def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Wat
         "unsent_messages": sum(int(r["unsent"]) for r in results),
         "real_time_factor": round(min(float(r["sim"]) / float(r["wall"]) for r in results), 2),
         "max_lag_at_end_s": round(max(float(r["lag_at_end"]) for r in results), 2),
+        "held_for_slower_s": round(max(float(r.get("held", 0.0)) for r in results), 1),
         "cpu_per_robot": round(worker_cpu / sim / args.robots, 4) if sim > 0 else 0.0,
         "coordinator_cpu_per_s": round(coordinator_cpu / wall, 3) if wall > 0 else 0.0,
         "visualization_period_s": args.visualization_period,
@@ -655,7 +659,8 @@ def report(figures: dict[str, Any]) -> list[str]:
             f"remote robots: poses every {f['visualization_period_s']} s, arriving up to "
             f"{f['remote_pose_delay_max_s']} s (p99 {f['remote_pose_delay_p99_s']} s) of site "
             f"time late: drawn at most {f['remote_pose_staleness_max_s']} s stale, moved on "
-            "along their velocity")
+            f"along their velocity; workers kept within {MAX_LEAD} s of each other (waited "
+            f"up to {f['held_for_slower_s']} s of wall time for a slower one)")
     lines += [f"  FAILED {failure}" for failure in f["failed"]]
     return lines
 

@@ -12,13 +12,15 @@ A sample's time is its header's timestamp on the site's calendar (``epoch`` + si
 processes share one epoch and run their clocks at one pace), so the scene moves it on for the
 time since it was taken. A robot whose connection says OFFLINE or CONNECTIONBROKEN is taken out.
 :meth:`RemoteRobots.pull` runs on the building's loop (:meth:`attach` makes it a step listener
-of one of the building's runtimes), every ``pull_period`` of site time.
+of one of the building's runtimes), every ``pull_period`` of site time; with ``max_lead`` it
+also keeps this process from running ahead of the others.
 """
 
 from __future__ import annotations
 
 import datetime as dt
 import logging
+import time
 from collections.abc import Callable, Iterable
 
 import orjson
@@ -46,12 +48,19 @@ class RemoteRobots:
         manufacturer: the third level of the topics.
         pull_period: how often the messages are read [s of site time].
         max_extrapolation: how long a sample is moved on along its velocity [s].
+        max_lead: how far [s of site time] this process may run ahead of the slowest other
+            one (by its robots' latest samples): past it, the pull waits on the loop, up to
+            ``max_hold`` [s of wall time] each time, for the others to catch up. Processes
+            that cannot keep their pace then slow down together instead of drifting apart;
+            None: never wait.
+        max_hold: the longest one pull waits [s of wall time].
     """
 
     def __init__(self, scene: Scene, mqtt: MqttTransport, *, local: Iterable[str],
                  floors: dict[str, str], epoch: dt.datetime, radius: float,
                  version: str = m.DEFAULT_VERSION, manufacturer: str = m.DEFAULT_MANUFACTURER,
-                 pull_period: float = 0.05, max_extrapolation: float = 1.0) -> None:
+                 pull_period: float = 0.05, max_extrapolation: float = 1.0,
+                 max_lead: float | None = None, max_hold: float = 0.2) -> None:
         self.bodies = RemoteBodies(max_extrapolation=max_extrapolation)
         scene.remote = self.bodies
         self._local = frozenset(local)
@@ -66,6 +75,10 @@ class RemoteRobots:
             m.topic("+", m.Connection, manufacturer), version=version)
         self.samples = 0
         self.unusable = 0
+        self._max_lead = max_lead
+        self._max_hold = max_hold
+        self.held = 0.0
+        """Wall seconds spent waiting for slower processes."""
 
     def attach(self, runtime: RobotRuntime) -> Callable[[], None]:
         """Pull on ``runtime``'s loop after its physics steps; returns the detach function."""
@@ -76,6 +89,17 @@ class RemoteRobots:
             return
         self._next = now + self._pull_period
         self.pull(now)
+        if self._max_lead is None:
+            return
+        started = time.monotonic()
+        while True:
+            slowest = self.bodies.slowest_clock()
+            waited = time.monotonic() - started
+            if slowest is None or now - slowest <= self._max_lead or waited >= self._max_hold:
+                self.held += waited
+                return
+            time.sleep(0.005)
+            self.pull(now)
 
     def pull(self, now: float) -> None:
         """Take what arrived: poses into the scene, robots gone offline out of it."""

@@ -116,6 +116,13 @@ class RemoteBodies:
         self._refresh(now)
         return self._serials.get(floor, ())
 
+    def slowest_clock(self) -> float | None:
+        """The oldest of the remote robots' latest sample stamps: about where the slowest other
+        process's clock stands; None before any sample."""
+        if not self._tracks:
+            return None
+        return min(t.sample.stamp for t in self._tracks.values())
+
     def staleness(self) -> Staleness:
         """How old samples were on arrival, over every sample so far."""
         if not self._delays:
