@@ -411,7 +411,10 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
                 kinematic: bool) -> dict[str, Any]:
     watch = Watch(epoch)
     mqtt = MqttTransport(broker.url, "polynav/fleet-bench", max_queued=100000)
-    shared = SharedClient(mqtt, observer=watch.observe)
+    # Pumped here only: an outcome the observer saw is then in the master's state at its tick
+    # (pumping inside the tick, a robot drained earlier in it kept its state from before its
+    # success, and was sent its next order from where it had been: noRouteError).
+    shared = SharedClient(mqtt, observer=watch.observe, auto_pump=False)
     master = MasterControl(shared, LeaseBook(), epoch=epoch)
     for serial in serials:
         master.add_robot(serial)

@@ -32,6 +32,8 @@ Observer = Callable[[str, str, m.Received, float], None]
 
 
 class _Pump(Protocol):
+    auto_pump: bool
+
     def pump(self) -> None: ...
 
 
@@ -43,8 +45,10 @@ class LocalInbox:
         self.items: list[m.Received] = []
 
     def drain(self) -> list[m.Received]:
-        """The messages since the last drain, oldest first (reads the connection first)."""
-        self._client.pump()
+        """The messages since the last drain, oldest first (reads the connection first, unless
+        the client is pumped by its owner)."""
+        if self._client.auto_pump:
+            self._client.pump()
         items, self.items = self.items, []
         return items
 
@@ -56,11 +60,15 @@ class SharedClient:
         mqtt: the connection.
         manufacturer: the third level of the topics.
         observer: told of every message handed over.
+        auto_pump: whether each inbox's drain reads the connection first; False: only
+            :meth:`pump` does, so an owner that pumps once and then drains every inbox (a
+            master control's tick) sees in its inboxes exactly what its observer saw.
     """
 
     def __init__(self, mqtt: MqttTransport, manufacturer: str = m.DEFAULT_MANUFACTURER, *,
-                 observer: Observer | None = None) -> None:
+                 observer: Observer | None = None, auto_pump: bool = True) -> None:
         self.mqtt = mqtt
+        self.auto_pump = auto_pump
         self.manufacturer = manufacturer
         self._observer = observer
         self._raw: dict[str, RawInbox] = {}
