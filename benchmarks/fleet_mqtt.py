@@ -254,7 +254,7 @@ def _kinematic_worker(spec: WorkerSpec, sync: Sync) -> dict[str, Any]:
         vehicles[serial] = KinematicVehicle(
             serial, shared, config, start=m.AgvPosition(pose.x, pose.y, pose.theta, map_name,
                                                         True, 1.0),
-            maps=maps, headers=headers)
+            maps=maps, headers=headers, phase=k / spec.count)
         shared.publish(m.topic(serial, m.Connection), m.Connection(
             headers.stamp(serial, m.Connection), m.ConnectionState.ONLINE))
     mqtt.wait_subscribed(10.0)

@@ -105,12 +105,16 @@ class KinematicVehicle:
         headers: stamps its messages' headers (version, manufacturer, site clock).
         now: site time [s] it starts at.
         on_factsheet_request: publishes its factsheet; None fails the action.
+        phase: in [0, 1): where in their periods this vehicle's periodic state and
+            visualization fall, so that many vehicles started together do not all publish
+            (and their readers all decode) in the same instant.
     """
 
     def __init__(self, serial_number: str, transport: Transport, config: KinematicConfig, *,
                  start: m.AgvPosition, maps: frozenset[str], headers: m.Headers,
                  now: float = 0.0,
-                 on_factsheet_request: Callable[[], None] | None = None) -> None:
+                 on_factsheet_request: Callable[[], None] | None = None,
+                 phase: float = 0.0) -> None:
         self.serial_number = serial_number
         self.config = config
         self._transport = transport
@@ -130,7 +134,9 @@ class KinematicVehicle:
         self._last = now
         self._dirty = True
         self._next_state = now
-        self._next_visualization = now
+        self._phase = phase if 0.0 < phase < 1.0 else 1.0
+        period = config.visualization_period
+        self._next_visualization = now + (phase * period if period is not None else 0.0)
         self.distance = 0.0
 
     def _topic(self, kind: type | str) -> str:
@@ -206,7 +212,8 @@ class KinematicVehicle:
     def publish_state(self, now: float) -> None:
         """Publish the state now; the next is due ``state_period`` later."""
         self._transport.publish(self._topic(m.State), self.state())
-        self._next_state = now + self.config.state_period
+        self._next_state = now + self.config.state_period * self._phase
+        self._phase = 1.0
         self._dirty = False
 
     # -- orders --------------------------------------------------------------------------------
