@@ -14,16 +14,21 @@ factor, CPU per robot.
 
 Targets (issue 11): success 100 %, collisions 0, no deadlock; 10 robots at least 3x real time
 on one core. Run with ``polynav bench fleet --robots N [--hours H] [--seed S] [--json]``.
+
+With ``--transport mqtt --processes P [--agents full|kinematic]`` the robots are spread over P
+processes on a real broker and the missions go over MQTT (``benchmarks/fleet_mqtt.py``).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import logging
 import math
 import platform
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -182,13 +187,46 @@ def main(argv: list[str] | None = None) -> int:
                         help="a mission not ended after this many simulated seconds is a "
                         "deadlock (default 600)")
     parser.add_argument("--json", action="store_true", help="end with one JSON line of figures")
+    parser.add_argument("--transport", choices=("inproc", "mqtt"), default="inproc",
+                        help="inproc (default): one process; mqtt: robots in --processes "
+                        "processes on a real Mosquitto, missions over MQTT")
+    parser.add_argument("--processes", type=int, default=2,
+                        help="worker processes with --transport mqtt (default 2)")
+    parser.add_argument("--agents", choices=("full", "kinematic"), default="full",
+                        help="full (default): every robot's whole stack; kinematic: the light "
+                        "mode, vehicles that follow orders kinematically (--transport mqtt)")
+    parser.add_argument("--speed", type=float, default=1.0,
+                        help="simulated seconds per wall second with --transport mqtt "
+                        "(default 1)")
+    parser.add_argument("--sim-seconds", type=float, default=None,
+                        help="simulated seconds to run (instead of --hours)")
+    parser.add_argument("--visualization-period", type=float, default=0.25,
+                        help="[s] between two visualization messages of a robot, which the "
+                        "other processes draw it from (--transport mqtt; default 0.25)")
+    parser.add_argument("--max-wall", type=float, default=None,
+                        help="[s] with --transport mqtt, end after this much wall time even if "
+                        "the simulated time is not reached (a machine that cannot keep the "
+                        "pace); the figures cover the simulated time reached")
+    parser.add_argument("--kinematic-speed", type=float, default=1.0,
+                        help="[m/s] the light vehicles drive at (default 1)")
+    parser.add_argument("--lift-wait", type=float, default=30.0,
+                        help="[s] a light vehicle's change of floor (default 30)")
     parser.add_argument("-v", "--verbose", action="store_true", help="print every mission")
     args = parser.parse_args(argv)
     if args.robots < 1:
         parser.error("--robots must be >= 1")
     if not args.hours > 0.0:
         parser.error("--hours must be > 0")
+    if args.sim_seconds is not None:
+        if not args.sim_seconds > 0.0:
+            parser.error("--sim-seconds must be > 0")
+        args.hours = args.sim_seconds / 3600.0
+    args.sim_seconds = args.hours * 3600.0
     logging.getLogger("polynav").setLevel(logging.ERROR)
+    if args.transport == "mqtt":
+        return _main_mqtt(parser, args)
+    if args.agents != "full":
+        parser.error("--agents kinematic needs --transport mqtt")
     figures = run(args)
     print(f"{figures['robots']} robots, {figures['sim_hours']:.2f} simulated h: "
           f"{figures['missions']} missions, {figures['succeeded']} succeeded "
@@ -207,6 +245,35 @@ def main(argv: list[str] | None = None) -> int:
               and figures["deadlocks"] == 0 and fast_enough)
     if args.json:
         print(json.dumps({**figures, "pass": passed, "commit": _commit(),
+                          "machine": platform.platform()}))
+    return 0
+
+
+def _main_mqtt(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
+    if not 1 <= args.processes <= args.robots:
+        parser.error("--processes must be between 1 and --robots")
+    if not args.speed > 0.0:
+        parser.error("--speed must be > 0")
+    if not args.visualization_period > 0.0:
+        parser.error("--visualization-period must be > 0")
+    path = Path(__file__).resolve().parent / "fleet_mqtt.py"
+    spec = importlib.util.spec_from_file_location("polynav_bench_fleet_mqtt", path)
+    assert spec is not None and spec.loader is not None
+    mqtt = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mqtt  # its dataclasses look their module up
+    spec.loader.exec_module(mqtt)
+    figures = mqtt.run_mqtt(args, _starts)
+    for line in mqtt.report(figures):
+        print(line)
+    if args.json:
+        kinematic_ok = (figures["order_latency_p99_ms"] is not None
+                        and figures["order_latency_p99_ms"] <= figures[
+                            "budget_order_latency_p99_ms"]
+                        and figures["lost_state_messages"] == 0)
+        full_ok = (figures["success_rate"] >= BUDGET_SUCCESS and figures["collisions"] == 0
+                   and figures["deadlocks"] == 0)
+        passed = kinematic_ok if args.agents == "kinematic" else full_ok
+        print(mqtt.dumps({**figures, "pass": passed, "commit": _commit(),
                           "machine": platform.platform()}))
     return 0
 

@@ -97,6 +97,10 @@ class Building:
         fleet_manager: run the fleet manager here (False: vehicles only, needs ``vehicles``;
             a fleet manager elsewhere on the broker runs the fleet).
         records: the fleet manager's records database URL; SQLite in memory if None.
+        first_serial: robot ``i`` is ``robot<first_serial + i>``: the buildings of several
+            processes sharing one site number their robots apart.
+        epoch: the UTC moment site time 0 stands for; processes sharing one site pass one, so
+            their headers' timestamps agree; by default, when the building is made.
 
     Raises:
         InvalidRequest: fewer than 1 robot, more robots than start points, a start point on no
@@ -120,6 +124,8 @@ class Building:
         vehicles: VehicleConfig | None = None,
         fleet_manager: bool = True,
         records: str | None = None,
+        first_serial: int = 1,
+        epoch: dt.datetime | None = None,
     ) -> None:
         config = config or RuntimeConfig()
         profile = profile or world.robot or load_profile(DEFAULT_PROFILE)
@@ -155,7 +161,8 @@ class Building:
             on_failure=self._brake,
         )
         # One calendar for every header in the building: site time 0 is now.
-        epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
+        if epoch is None:
+            epoch = dt.datetime.now(dt.UTC) - dt.timedelta(seconds=self.scene.clock.now())
         self.links: list[VehicleLink] = []
         self._mqtt: list[MqttTransport] = []
         version = vehicles.version if vehicles is not None else DEFAULT_VERSION
@@ -185,7 +192,7 @@ class Building:
         self.starts = tuple(points[:robots])
         self.ports: dict[str, dict[str, int]] = {}
         for i, point in enumerate(self.starts):
-            serial = f"robot{i + 1}"
+            serial = f"robot{i + first_serial}"
             sim = Simulation(world, config=sim_config, seed=config.seed + i,
                              floor=floors[point.map_name], pose=point.pose, scene=self.scene,
                              name=serial)

@@ -18,10 +18,15 @@ A scene step is ordered so that every body sees the same world at the same time:
 3. the clock advances;
 4. each body's IMU and lidar sample when due, on the world as it now is.
 
-With a single body this is exactly the order of the one-robot simulator. The building's lift
-cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one per ``lifts:`` entry of the world)
-are stepped first; a car that arrives at a floor carries the bodies standing in its shaft there
-(each keeps its pose: the shafts coincide), so a robot rides by standing in the car.
+With a single body this is exactly the order of the one-robot simulator. Robots simulated in
+other processes join through :attr:`Scene.remote` (:mod:`polynav.robot.sim.remote_bodies`): discs
+seen, stopped for and collided with like the scene's own bodies, but moved by their messages.
+Each collision between two robots is also kept as a :class:`RobotContact` naming both.
+
+The building's lift cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one per ``lifts:``
+entry of the world) are stepped first; a car that arrives at a floor carries the bodies standing
+in its shaft there (each keeps its pose: the shafts coincide), so a robot rides by standing in
+the car.
 """
 
 from __future__ import annotations
@@ -42,6 +47,7 @@ from polynav.robot.sim.charger import SimCharger
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.lift_car import Arrival, SimLiftCar
 from polynav.robot.sim.people import Person, as_circles
+from polynav.robot.sim.remote_bodies import RemoteBodies
 from polynav.site import PointKind
 from polynav.worlds.world import World, WorldFloor
 
@@ -52,6 +58,17 @@ log = logging.getLogger(__name__)
 
 NO_CIRCLES = np.empty((0, 3), dtype=np.float64)
 _EPS = 1e-9
+
+
+@dataclass(frozen=True, slots=True)
+class RobotContact:
+    """Body ``robot`` moved into robot ``other`` (a body of this scene or a remote one) at
+    ``stamp`` [s]."""
+
+    stamp: float
+    robot: str
+    other: str
+    remote: bool
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -86,6 +103,9 @@ class Scene:
         self.floors = {f.name: floor_state(f, config) for f in world.floors}
         self.people_enabled = people
         self._bodies: list[Simulation] = []
+        self.remote: RemoteBodies | None = None
+        """Robots simulated elsewhere, drawn here too; None: this scene's bodies only."""
+        self.robot_contacts: list[RobotContact] = []
         levels = {f.name: f.level for f in world.floors}
         self.lifts: dict[str, SimLiftCar] = {
             car.name: SimLiftCar(car, levels, self._rider_counter(car.name), self.clock.now)
@@ -121,29 +141,36 @@ class Scene:
     def robots_near(self, body: Simulation) -> npt.NDArray[np.float64]:
         """(K, 3) rows of x, y, radius [m]: the other bodies on ``body``'s floor."""
         others = [b for b in self._bodies if b is not body and b.floor == body.floor]
+        remote = self._remote(body.floor)
         if not others:
-            return NO_CIRCLES
+            return remote
         out = np.empty((len(others), 3), dtype=np.float64)
         for k, b in enumerate(others):
             pose = b.true_pose
             out[k, 0], out[k, 1], out[k, 2] = pose.x, pose.y, b.config.robot_radius
-        return out
+        return np.concatenate((out, remote)) if remote.shape[0] else out
+
+    def _remote(self, floor: str) -> npt.NDArray[np.float64]:
+        if self.remote is None:
+            return NO_CIRCLES
+        return self.remote.circles(floor, self.clock.now())
 
     def _others(self) -> list[npt.NDArray[np.float64]]:
         """Per body, in order, :meth:`robots_near` of it: one array per floor, sliced."""
-        if len(self._bodies) == 1:
+        if len(self._bodies) == 1 and self.remote is None:
             return [NO_CIRCLES]
         rows: dict[str, list[int]] = {}
         for k, b in enumerate(self._bodies):
             rows.setdefault(b.floor, []).append(k)
         out: list[npt.NDArray[np.float64]] = [NO_CIRCLES] * len(self._bodies)
-        for ks in rows.values():
-            if len(ks) == 1:
+        for floor, ks in rows.items():
+            remote = self._remote(floor)
+            if len(ks) == 1 and not remote.shape[0]:
                 continue
             circles = np.array([(b.true_pose.x, b.true_pose.y, b.config.robot_radius)
                                 for b in (self._bodies[k] for k in ks)], dtype=np.float64)
             for j, k in enumerate(ks):
-                out[k] = np.concatenate((circles[:j], circles[j + 1:]))
+                out[k] = np.concatenate((circles[:j], circles[j + 1:], remote))
         return out
 
     def people_circles(self, floor: str) -> npt.NDArray[np.float64]:
@@ -183,16 +210,40 @@ class Scene:
                     (pose.x, pose.y, body.config.robot_radius))
             for name, state in self.floors.items():
                 robots = disks.get(name, [])
+                if self.remote is not None:
+                    robots = robots + [(float(x), float(y), float(r))
+                                       for x, y, r in self._remote(name)]
                 for person in state.people:
                     person.step_among(h, robots)
             people = {name: as_circles(state.people) if state.people else NO_CIRCLES
                       for name, state in self.floors.items()}
         for body in self._bodies:  # each sees where the ones before it have moved to
+            hits = len(body._collisions)
             body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+            if len(body._collisions) > hits and body._collisions[-1].obstacle == "robot":
+                self._note_contact(body, now)
         self.clock.set(now)
         for body, others in zip(self._bodies, self._others(), strict=True):
             body._sense(now, people.get(body.floor, NO_CIRCLES), others)
 
+
+    def _note_contact(self, body: Simulation, now: float) -> None:
+        """Name the robot ``body`` just moved into: the nearest other one on its floor."""
+        pose = body.true_pose
+        best: tuple[float, str, bool] | None = None
+        for other in self._bodies:
+            if other is not body and other.floor == body.floor:
+                d = math.hypot(other.true_pose.x - pose.x, other.true_pose.y - pose.y)
+                if best is None or d < best[0]:
+                    best = (d, other.name, False)
+        if self.remote is not None:
+            names = self.remote.serials_on(body.floor, self.clock.now())
+            for (x, y, _), name in zip(self._remote(body.floor), names, strict=True):
+                d = math.hypot(float(x) - pose.x, float(y) - pose.y)
+                if best is None or d < best[0]:
+                    best = (d, name, True)
+        if best is not None:
+            self.robot_contacts.append(RobotContact(now, body.name, best[1], best[2]))
 
     def _carry(self, arrival: Arrival) -> None:
         for body in self.bodies_in_car(arrival.car, arrival.from_floor):
