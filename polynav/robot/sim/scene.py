@@ -21,7 +21,9 @@ A scene step is ordered so that every body sees the same world at the same time:
 With a single body this is exactly the order of the one-robot simulator. The building's lift
 cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one per ``lifts:`` entry of the world)
 are stepped first; a car that arrives at a floor carries the bodies standing in its shaft there
-(each keeps its pose: the shafts coincide), so a robot rides by standing in the car.
+(each keeps its pose: the shafts coincide), so a robot rides by standing in the car. The world's
+doors (:class:`~polynav.robot.sim.door.SimDoor`) are stepped next: a door not fully open has its
+leaf in its floor's ground truth.
 """
 
 from __future__ import annotations
@@ -40,10 +42,11 @@ from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
 from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.door import SimDoor
 from polynav.robot.sim.lift_car import Arrival, SimLiftCar
 from polynav.robot.sim.people import Person, as_circles
 from polynav.site import PointKind
-from polynav.worlds.world import World, WorldFloor
+from polynav.worlds.world import World, WorldDoor, WorldFloor
 
 if TYPE_CHECKING:
     from polynav.robot.sim.simulation import Simulation
@@ -89,6 +92,26 @@ class Scene:
             car.name: SimLiftCar(car, levels, self._rider_counter(car.name), self.clock.now)
             for car in world.lifts
         }
+        self.doors: dict[str, SimDoor] = {
+            door.name: SimDoor(door, self.floors[door.floor].occupied,
+                               self.floors[door.floor].info, self._door_occupied,
+                               self.clock.now)
+            for door in world.doors
+        }
+
+    def _door_occupied(self, door: WorldDoor, margin: float) -> bool:
+        """Whether a body or a person stands within ``margin`` [m] of ``door``'s leaf."""
+        for body in self._bodies:
+            pose = body.true_pose
+            if body.floor == door.floor and door.distance_to(pose.x, pose.y) <= (
+                    body.config.robot_radius + margin):
+                return True
+        if self.people_enabled:
+            for person in self.floors[door.floor].people:
+                pose = person.pose
+                if door.distance_to(pose.x, pose.y) <= person.radius + margin:
+                    return True
+        return False
 
     def _rider_counter(self, car: str) -> Callable[[str], int]:
         def count(floor: str) -> int:
@@ -172,6 +195,8 @@ class Scene:
             arrival = car.step(h)
             if arrival is not None:
                 self._carry(arrival)
+        for door in self.doors.values():
+            door.step(h)
         people: dict[str, npt.NDArray[np.float64]] = {}
         if self.people_enabled:
             disks: dict[str, list[tuple[float, float, float]]] = {}
