@@ -15,8 +15,9 @@ after the navigation stack. The rule, as one robot keeps it:
    gives the lease back (``01031``). A goal that ends lets go of every door it held.
 4. No door is held for ever: one held ``max_control`` seconds is let go by force (``01032``), so
    a robot stuck in a doorway does not keep a fire door open; and no robot waits for ever: a
-   door not open ``open_timeout`` seconds after it was asked for fails the goal with the door
-   named (``door closed: door fire_door_1 did not open within 30 s``).
+   door not open ``open_timeout`` seconds after it was granted and asked open fails the goal with
+   the door named (``door fire_door_west did not open within 30 s (its controller does not
+   answer)``); the wait for the grant is bounded by the lease book (``max_wait``, ``max_hold``).
 
 The planner plans through doors: their leaves are *passable* to the costmap (the lidar's marks
 there are not kept, :meth:`polynav.maps.costmap.Costmap.set_passable`), or no route would ever
@@ -60,7 +61,8 @@ class DoorConfig:
         lookahead: how far along the path a door is asked for and opened [m].
         stop_distance: a robot whose door is not open stops this far before its leaf [m].
         clearance: a robot this far past the leaf (or off its path) lets go of it [m].
-        open_timeout: a door not open this long after it was asked for fails the goal [s].
+        open_timeout: a door not open this long after it was granted and asked open fails
+            the goal [s] (the wait for the grant is bounded by the lease book).
         max_control: a door held this long is let go by force [s].
     """
 
@@ -162,6 +164,7 @@ class DoorPassage:
         self._using: dict[str, _Use] = {}
         self._forced: set[str] = set()  # let go by force: not asked again in this attempt
         self._paused_for: str | None = None
+        self._we_paused = False  # the goal stands paused by this rule, not another
         self._attempt = 0
         self._passable_for: tuple[int, str | None] | None = None
         self.failure: str | None = None
@@ -196,6 +199,7 @@ class DoorPassage:
             self._let_go_all(now)
             self._forced.clear()
             self._paused_for = None
+            self._we_paused = False
             return
         attempt = navigator.attempt
         attempt_id = attempt.attempt_id if attempt is not None else 0
@@ -204,6 +208,7 @@ class DoorPassage:
             self._forced.clear()
             self._attempt = attempt_id
             self._paused_for = None
+            self._we_paused = False
         pose = robot._status_pose()
         ahead = self._ahead(navigator.path, pose, doors)
         needed = {name for name, _ in ahead}
@@ -272,22 +277,28 @@ class DoorPassage:
             if not self._open_for_us(name, doors[name]):
                 blocking = name
                 break
-        if self._paused_for is not None:
-            waited = self._paused_for
-            if blocking != waited:
-                self._paused_for = None
-                if navigator.state is NavigationState.PAUSED:
-                    log.info("%s: door %s open, going on", self._robot.robot_id, waited)
-                    navigator.resume(now)
-                return
-        elif blocking is not None and navigator.state is NavigationState.RUNNING:
+        if blocking is None:
+            waited, self._paused_for = self._paused_for, None
+            if waited is not None and self._we_paused and (
+                    navigator.state is NavigationState.PAUSED):
+                log.info("%s: door %s open, going on", self._robot.robot_id, waited)
+                navigator.resume(now)
+            self._we_paused = False
+            return
+        # A goal paused for something else (the fleet's traffic rule, an operator) is left
+        # as it is; one resumed by it while the door is shut is paused again.
+        if navigator.state is NavigationState.RUNNING:
             navigator.pause(now)
-            self._paused_for = blocking
-            log.info("%s: waits for door %s", self._robot.robot_id, blocking)
-        if blocking is not None:
-            use = self._using.get(blocking)
-            if use is not None and now - use.asked > self.config.open_timeout:
-                self._give_up(blocking, doors[blocking], now)
+            self._we_paused = True
+            if self._paused_for != blocking:
+                log.info("%s: waits for door %s", self._robot.robot_id, blocking)
+        self._paused_for = blocking
+        # Waiting for the lease is bounded by the lease book (max_wait, max_hold); waiting
+        # for a granted door to open, here.
+        use = self._using.get(blocking)
+        if use is not None and use.opened is not None and (
+                now - use.opened > self.config.open_timeout):
+            self._give_up(blocking, doors[blocking], now)
 
     def _open_for_us(self, name: str, door: Door) -> bool:
         use = self._using.get(name)
@@ -296,15 +307,14 @@ class DoorPassage:
 
     def _give_up(self, name: str, door: Door, now: float) -> None:
         status = door.state()
-        use = self._using.get(name)
-        why = "the door's controller does not answer" if not status.answering else (
-            f"the door is {status.state.value}" if use is not None and use.opened is not None
-            else "another robot holds it")
+        why = ("its controller does not answer" if not status.answering
+               else f"it is {status.state.value}")
         message = (f"door {name} did not open within {self.config.open_timeout:g} s "
                    f"({why})")
         self.failure = message
         log.warning("%s: %s", self._robot.robot_id, message)
         self._paused_for = None
+        self._we_paused = False
         stack = self._robot.navigation_stack
         assert stack is not None
         stack.navigator.abort(FailureReason.DOOR_CLOSED, message, now)
