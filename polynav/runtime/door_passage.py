@@ -14,7 +14,9 @@ after the navigation stack. The rule, as one robot keeps it:
    go of it (:meth:`~polynav.robot.door.Door.close`: it closes when no one else holds it) and
    gives the lease back (``01031``). A goal that ends lets go of every door it held.
 4. No door is held for ever: one held ``max_control`` seconds is let go by force (``01032``), so
-   a robot stuck in a doorway does not keep a fire door open; and no robot waits for ever: a
+   a robot standing before or in a doorway does not keep a fire door open; it is not asked for
+   again in that goal, which fails if the robot still has to go through (the door named); and
+   no robot waits for ever: a
    door not open ``open_timeout`` seconds after it was granted and asked open fails the goal with
    the door named (``door fire_door_west did not open within 30 s (its controller does not
    answer)``); the wait for the grant is bounded by the lease book (``max_wait``, ``max_hold``).
@@ -162,7 +164,8 @@ class DoorPassage:
         self.leases = leases
         self.config = config or DoorConfig()
         self._using: dict[str, _Use] = {}
-        self._forced: set[str] = set()  # let go by force: not asked again in this attempt
+        # Let go by force, with how long it was held: not asked again in this attempt.
+        self._forced: dict[str, float] = {}
         self._paused_for: str | None = None
         self._we_paused = False  # the goal stands paused by this rule, not another
         self._attempt = 0
@@ -215,7 +218,7 @@ class DoorPassage:
         needed |= {name for name in self._using if name in doors
                    and doors[name].state().spec.distance_to(pose.x, pose.y)
                    < self.config.clearance}
-        needed -= self._forced
+        needed -= set(self._forced)
         for name in list(self._using):
             if name not in needed:
                 self._let_go(name, now, forced=False)
@@ -242,7 +245,7 @@ class DoorPassage:
                         name, now - use.opened)
             self._robot._publish(DoorControlForced(now, self._robot._door_attempt_id(), name,
                                                         now - use.opened))
-            self._forced.add(name)
+            self._forced[name] = now - use.opened
             self._let_go(name, now, forced=True)
             return
         door.open(self._robot.robot_id)
@@ -295,22 +298,25 @@ class DoorPassage:
         self._paused_for = blocking
         # Waiting for the lease is bounded by the lease book (max_wait, max_hold); waiting
         # for a granted door to open, here.
+        if blocking in self._forced:
+            self._give_up(blocking, f"door {blocking} was held {self._forced[blocking]:.0f} s, "
+                                    "too long, and released by force", now)
+            return
         use = self._using.get(blocking)
         if use is not None and use.opened is not None and (
                 now - use.opened > self.config.open_timeout):
-            self._give_up(blocking, doors[blocking], now)
+            status = doors[blocking].state()
+            why = ("its controller does not answer" if not status.answering
+                   else f"it is {status.state.value}")
+            self._give_up(blocking, f"door {blocking} did not open within "
+                                    f"{self.config.open_timeout:g} s ({why})", now)
 
     def _open_for_us(self, name: str, door: Door) -> bool:
         use = self._using.get(name)
         return use is not None and use.opened is not None and (
             door.state().state is DoorState.OPEN)
 
-    def _give_up(self, name: str, door: Door, now: float) -> None:
-        status = door.state()
-        why = ("its controller does not answer" if not status.answering
-               else f"it is {status.state.value}")
-        message = (f"door {name} did not open within {self.config.open_timeout:g} s "
-                   f"({why})")
+    def _give_up(self, name: str, message: str, now: float) -> None:
         self.failure = message
         log.warning("%s: %s", self._robot.robot_id, message)
         self._paused_for = None

@@ -20,6 +20,11 @@ from collections.abc import Callable
 
 from polynav.protocols.yunji.messages import Notification
 from polynav.runtime import events
+from polynav.runtime.door_passage import (
+    DoorControlFinished,
+    DoorControlForced,
+    DoorControlStarted,
+)
 from polynav.runtime.lift_events import HELD, LiftPhase, LiftPhaseChanged
 
 log = logging.getLogger(__name__)
@@ -121,9 +126,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01026": "polynav's robots have no infrared dock beacon",
     "01028": _NO_CONTAINERS,
     "01029": "polynav drives differential bases only: there is no lateral mode",
-    "01030": "polynav controls no electronic doors or gates",
-    "01031": "polynav controls no electronic doors or gates",
-    "01032": "polynav controls no electronic doors or gates",
     "01033": "polynav has no narrow-area congestion control (no multi-robot traffic)",
     "01034": "polynav has no narrow-area congestion control (no multi-robot traffic)",
     "01050": _NO_CONTAINERS,
@@ -162,6 +164,7 @@ PRODUCED: frozenset[str] = frozenset({
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
     "04030", "04031", "04032", "04033", "04050", "04051", "04052", "04060", "04061",
     "04070", "04071",
+    "01030", "01031", "01032",  # doors and gates on the way (runtime.door_passage)
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
@@ -285,6 +288,13 @@ class NotificationMapper:
             return [notification(_STATUS[type(event)])]
         if isinstance(event, LiftPhaseChanged):
             return [notification(code) for code in self._lift(event)]
+        if isinstance(event, DoorControlStarted | DoorControlFinished):
+            # §3.10.4: passing a gate or electronic door, 01030 -> 01031 (with the move's
+            # target, §A-N2 L1017), or 01032 when held too long and released by force.
+            code = "01030" if isinstance(event, DoorControlStarted) else "01031"
+            return [notification(code, {"target": self._target(event.attempt_id)})]
+        if isinstance(event, DoorControlForced):
+            return [notification("01032")]
         return self._status(event)
 
     def _lift(self, event: LiftPhaseChanged) -> list[str]:
