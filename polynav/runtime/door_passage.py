@@ -359,37 +359,34 @@ class DoorPassage:
 def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahead: float,
               pose: Pose2D) -> float | None:
     """Distance [m] along the path from the robot (at the path's point ``k``) to where it
-    crosses ``door``'s segment, if within ``lookahead``."""
-    # From the path's point nearest the robot (the leg back to the robot may cross a door
-    # just passed, which is behind it, not ahead).
-    travelled = math.hypot(points[k, 0] - pose.x, points[k, 1] - pose.y)
-    ax, ay = float(points[k, 0]), float(points[k, 1])
-    for i in range(k + 1, points.shape[0]):
-        bx, by = float(points[i, 0]), float(points[i, 1])
-        leg = math.hypot(bx - ax, by - ay)
-        hit = _intersect(ax, ay, bx, by, door)
-        if hit is not None:
-            return travelled + leg * hit
-        travelled += leg
-        if travelled > lookahead:
-            return None
-        ax, ay = bx, by
-    return None
+    first crosses ``door``'s segment, if within ``lookahead``.
 
-
-def _intersect(ax: float, ay: float, bx: float, by: float, door: WorldDoor) -> float | None:
-    """Where segment a-b crosses the door's segment, as a fraction along a-b, or None."""
-    rx, ry = bx - ax, by - ay
-    sx, sy = door.x2 - door.x1, door.y2 - door.y1
-    denom = rx * sy - ry * sx
-    if abs(denom) < 1e-12:
+    Measured from the path's point nearest the robot: the leg back to the robot may cross a
+    door just passed, which is behind it, not ahead."""
+    start = math.hypot(points[k, 0] - pose.x, points[k, 1] - pose.y)
+    way = points[k:]
+    if way.shape[0] < 2:
         return None
-    qx, qy = door.x1 - ax, door.y1 - ay
-    t = (qx * sy - qy * sx) / denom
-    u = (qx * ry - qy * rx) / denom
-    if 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
-        return t
-    return None
+    legs = np.hypot(*np.diff(way, axis=0).T)
+    before = start + np.concatenate(([0.0], np.cumsum(legs)[:-1]))  # at each leg's start
+    n = int(np.searchsorted(before, lookahead, side="right"))
+    if n == 0:
+        return None
+    a, b = way[:n], way[1:n + 1]
+    r = b - a
+    sx, sy = door.x2 - door.x1, door.y2 - door.y1
+    denom = r[:, 0] * sy - r[:, 1] * sx
+    qx, qy = door.x1 - a[:, 0], door.y1 - a[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (qx * sy - qy * sx) / denom
+        u = (qx * r[:, 1] - qy * r[:, 0]) / denom
+    hits = np.flatnonzero((np.abs(denom) > 1e-12) & (t >= 0.0) & (t <= 1.0)
+                          & (u >= 0.0) & (u <= 1.0))
+    if hits.shape[0] == 0:
+        return None
+    i = int(hits[0])
+    distance = float(before[i] + legs[i] * t[i])
+    return distance if distance <= lookahead else None
 
 
 def passable_mask(doors: list[WorldDoor], info: MapInfo) -> npt.NDArray[np.bool_]:
