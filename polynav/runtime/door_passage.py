@@ -10,7 +10,9 @@ after the navigation stack. The rule, as one robot keeps it:
    (:meth:`~polynav.robot.door.Door.open`): it *controls* the door (Yunji ``01030``).
 2. If the door is not granted and open by the time the robot is ``stop_distance`` from the
    leaf, the robot stops there (its goal is paused) and waits; once it is, it goes on.
-3. Once the door is neither ahead nor under it (``clearance`` beyond the leaf), the robot lets
+3. Once the door is neither ahead nor under it (``clearance`` beyond the leaf), or while the
+   goal stands paused for something else (the fleet's traffic rule: holding a door while
+   waiting for a zone whose holder waits for the door would deadlock), the robot lets
    go of it (:meth:`~polynav.robot.door.Door.close`: it closes when no one else holds it) and
    gives the lease back (``01031``). A goal that ends lets go of every door it held.
 4. No door is held for ever: one held ``max_control`` seconds is let go by force (``01032``), so
@@ -66,6 +68,8 @@ class DoorConfig:
         open_timeout: a door not open this long after it was granted and asked open fails
             the goal [s] (the wait for the grant is bounded by the lease book).
         max_control: a door held this long is let go by force [s].
+        keep_margin: a door asked for stays asked for until it is this much beyond
+            ``lookahead`` [m] (re-plans a little longer do not give it back).
     """
 
     lookahead: float = 4.0
@@ -73,9 +77,11 @@ class DoorConfig:
     clearance: float = 0.8
     open_timeout: float = 30.0
     max_control: float = 90.0
+    keep_margin: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("lookahead", "stop_distance", "clearance", "open_timeout", "max_control"):
+        for name in ("lookahead", "stop_distance", "clearance", "open_timeout", "max_control",
+                     "keep_margin"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
@@ -214,10 +220,22 @@ class DoorPassage:
             self._we_paused = False
         pose = robot._status_pose()
         ahead = self._ahead(navigator.path, pose, doors)
-        needed = {name for name, _ in ahead}
-        needed |= {name for name in self._using if name in doors
-                   and doors[name].state().spec.distance_to(pose.x, pose.y)
-                   < self.config.clearance}
+        in_doorway = {name for name in doors
+                      if doors[name].state().spec.distance_to(pose.x, pose.y)
+                      < self.config.clearance}
+        # A goal paused for something else (the traffic rule's zone, an operator) holds no
+        # door ahead while it waits: holding one while waiting for a zone whose holder waits
+        # for that door would be the hold-and-wait deadlock. It asks again once resumed.
+        waiting_elsewhere = (navigator.state is NavigationState.PAUSED
+                             and not self._we_paused)
+        needed = set() if waiting_elsewhere else {name for name, _ in ahead}
+        needed |= {name for name in self._using if name in in_doorway}
+        if navigator.path is None and not waiting_elsewhere:
+            # Between plans (blocked, re-planning) the way is not known: a door asked for
+            # and still within reach is kept rather than given back and asked for again.
+            reach = self.config.lookahead + self.config.keep_margin
+            needed |= {name for name in self._using if name in doors
+                       and doors[name].state().spec.distance_to(pose.x, pose.y) <= reach}
         needed -= set(self._forced)
         for name in list(self._using):
             if name not in needed:
@@ -339,7 +357,11 @@ class DoorPassage:
         found: list[tuple[str, float]] = []
         for name, door in doors.items():
             spec = door.state().spec
-            distance = _crossing(points, k, spec, self.config.lookahead, pose)
+            # A door already asked for stays asked for a little beyond the lookahead, so a
+            # re-plan a few centimetres longer does not give it back and ask again.
+            reach = self.config.lookahead + (self.config.keep_margin if name in self._using
+                                             else 0.0)
+            distance = _crossing(points, k, spec, reach, pose)
             if distance is not None:
                 found.append((name, distance))
         found.sort(key=lambda item: item[1])
