@@ -72,7 +72,7 @@ def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
         for door in driver.sim.scene.doors.values():
             door.open("bench")
         # Warm the kernels and the tracker before timing: start-up is not the steady state.
-        driver.run(max(1.0, *(d.spec.open_time for d in driver.sim.scene.doors.values())))
+        driver.run(max([1.0, *(d.spec.open_time for d in driver.sim.scene.doors.values())]))
         sim_start, wall_start = driver.now, time.perf_counter()
         for point in floor.points:
             goals += 1
