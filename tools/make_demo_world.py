@@ -505,7 +505,20 @@ def world_document(floors: list[Floor]) -> dict[str, object]:
                   "pose": {"x": start.x, "y": start.y, "theta": start.theta}},
         "floors": docs,
         "lifts": lift_cars(floors),
+        "doors": DOORS,
     }
+
+
+# Electronic doors and gates: two fire doors across floor 2's corridor (between the rooms'
+# doors), and a security gate across the mouth of floor 1's lobby onto the main corridor.
+DOORS: list[dict[str, object]] = [
+    {"name": "fire_door_west", "floor": "floor2", "x1": 15.3, "y1": 10.9, "x2": 15.3,
+     "y2": 13.0, "kind": "door", "open_time": 2.0, "close_time": 2.0},
+    {"name": "fire_door_east", "floor": "floor2", "x1": 28.2, "y1": 10.9, "x2": 28.2,
+     "y2": 13.0, "kind": "door", "open_time": 2.0, "close_time": 2.0},
+    {"name": "lobby_gate", "floor": "floor1", "x1": 10.05, "y1": 11.0, "x2": 10.05,
+     "y2": 13.0, "kind": "gate", "open_time": 1.5, "close_time": 1.5},
+]
 
 
 HEADER = """\

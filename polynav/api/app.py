@@ -12,6 +12,7 @@ from polynav.api.config import ApiConfig
 from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
     control,
+    doors,
     fleet,
     keepouts,
     lifts,
@@ -39,7 +40,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, lifts, tasks, schedules, ws, keepouts, paths, scene,
+    fleet, lifts, doors, tasks, schedules, ws, keepouts, paths, scene,
 )
 
 

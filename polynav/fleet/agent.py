@@ -22,7 +22,8 @@ turns them into runtime commands and reports back:
   asked for before the robot gets to it, the robot stops short of it until it is granted, holds
   the lease (renewed) while it is inside, and gives it back once it has left;
 - the robot's **lift sessions** (:mod:`polynav.fleet.lift_sessions`) are asked for the same way,
-  as leases on ``lift:<car>``.
+  as leases on ``lift:<car>``, and so are the doors on its way (``door:<name>``,
+  :mod:`polynav.runtime.door_passage`).
 
 The agent runs on the robot's loop, between physics steps (:meth:`RobotAgent.tick`), so its
 commands to the runtime run at once and never wait.
@@ -148,8 +149,13 @@ class RobotAgent:
                                    traffic or TrafficConfig(), self._send_zone_request)
         # Lift sessions are leases on lift:<car> in the same book, asked for the same way.
         self.lift_sessions = FleetLiftSessions(serial_number, self._send_zone_request)
+        # Doors on the robot's way are leases on door:<name>, the same way (several robots
+        # through one door take turns).
+        self.door_leases = FleetLiftSessions(serial_number, self._send_zone_request,
+                                             kind="door")
         if fleet_leases:
             runtime.use_lift_sessions(self.lift_sessions)
+            runtime.doors_rule.use_leases(self.door_leases)
         self._state_period = state_period
         self._visualization_period = visualization_period
         self._next_state = runtime.now()
@@ -211,6 +217,7 @@ class RobotAgent:
             if isinstance(response, m.ZoneResponse):
                 self.traffic.on_response(response)
                 self.lift_sessions.on_response(response)
+                self.door_leases.on_response(response)
             else:
                 log.warning("%s: a zone response not used: %s", self.serial_number, response)
         for actions in self._actions.drain():

@@ -41,10 +41,13 @@ class FleetLiftSessions:
     Args:
         holder: the robot's id.
         send: publishes a zone request (the agent's).
+        kind: the devices: ``lift`` cars, or ``door`` s (leases on ``door:<name>``, asked for
+            and renewed the same way).
     """
 
-    def __init__(self, holder: str, send: SendRequest) -> None:
+    def __init__(self, holder: str, send: SendRequest, *, kind: str = "lift") -> None:
         self.holder = holder
+        self.kind = kind
         self._send = send
         self._sessions: dict[str, _Session] = {}
         self._ids = itertools.count(1)
@@ -53,15 +56,15 @@ class FleetLiftSessions:
     def request(self, car: str, now: float) -> None:
         session = self._sessions.get(car)
         if session is None or session.rejected:
-            session = _Session(f"{self.holder}-lift-{next(self._ids)}")
+            session = _Session(f"{self.holder}-{self.kind}-{next(self._ids)}")
             self._sessions[car] = session
-            self._send(session.request_id, resource(car), m.ZoneRequestType.ACCESS,
+            self._send(session.request_id, resource(car, self.kind), m.ZoneRequestType.ACCESS,
                        SESSION_LEASE)
         elif session.granted and session.expiry - now < RENEW_BEFORE and (
                 now - session.renew_sent > 1.0):
             session.renew_sent = now
-            self._send(session.request_id, resource(car), m.ZoneRequestType.ACCESS,
-                       SESSION_LEASE)
+            self._send(session.request_id, resource(car, self.kind),
+                       m.ZoneRequestType.ACCESS, SESSION_LEASE)
 
     def resend(self) -> None:
         """Ask again for every session asked for or held (same request ids), after the link to
@@ -82,11 +85,12 @@ class FleetLiftSessions:
     def release(self, car: str, now: float) -> None:
         session = self._sessions.pop(car, None)
         if session is not None:
-            self._send(session.request_id, resource(car), m.ZoneRequestType.RELEASE, 0.0)
+            self._send(session.request_id, resource(car, self.kind), m.ZoneRequestType.RELEASE,
+                       0.0)
 
     def on_response(self, response: m.ZoneResponse) -> None:
         """Take in the fleet's answer (answers about other zones are not ours: ignored)."""
-        if not response.zone_id.startswith("lift:"):
+        if not response.zone_id.startswith(f"{self.kind}:"):
             return
         car = response.zone_id.split(":", 1)[1]
         session = self._sessions.get(car)

@@ -278,6 +278,13 @@ class Costmap:
             log.info("costmap: obstacles cleared within %.2f m of (%.2f, %.2f)", radius, x, y)
             self.update()
 
+    def set_passable(self, passable: npt.NDArray[np.bool_] | None) -> None:
+        """Cells ``[iy, ix]`` the lidar's obstacles never take (doors the robot opens on its
+        way, :meth:`~polynav.maps.layers.obstacle.ObstacleLayer.set_passable`); ``None``:
+        none. The map and keepouts still count there."""
+        if self._obstacle is not None and self._obstacle.set_passable(passable) is not None:
+            self.update()
+
     def set_keepouts(self, keepouts: Sequence[Keepout]) -> None:
         """Replace every keepout; only the cells that changed (plus inflation) are redrawn."""
         self._keepout.set_keepouts(keepouts)

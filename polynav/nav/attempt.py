@@ -38,6 +38,7 @@ class FailureReason(enum.Enum):
     DOCK_FAILED = "dock failed"
     BLOCKED_BY_PERSON = "blocked by person"
     NOT_LOCALIZED = "not localized"
+    DOOR_CLOSED = "door closed"
 
 
 class Phase(enum.Enum):

@@ -288,6 +288,14 @@ class Navigator(ChargerPhases, PlanFailures):
         self._emit(events.NavigationResumed(now, self._require()))
         return True
 
+    def abort(self, reason: FailureReason, message: str, now: float) -> bool:
+        """End the attempt as failed for a cause the navigator cannot see (a door on the path
+        that never opened); ``False`` if nothing is running or paused."""
+        if self.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
+            return False
+        self._fail(reason, message, now)
+        return True
+
     def cancel(self, now: float) -> bool:
         """End the attempt as canceled; ``False`` if nothing is running or paused."""
         if self.state not in (NavigationState.RUNNING, NavigationState.PAUSED):

@@ -21,9 +21,10 @@ SESSION_LEASE = 60.0
 """How long [s] one grant or renewal of a session lasts; renewed while held."""
 
 
-def resource(car: str) -> str:
-    """The lease book's name of car ``car``'s session."""
-    return f"lift:{car}"
+def resource(car: str, kind: str = "lift") -> str:
+    """The lease book's name of car ``car``'s session (of device ``car`` of ``kind``: a door's
+    lease is ``door:<name>``)."""
+    return f"{kind}:{car}"
 
 
 class LiftSessions(Protocol):
@@ -48,14 +49,17 @@ class LiftSessions(Protocol):
 
 
 class LocalLiftSessions:
-    """Sessions from a lease book of the robot's own (one robot alone in its building)."""
+    """Sessions from a lease book of the robot's own (one robot alone in its building).
+    ``kind`` names the devices: ``lift`` cars, or ``door`` s lent the same way."""
 
-    def __init__(self, holder: str, book: LeaseBook | None = None) -> None:
+    def __init__(self, holder: str, book: LeaseBook | None = None, *,
+                 kind: str = "lift") -> None:
         self.holder = holder
+        self.kind = kind
         self._book = book or LeaseBook(LeaseBookConfig())
 
     def request(self, car: str, now: float) -> None:
-        name = resource(car)
+        name = resource(car, self.kind)
         lease = self._book.lease(name, self.holder)
         if lease is None:
             if self._book.position(name, self.holder) is None:
@@ -65,12 +69,12 @@ class LocalLiftSessions:
 
     def granted(self, car: str, now: float) -> bool:
         self._book.tick(now)
-        return self._book.lease(resource(car), self.holder) is not None
+        return self._book.lease(resource(car, self.kind), self.holder) is not None
 
     def rejected(self, car: str) -> bool:
-        name = resource(car)
+        name = resource(car, self.kind)
         return (self._book.lease(name, self.holder) is None
                 and self._book.position(name, self.holder) is None)
 
     def release(self, car: str, now: float) -> None:
-        self._book.release(resource(car), self.holder, now=now)
+        self._book.release(resource(car, self.kind), self.holder, now=now)

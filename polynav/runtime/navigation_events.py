@@ -15,7 +15,7 @@ from __future__ import annotations
 import logging
 
 from polynav.nav import events as nav_events
-from polynav.nav.attempt import NavigationAttempt
+from polynav.nav.attempt import FailureReason, NavigationAttempt
 from polynav.runtime import events
 
 log = logging.getLogger(__name__)
@@ -50,7 +50,7 @@ def translate(
             position_uncertainty=None if known is None else float(known.position),
             heading_uncertainty=None if known is None else float(known.heading)))
     elif isinstance(event, nav_events.NavigationFailed):
-        reason = attempt.reason.value if attempt.reason else (attempt.message or "unknown")
+        reason = failure_text(attempt) or "unknown"
         out.append(
             events.NavigationFailed(stamp, attempt_id, reason, distance, attempt.plans > 0)
         )
@@ -89,6 +89,17 @@ _SIMPLE: dict[type[nav_events.NavigationEvent], type[events.AttemptEvent]] = {
     nav_events.DockingStarted: events.DockingStarted,
     nav_events.DockingSucceeded: events.DockingSucceeded,
 }
+
+
+def failure_text(attempt: NavigationAttempt) -> str | None:
+    """Why ``attempt`` failed, as the status and the ``navigation_failed`` event say it: the
+    :class:`~polynav.nav.attempt.FailureReason` value, with what it names where the value
+    alone would not tell which (``door closed: door fire_door_west did not open ...``)."""
+    if attempt.reason is None:
+        return attempt.message or None
+    if attempt.reason is FailureReason.DOOR_CLOSED and attempt.message:
+        return f"{attempt.reason.value}: {attempt.message}"
+    return attempt.reason.value
 
 
 class AttemptBook:

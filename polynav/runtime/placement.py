@@ -21,6 +21,7 @@ from typing import Protocol
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
+from polynav.robot.door import Door
 from polynav.robot.lift import Lift
 from polynav.robot.sim.simulation import Simulation
 from polynav.site import Point, PointKind
@@ -59,6 +60,11 @@ class Placement(Protocol):
     @property
     def lifts(self) -> Mapping[str, Lift]:
         """The building's lift cars this robot can call, by name."""
+        ...
+
+    @property
+    def doors(self) -> Mapping[str, Door]:
+        """The building's electronic doors and gates this robot can open, by name."""
         ...
 
     def true_pose(self) -> Pose2D | None:
@@ -120,6 +126,10 @@ class SimulatedPlacement:
     def lifts(self) -> Mapping[str, Lift]:
         return self._sim.scene.lifts
 
+    @property
+    def doors(self) -> Mapping[str, Door]:
+        return self._sim.scene.doors
+
     def true_pose(self) -> Pose2D | None:
         return self._sim.true_pose
 
@@ -163,6 +173,10 @@ class ReportedPlacement:
     @property
     def lifts(self) -> Mapping[str, Lift]:
         return {}  # a real site's lift controllers are not wired to a bridged robot yet
+
+    @property
+    def doors(self) -> Mapping[str, Door]:
+        return {}  # nor its door controllers
 
     def true_pose(self) -> Pose2D | None:
         return None

@@ -70,11 +70,14 @@ from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
 from polynav.runtime.direct_motion import DirectMotion
+from polynav.runtime.door_commands import DoorCommands
+from polynav.runtime.door_passage import DoorPassage
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.exploration import Exploration
 from polynav.runtime.goal_commands import GoalCommands
 from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.runtime.lift_commands import LiftCommands
+from polynav.runtime.lift_sessions import LocalLiftSessions
 from polynav.runtime.loop import CommandLoop
 from polynav.runtime.map_exchange import MapExchange
 from polynav.runtime.mapless_commands import MaplessCommands
@@ -106,8 +109,8 @@ _EPS = 1e-9
 
 
 class RobotRuntime(
-    NavigationCommands, GoalCommands, LiftCommands, MotionCommands, MappingCommands,
-    MaplessCommands, StatusReport,
+    NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
+    MappingCommands, MaplessCommands, StatusReport,
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
@@ -170,6 +173,10 @@ class RobotRuntime(
         self._lift_sessions = None
         self._lift_hold = None
         self.lift_waits = []
+        # Doors on the way (door_passage): a lone robot lends itself doors from its own book;
+        # in a building the fleet's agent puts in its leases.
+        self.doors_rule = DoorPassage(self, lambda: self._place.doors,
+                                      LocalLiftSessions(self._place.name, kind="door"))
         # Timing.
         self._control_period = 1.0 / self.config.control_rate
         self._next_control = self._clock.now()
@@ -475,6 +482,7 @@ class RobotRuntime(
             stack = self._stack  # a lift ride switches maps: a new stack
         self._hold_tick(now)
         self._no_entry.tick(now, stack, self._attempts.attempt_id)
+        self.doors_rule.tick(now)
         explored = self._map_tick(now, estop)
         override = self._motion.override(now, estop, self._free_ahead)
         commanded = Twist()

@@ -13,6 +13,7 @@ from polynav.geometry import Pose2D
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_status import MappingStatus
+from polynav.runtime.navigation_events import failure_text
 from polynav.runtime.status import StatusSnapshot
 
 
@@ -69,7 +70,8 @@ class StatusReport(RuntimeParts):
             attempt_id=attempts.attempt_id,
             goal=attempt.goal if attempt is not None else None,
             goal_point=attempts.attempt_point if attempt is not None else None,
-            reason=attempt.reason.value if attempt is not None and attempt.reason else None,
+            reason=(failure_text(attempt) if attempt is not None and attempt.reason
+                    else None),
             distance_remaining=attempt.distance_remaining if attempt is not None else None,
             retries=attempt.retries if attempt is not None else 0,
             phase=attempt.phase.value if attempt is not None else None,

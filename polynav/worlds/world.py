@@ -4,17 +4,19 @@ A :class:`World` is what the simulator treats as reality. Each :class:`WorldFloo
 ground-truth occupancy :class:`~polynav.maps.map.Map` (the lidar casts its rays into it and the
 robot collides with it), the floor's named :class:`~polynav.site.Point` s, the lift shaft that
 joins the floors, and the routes the floor's people walk. The world's :class:`LiftCar` s say which
-floors each car serves, where its points are and how fast it moves. The same map also serves as the
+floors each car serves, where its points are and how fast it moves; its :class:`WorldDoor` s are
+the electronic doors and gates robots open on their way. The same map also serves as the
 navigation map of the demo site, as if it had been surveyed perfectly.
 """
 
 from __future__ import annotations
 
+import enum
 import logging
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
@@ -179,6 +181,93 @@ class LiftCar:
             raise InvalidRequest("capacity", f"must be at least 1, got {self.capacity}")
 
 
+class DoorKind(enum.Enum):
+    """What closes a passage: a hinged or sliding ``door``, or a ``gate`` (a turnstile or a
+    barrier across a lobby). Both open and close alike; the kind is for people and dialects."""
+
+    DOOR = "door"
+    GATE = "gate"
+
+
+DOOR_CONTROLLERS = ("simulated",)
+"""Controllers a world file may name for a door: the simulator's (a real site's controllers
+go behind :class:`polynav.robot.door.Door` in its own backend)."""
+
+
+@dataclass(frozen=True, slots=True)
+class WorldDoor:
+    """An electronic door or gate on one floor: a segment the robot crosses, closed by a leaf.
+
+    Closed, its leaf stands on the segment (the lidar sees it, a body collides with it); open,
+    the passage is free. Routes may cross it: the robot opens it on the way (see
+    :mod:`polynav.runtime.door_passage`).
+
+    Attributes:
+        name: the door's id; the lease book's resource is ``door:<name>``.
+        floor: the floor it is on.
+        x1, y1, x2, y2: the ends of the leaf's segment [m], world frame.
+        kind: door or gate.
+        open_time: how long it takes to open [s].
+        close_time: how long it takes to close [s].
+        controller: what drives it (``simulated``).
+    """
+
+    name: str
+    floor: str
+    x1: float
+    y1: float
+    x2: float
+    y2: float
+    kind: DoorKind = DoorKind.DOOR
+    open_time: float = 2.0
+    close_time: float = 2.0
+    controller: str = "simulated"
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            raise InvalidRequest("name", "a door needs a name")
+        if not self.floor:
+            raise InvalidRequest("floor", f"door {self.name!r} is on no floor")
+        if not self.width > 0.0:
+            raise InvalidRequest("width", f"door {self.name!r}: must be > 0, got {self.width}")
+        for key in ("open_time", "close_time"):
+            if not getattr(self, key) > 0.0:
+                raise InvalidRequest(key, f"must be > 0, got {getattr(self, key)}")
+        if self.controller not in DOOR_CONTROLLERS:
+            raise InvalidRequest("controller", f"{self.controller!r} is not one of "
+                                               f"{', '.join(DOOR_CONTROLLERS)}")
+
+    @classmethod
+    def across(cls, name: str, floor: str, x: float, y: float, theta: float, width: float,
+               **kwargs: Any) -> WorldDoor:
+        """The door whose centre is at (x, y) and which is crossed heading ``theta`` [rad]:
+        its segment, ``width`` long, stands across that heading.
+
+        Raises:
+            InvalidRequest: ``width`` is not > 0 (or another field is invalid).
+        """
+        if not width > 0.0:
+            raise InvalidRequest("width", f"door {name!r}: must be > 0, got {width}")
+        dx, dy = -math.sin(theta) * width / 2.0, math.cos(theta) * width / 2.0
+        return cls(name, floor, x - dx, y - dy, x + dx, y + dy, **kwargs)
+
+    @property
+    def width(self) -> float:
+        """The clear width of the passage [m]."""
+        return math.hypot(self.x2 - self.x1, self.y2 - self.y1)
+
+    @property
+    def centre(self) -> tuple[float, float]:
+        return (0.5 * (self.x1 + self.x2), 0.5 * (self.y1 + self.y2))
+
+    def distance_to(self, x: float, y: float) -> float:
+        """Distance [m] from world point (x, y) to the leaf's segment."""
+        ex, ey = self.x2 - self.x1, self.y2 - self.y1
+        t = ((x - self.x1) * ex + (y - self.y1) * ey) / (ex * ex + ey * ey)
+        t = min(1.0, max(0.0, t))
+        return math.hypot(x - (self.x1 + t * ex), y - (self.y1 + t * ey))
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class WorldFloor:
     """One floor of the world: ground truth, named points, lift shaft and walkers.
@@ -226,6 +315,16 @@ class World:
     """The robot the world is for (``robot:`` in world.yaml); ``None``: whichever is given."""
     lifts: tuple[LiftCar, ...] = ()
     """The building's lift cars (``lifts:`` in world.yaml)."""
+    doors: tuple[WorldDoor, ...] = ()
+    """The building's electronic doors and gates (``doors:`` in world.yaml)."""
+
+    def door(self, name: str) -> WorldDoor:
+        """The door called ``name``.
+
+        Raises:
+            InvalidRequest: no door has that name.
+        """
+        return _named(self.doors, name, "door", f"in world {self.name!r}")
 
     def lift(self, name: str) -> LiftCar:
         """The lift car called ``name``.

@@ -25,6 +25,10 @@ The layout, every length in metres and every angle in radians::
          door_width: 1.2, floors: [floor1, floor2], outside: lift_1_outside,
          inside: lift_1_inside, waiting: {x: 39.0, y: 16.0}, speed: 1.0, floor_height: 3.5,
          door_time: 2.5, capacity: 2}
+    doors:                          # optional: electronic doors and gates
+      - {name: fire_door_1, floor: floor2, x1: 15.3, y1: 10.95, x2: 15.3, y2: 13.05,
+         kind: door, open_time: 2.0, close_time: 2.0, controller: simulated}
+      - {name: lobby_gate, floor: floor1, x: 10.0, y: 12.0, theta: 0.0, width: 2.0, kind: gate}
 
 ``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
 ``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``,
@@ -32,7 +36,10 @@ The layout, every length in metres and every angle in radians::
 ``frequency`` in MHz, ``security`` and ``password`` empty for an open network) may be left out.
 A lift car's ``outside`` and ``inside`` name points present on every floor it serves (the
 inside one in its shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`` and
-``capacity`` may be left out. Ground truth is loaded with
+``capacity`` may be left out. A door's place is its leaf's segment (``x1, y1, x2, y2``) or its
+centre, the heading it is crossed along and its width (``x, y, theta, width``); ``kind``
+(``door``, the default, or ``gate``), ``open_time``, ``close_time`` [s] and ``controller``
+(``simulated``) may be left out. Ground truth is loaded with
 :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a simulated floor.
 """
 
@@ -53,11 +60,13 @@ from polynav.site import Point, PointKind
 from polynav.worlds.errors import WorldFormatError
 from polynav.worlds.world import (
     AccessPoint,
+    DoorKind,
     LiftCar,
     LiftShaft,
     NoEntrySign,
     PersonRoute,
     World,
+    WorldDoor,
     WorldFloor,
 )
 
@@ -114,8 +123,13 @@ def read_world(folder: str | Path) -> World:
     car_names = [c.name for c in lifts]
     if len(set(car_names)) != len(car_names):
         raise WorldFormatError("lifts", f"lift names repeat: {car_names}")
+    doors = tuple(_door(d, floors, f"doors[{n}]")
+                  for n, d in enumerate(_list(doc.get("doors", []), "doors")))
+    door_names = [d.name for d in doors]
+    if len(set(door_names)) != len(door_names):
+        raise WorldFormatError("doors", f"door names repeat: {door_names}")
     world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose,
-                  robot=robot, lifts=lifts)
+                  robot=robot, lifts=lifts, doors=doors)
     log.info("loaded world %r from %s: floors %s", name, root, names)
     return world
 
@@ -256,6 +270,42 @@ def _car(raw: object, floors: tuple[WorldFloor, ...], key: str) -> LiftCar:
             speed=_num(doc, "speed", key, default=1.0),
             floor_height=_num(doc, "floor_height", key, default=3.5),
             door_time=_num(doc, "door_time", key, default=2.5), capacity=capacity)
+    except InvalidRequest as exc:
+        raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
+
+
+def _door(raw: object, floors: tuple[WorldFloor, ...], key: str) -> WorldDoor:
+    """A ``doors:`` entry: ``name``, ``floor``, its place (a segment ``x1, y1, x2, y2`` or
+    ``x, y, theta, width``), and optionally ``kind``, ``open_time``, ``close_time``,
+    ``controller``."""
+    doc = _mapping(raw, key)
+    name = _str(doc, "name", f"{key}.name")
+    floor = doc.get("floor")
+    if floor is None:
+        raise WorldFormatError(f"{key}.floor", f"door {name!r} is on no floor")
+    names = [f.name for f in floors]
+    if floor not in names:
+        raise WorldFormatError(f"{key}.floor", f"door {name!r}: no floor {floor!r} "
+                                               f"(floors: {names})")
+    kind_value = doc.get("kind", DoorKind.DOOR.value)
+    try:
+        kind = DoorKind(kind_value)
+    except ValueError:
+        raise WorldFormatError(f"{key}.kind", f"{kind_value!r} is not one of door, gate"
+                               ) from None
+    controller = doc.get("controller", "simulated")
+    if not isinstance(controller, str):
+        raise WorldFormatError(f"{key}.controller", f"expected a name, got {controller!r}")
+    timing = {"open_time": _num(doc, "open_time", key, default=2.0),
+              "close_time": _num(doc, "close_time", key, default=2.0)}
+    try:
+        if "x1" in doc:
+            return WorldDoor(name, floor, _num(doc, "x1", key), _num(doc, "y1", key),
+                             _num(doc, "x2", key), _num(doc, "y2", key), kind=kind,
+                             controller=controller, **timing)
+        return WorldDoor.across(name, floor, _num(doc, "x", key), _num(doc, "y", key),
+                                _num(doc, "theta", key, default=0.0), _num(doc, "width", key),
+                                kind=kind, controller=controller, **timing)
     except InvalidRequest as exc:
         raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
 

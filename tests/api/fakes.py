@@ -19,8 +19,10 @@ from polynav.geometry import Pose2D
 from polynav.mapping.relocalization import Relocalization
 from polynav.maps.map import Map, MapInfo
 from polynav.nav.attempt import GoalOptions
+from polynav.robot.door import OPERATOR, DoorStatus
 from polynav.robot.lift import Lift, LiftMode, LiftRequest
 from polynav.robot.profile import load_profile
+from polynav.robot.sim.door import SimDoor
 from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
 from polynav.runtime.event_bus import EventBus
@@ -112,6 +114,11 @@ class FakeRuntime:
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
                      for car in world.lifts}
         self.keepouts_reloaded = 0
+        self.doors = {  # real simulated doors on copies of the floors' grids
+            d.name: SimDoor(d, np.ascontiguousarray(world.floor(d.floor).map.occupied()),
+                            world.floor(d.floor).map.info, lambda door, margin: False,
+                            lambda: self.now)
+            for d in world.doors}
         self.tasks = TaskCommands(cast(RobotRuntime, _TaskHost(self)))
         self.tasks.load()
 
@@ -132,6 +139,23 @@ class FakeRuntime:
         self.lift(car)
         self.cars[car].set_mode(mode)
 
+    # -- doors (real simulated doors, stepped by advance)
+    def door_states(self) -> list[DoorStatus]:
+        return [door.state() for _, door in sorted(self.doors.items())]
+
+    def _door(self, name: str) -> SimDoor:
+        if name not in self.doors:
+            raise NotFound("door", name)
+        return self.doors[name]
+
+    def open_door(self, name: str) -> DoorStatus:
+        self._door(name).open(OPERATOR)
+        return self._door(name).state()
+
+    def close_door(self, name: str) -> DoorStatus:
+        self._door(name).close(OPERATOR)
+        return self._door(name).state()
+
     # -- helpers
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.bus.publish(event)
@@ -146,6 +170,8 @@ class FakeRuntime:
             for _ in range(round(seconds / 0.02)):
                 for car in self.cars.values():
                     car.step(0.02)
+                for door in self.doors.values():
+                    door.step(0.02)
             self.now += seconds
             if self.nav_state == "running" and self.goal is not None:
                 self.pose = self.goal

@@ -185,6 +185,7 @@ class ObstacleLayer:
         self._protect = np.zeros((info.height, info.width), dtype=np.uint8)
         self._pending: Window | None = None
         self._touched: Window | None = None
+        self._passable: npt.NDArray[np.bool_] | None = None
 
     @property
     def grid(self) -> npt.NDArray[np.uint8]:
@@ -213,6 +214,8 @@ class ObstacleLayer:
         with np.errstate(invalid="ignore"):
             valid = np.isfinite(ranges) & (ranges >= scan.range_min) & (ranges <= scan.range_max)
         mark = valid & (ranges < self._obstacle_max_range)
+        if self._passable is not None:
+            mark &= ~self._ends_in(self._passable, lx, ly, angles, ranges, valid)
         no_return = min(self._raytrace_max_range, scan.range_max)
         clear_len = np.where(
             valid,
@@ -238,6 +241,41 @@ class ObstacleLayer:
         self._pending = win.union(self._pending, changed)
         self._touched = win.union(self._touched, changed)
         return changed
+
+    def set_passable(self, passable: npt.NDArray[np.bool_] | None) -> Window | None:
+        """Cells ``[iy, ix]`` the lidar never marks (``None``: none): the leaves of doors the
+        robot opens on its way. A closed door is passable to the planner, or no route would
+        cross it; the robot waits before it until it is open (:mod:`polynav.runtime.
+        door_passage`). Marks already in those cells are forgotten. Returns the window of
+        cells dirtied (``None`` if none)."""
+        if passable is not None and passable.shape != self._grid.shape:
+            raise ValueError(f"passable mask {passable.shape} != grid {self._grid.shape}")
+        self._passable = passable
+        if passable is None:
+            return None
+        forget = passable & (self._grid == costs.LETHAL)
+        if not forget.any():
+            return None
+        self._grid[forget] = costs.UNKNOWN
+        iy, ix = np.nonzero(forget)
+        window = (int(ix.min()), int(iy.min()), int(ix.max()) + 1, int(iy.max()) + 1)
+        self._pending = win.union(self._pending, window)
+        return window
+
+    def _ends_in(self, mask: npt.NDArray[np.bool_], lx: float, ly: float,
+                 angles: npt.NDArray[np.float64], ranges: npt.NDArray[np.float64],
+                 valid: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
+        """Per beam: its return lies in a cell of ``mask`` (grid frame, metres from the
+        grid's corner)."""
+        res = self._info.resolution
+        r = np.where(valid, ranges, 0.0)
+        ix = np.floor((lx + r * np.cos(angles)) / res).astype(np.int64)
+        iy = np.floor((ly + r * np.sin(angles)) / res).astype(np.int64)
+        height, width = mask.shape
+        inside = valid & (ix >= 0) & (iy >= 0) & (ix < width) & (iy < height)
+        out = np.zeros(len(ranges), dtype=np.bool_)
+        out[inside] = mask[iy[inside], ix[inside]]
+        return out
 
     def clear(self) -> None:
         """Forget every observation (the "clear costmap" recovery)."""

@@ -21,6 +21,11 @@ from collections.abc import Callable
 
 from polynav.protocols.yunji.messages import Notification
 from polynav.runtime import events
+from polynav.runtime.door_passage import (
+    DoorControlFinished,
+    DoorControlForced,
+    DoorControlStarted,
+)
 from polynav.runtime.lift_events import HELD, LiftPhase, LiftPhaseChanged
 
 log = logging.getLogger(__name__)
@@ -119,9 +124,6 @@ NOT_PRODUCED: dict[str, str] = {
     "01029": "polynav's bases (simulated and bridged) are differential: there is no lateral "
              "(sideways) mode to switch to, so the switch can neither be made nor fail "
              "(docs/decisions.md)",
-    "01030": "polynav controls no electronic doors or gates",
-    "01031": "polynav controls no electronic doors or gates",
-    "01032": "polynav controls no electronic doors or gates",
     "01050": _NO_CONTAINERS,
     "01051": _NO_CONTAINERS,
     "01052": _NO_CONTAINERS,
@@ -150,6 +152,7 @@ PRODUCED: frozenset[str] = frozenset({
     "04000", "04001", "04002", "04010", "04011", "04013", "04020", "04021", "04023",
     "04030", "04031", "04032", "04033", "04040", "04041", "04050", "04051", "04052", "04060",
     "04061", "04062", "04070", "04071",
+    "01030", "01031", "01032",  # doors and gates on the way (runtime.door_passage)
 })
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
@@ -287,6 +290,13 @@ class NotificationMapper:
             return [notification(_STATUS[type(event)])]
         if isinstance(event, LiftPhaseChanged):
             return [notification(code) for code in self._lift(event)]
+        if isinstance(event, DoorControlStarted | DoorControlFinished):
+            # §3.10.4: passing a gate or electronic door, 01030 -> 01031 (with the move's
+            # target, §A-N2 L1017), or 01032 when held too long and released by force.
+            code = "01030" if isinstance(event, DoorControlStarted) else "01031"
+            return [notification(code, {"target": self._target(event.attempt_id)})]
+        if isinstance(event, DoorControlForced):
+            return [notification("01032")]
         return self._status(event)
 
     def _lift(self, event: LiftPhaseChanged) -> list[str]:

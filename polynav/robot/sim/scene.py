@@ -26,7 +26,8 @@ Each collision between two robots is also kept as a :class:`RobotContact` naming
 The building's lift cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one per ``lifts:``
 entry of the world) are stepped first; a car that arrives at a floor carries the bodies standing
 in its shaft there (each keeps its pose: the shafts coincide), so a robot rides by standing in
-the car.
+the car. The world's doors (:class:`~polynav.robot.sim.door.SimDoor`) are stepped next: a door
+not fully open has its leaf in its floor's ground truth.
 """
 
 from __future__ import annotations
@@ -45,11 +46,12 @@ from polynav.errors import InvalidRequest
 from polynav.maps.map import MapInfo
 from polynav.robot.sim.charger import SimCharger
 from polynav.robot.sim.config import SimConfig
+from polynav.robot.sim.door import SimDoor
 from polynav.robot.sim.lift_car import Arrival, SimLiftCar
 from polynav.robot.sim.people import Person, as_circles
 from polynav.robot.sim.remote_bodies import RemoteBodies
 from polynav.site import PointKind
-from polynav.worlds.world import World, WorldFloor
+from polynav.worlds.world import World, WorldDoor, WorldFloor
 
 if TYPE_CHECKING:
     from polynav.robot.sim.simulation import Simulation
@@ -111,6 +113,26 @@ class Scene:
             car.name: SimLiftCar(car, levels, self._rider_counter(car.name), self.clock.now)
             for car in world.lifts
         }
+        self.doors: dict[str, SimDoor] = {
+            door.name: SimDoor(door, self.floors[door.floor].occupied,
+                               self.floors[door.floor].info, self._door_occupied,
+                               self.clock.now)
+            for door in world.doors
+        }
+
+    def _door_occupied(self, door: WorldDoor, margin: float) -> bool:
+        """Whether a body or a person stands within ``margin`` [m] of ``door``'s leaf."""
+        for body in self._bodies:
+            pose = body.true_pose
+            if body.floor == door.floor and door.distance_to(pose.x, pose.y) <= (
+                    body.config.robot_radius + margin):
+                return True
+        if self.people_enabled:
+            for person in self.floors[door.floor].people:
+                pose = person.pose
+                if door.distance_to(pose.x, pose.y) <= person.radius + margin:
+                    return True
+        return False
 
     def _rider_counter(self, car: str) -> Callable[[str], int]:
         def count(floor: str) -> int:
@@ -201,6 +223,8 @@ class Scene:
             arrival = car.step(h)
             if arrival is not None:
                 self._carry(arrival)
+        for door in self.doors.values():
+            door.step(h)
         people: dict[str, npt.NDArray[np.float64]] = {}
         if self.people_enabled:
             disks: dict[str, list[tuple[float, float, float]]] = {}

@@ -64,8 +64,13 @@ def _all_invalid(client: Client, cases: dict[str, str]) -> None:
         assert reply["error_message"].startswith(f"{field}: "), reply
 
 
+# The lobby gate lies on the way from floor 1's start to its corridor: passing it sends
+# 01030/01031 between a move's notices (test_door_notices); these tests look at the others.
+DOOR_CODES = ("01030", "01031", "01032")
+
+
 def _codes(notes: list[tuple[str, dict[str, Any]]]) -> list[str]:
-    return [code for code, _ in notes]
+    return [code for code, _ in notes if code not in DOOR_CODES]
 
 
 # -- cruise ------------------------------------------------------------------------------------
@@ -90,7 +95,8 @@ def test_a_cruise_over_three_markers_twice_sends_01101_each_leg_then_01102(
     }
     legs = ["lobby", "front_desk", "corridor_west"] * 2
     assert notes[0] == ("01101", cruise)
-    assert [(code, data.get("target")) for code, data in notes[1:-1]] == [
+    assert [(code, data.get("target")) for code, data in notes[1:-1]
+            if code not in DOOR_CODES] == [
         pair for leg in legs for pair in (("01001", leg), ("01002", leg))
     ]
     assert notes[-1] == ("01102", cruise)

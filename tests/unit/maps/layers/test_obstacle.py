@@ -106,3 +106,22 @@ def test_clear_around_forgets_only_the_marks_near_the_point() -> None:
     assert obstacles.grid[15, 25] == costs.LETHAL
     assert obstacles.update_bounds(Pose2D(), None) == window
     assert obstacles.clear_around(1.0, 0.5, 0.3) is None  # nothing left to forget there
+
+
+def test_passable_cells_are_never_marked_and_forget_their_marks() -> None:
+    obstacles = layer()
+    obstacles.add_scan(Pose2D(0.55, 0.55, 0.0), beam(1.0))
+    assert obstacles.grid[5, 15] == costs.LETHAL
+    door = np.zeros((INFO.height, INFO.width), dtype=np.bool_)
+    door[:, 15] = True  # a door's leaf across the beam
+    assert obstacles.set_passable(door) == (15, 5, 16, 6)
+    assert obstacles.grid[5, 15] == costs.UNKNOWN
+    assert obstacles.update_bounds(Pose2D(), None) == (5, 5, 16, 6)
+    obstacles.add_scan(Pose2D(0.55, 0.55, 0.0), beam(1.0))
+    assert obstacles.grid[5, 15] == costs.UNKNOWN  # the leaf is seen, not kept
+    assert obstacles.grid[5, 5:15].tolist() == [costs.FREE] * 10  # the way to it is cleared
+    other = obstacles.add_scan(Pose2D(0.55, 0.55, 0.0), beam(0.5))
+    assert other is not None and obstacles.grid[5, 10] == costs.LETHAL  # elsewhere: marked
+    assert obstacles.set_passable(None) is None
+    obstacles.add_scan(Pose2D(0.55, 0.55, 0.0), beam(1.0))
+    assert obstacles.grid[5, 15] == costs.LETHAL

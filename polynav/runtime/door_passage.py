@@ -1,0 +1,432 @@
+"""Doors on the robot's way: asked for, opened, waited for, passed and closed behind it.
+
+A part of :class:`~polynav.runtime.robot_runtime.RobotRuntime`, ticked every control period
+after the navigation stack. The rule, as one robot keeps it:
+
+1. While a goal runs, the robot looks ``lookahead`` metres along its planned path. A door of
+   its floor whose leaf the path crosses there is asked for: the lease on ``door:<name>``
+   (a lone robot's own lease book; in a building the fleet's, through VDA 5050 zone requests,
+   so robots coming from both sides go through one at a time). Granted, the robot opens it
+   (:meth:`~polynav.robot.door.Door.open`): it *controls* the door (Yunji ``01030``).
+2. If the door is not granted and open by the time the robot is ``stop_distance`` from the
+   leaf, the robot stops there (its goal is paused) and waits; once it is, it goes on.
+3. Once the door is neither ahead nor under it (``clearance`` beyond the leaf), or while the
+   goal stands paused for something else (the fleet's traffic rule: holding a door while
+   waiting for a zone whose holder waits for the door would deadlock), the robot lets
+   go of it (:meth:`~polynav.robot.door.Door.close`: it closes when no one else holds it) and
+   gives the lease back (``01031``). A goal that ends lets go of every door it held.
+4. No door is held for ever: one held ``max_control`` seconds is let go by force (``01032``), so
+   a robot standing before or in a doorway does not keep a fire door open; it is not asked for
+   again in that goal, which fails if the robot still has to go through (the door named); and
+   no robot waits for ever: a
+   door not open ``open_timeout`` seconds after it was granted and asked open fails the goal with
+   the door named (``door fire_door_west did not open within 30 s (its controller does not
+   answer)``); the wait for the grant is bounded by the lease book (``max_wait``, ``max_hold``).
+
+The planner plans through doors: their leaves are *passable* to the costmap (the lidar's marks
+there are not kept, :meth:`polynav.maps.costmap.Costmap.set_passable`), or no route would ever
+cross a closed door; step 2 is what keeps the robot from driving into one.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import ClassVar, Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from polynav.errors import ConfigError
+from polynav.geometry import Pose2D
+from polynav.maps.map import MapInfo
+from polynav.nav.attempt import FailureReason, NavigationState
+from polynav.nav.stack import NavigationStack
+from polynav.planning.path import Path
+from polynav.robot.door import Door, DoorState
+from polynav.runtime.events import RuntimeEvent
+from polynav.runtime.lift_sessions import LiftSessions
+from polynav.worlds.world import WorldDoor
+
+log = logging.getLogger(__name__)
+
+_KEY = "doors."
+PASSABLE_HALF_WIDTH = 0.1
+"""[m] the lidar marks nothing this close to a door's segment (its leaf and the noise round it)."""
+
+
+@dataclass(frozen=True, slots=True)
+class DoorConfig:
+    """Distances and timings of the door rule.
+
+    Attributes:
+        lookahead: how far along the path a door is asked for and opened [m].
+        stop_distance: a robot whose door is not open stops this far before its leaf [m].
+        clearance: a robot this far past the leaf (or off its path) lets go of it [m].
+        open_timeout: a door not open this long after it was granted and asked open fails
+            the goal [s] (the wait for the grant is bounded by the lease book).
+        max_control: a door held this long is let go by force [s].
+        keep_margin: a door asked for stays asked for until it is this much beyond
+            ``lookahead`` [m] (re-plans a little longer do not give it back).
+    """
+
+    lookahead: float = 4.0
+    stop_distance: float = 0.9
+    clearance: float = 0.8
+    open_timeout: float = 30.0
+    max_control: float = 90.0
+    keep_margin: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("lookahead", "stop_distance", "clearance", "open_timeout", "max_control",
+                     "keep_margin"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        if self.stop_distance >= self.lookahead:
+            raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
+
+
+# -- events -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class DoorControlStarted(RuntimeEvent):
+    """The robot was granted door ``door`` and asked it open, on attempt ``attempt_id``."""
+
+    kind: ClassVar[str] = "door_control_started"
+
+    attempt_id: int
+    door: str
+
+
+@dataclass(frozen=True, slots=True)
+class DoorControlFinished(RuntimeEvent):
+    """The robot let go of door ``door`` (passed it, or its goal ended)."""
+
+    kind: ClassVar[str] = "door_control_finished"
+
+    attempt_id: int
+    door: str
+
+
+@dataclass(frozen=True, slots=True)
+class DoorControlForced(RuntimeEvent):
+    """The robot held door ``door`` ``held`` seconds, too long: it was let go by force."""
+
+    kind: ClassVar[str] = "door_control_forced"
+
+    attempt_id: int
+    door: str
+    held: float
+
+
+# -- the rule ---------------------------------------------------------------------------------
+
+
+class DoorRobot(Protocol):
+    """What the rule reads of and does to its robot (the runtime)."""
+
+    @property
+    def robot_id(self) -> str: ...
+
+    @property
+    def navigation_stack(self) -> NavigationStack | None: ...
+
+    def _floor_now(self) -> str | None: ...
+
+    def _status_pose(self) -> Pose2D: ...
+
+    def _publish(self, event: RuntimeEvent) -> None: ...
+
+    def _door_attempt_id(self) -> int: ...
+
+
+@dataclass(slots=True)
+class _Use:
+    """A door the robot needs now: asked for at ``asked``, controlled since ``opened``."""
+
+    asked: float
+    opened: float | None = None
+
+
+class DoorPassage:
+    """One robot's side of the door rule (see the module docstring).
+
+    Args:
+        robot: the runtime.
+        doors: the building's doors by name (read each tick: a real site's may change).
+        leases: who may use a door, by door name (the seam of lift sessions, of kind
+            ``door``: leases on ``door:<name>``).
+        config: distances and timings.
+    """
+
+    def __init__(self, robot: DoorRobot, doors: Callable[[], Mapping[str, Door]],
+                 leases: LiftSessions, config: DoorConfig | None = None) -> None:
+        self._robot = robot
+        self._doors = doors
+        self.leases = leases
+        self.config = config or DoorConfig()
+        self._using: dict[str, _Use] = {}
+        # Let go by force, with how long it was held: not asked again in this attempt.
+        self._forced: dict[str, float] = {}
+        self._paused_for: str | None = None
+        self._we_paused = False  # the goal stands paused by this rule, not another
+        self._attempt = 0
+        self._passable_for: tuple[int, str | None] | None = None
+        self.failure: str | None = None
+        """Why the last goal was failed by the rule, for the status."""
+
+    @property
+    def waiting_for(self) -> str | None:
+        """The door the robot stands waiting for, if any."""
+        return self._paused_for
+
+    @property
+    def held(self) -> tuple[str, ...]:
+        """The doors the robot controls now, sorted."""
+        return tuple(sorted(d for d, use in self._using.items() if use.opened is not None))
+
+    def use_leases(self, leases: LiftSessions) -> None:
+        """Take door leases from ``leases`` (the fleet's) from now on."""
+        self.leases = leases
+
+    def tick(self, now: float) -> None:
+        """Follow the rule for one control period."""
+        robot = self._robot
+        stack = robot.navigation_stack
+        floor = robot._floor_now()
+        doors = {n: d for n, d in self._doors().items() if d.state().spec.floor == floor}
+        if stack is not None:
+            self._mark_passable(stack, floor, doors)
+        navigator = stack.navigator if stack is not None else None
+        active = navigator is not None and navigator.state in (
+            NavigationState.RUNNING, NavigationState.PAUSED)
+        if not active or navigator is None:
+            self._let_go_all(now)
+            self._forced.clear()
+            self._paused_for = None
+            self._we_paused = False
+            return
+        attempt = navigator.attempt
+        attempt_id = attempt.attempt_id if attempt is not None else 0
+        if attempt_id != self._attempt:
+            self._let_go_all(now)
+            self._forced.clear()
+            self._attempt = attempt_id
+            self._paused_for = None
+            self._we_paused = False
+        pose = robot._status_pose()
+        ahead = self._ahead(navigator.path, pose, doors)
+        in_doorway = {name for name in doors
+                      if doors[name].state().spec.distance_to(pose.x, pose.y)
+                      < self.config.clearance}
+        # A goal paused for something else (the traffic rule's zone, an operator) holds no
+        # door ahead while it waits: holding one while waiting for a zone whose holder waits
+        # for that door would be the hold-and-wait deadlock. It asks again once resumed.
+        waiting_elsewhere = (navigator.state is NavigationState.PAUSED
+                             and not self._we_paused)
+        needed = set() if waiting_elsewhere else {name for name, _ in ahead}
+        needed |= {name for name in self._using if name in in_doorway}
+        if navigator.path is None and not waiting_elsewhere:
+            # Between plans (blocked, re-planning) the way is not known: a door asked for
+            # and still within reach is kept rather than given back and asked for again.
+            reach = self.config.lookahead + self.config.keep_margin
+            needed |= {name for name in self._using if name in doors
+                       and doors[name].state().spec.distance_to(pose.x, pose.y) <= reach}
+        needed -= set(self._forced)
+        for name in list(self._using):
+            if name not in needed:
+                self._let_go(name, now, forced=False)
+        for name in sorted(needed):
+            self._control(name, doors[name], now)
+        self._wait_or_go(ahead, doors, now)
+
+    # -- a door's lease and controller ----------------------------------------------------
+
+    def _control(self, name: str, door: Door, now: float) -> None:
+        use = self._using.get(name)
+        if use is None:
+            use = self._using[name] = _Use(asked=now)
+            log.info("%s: asks for door %s", self._robot.robot_id, name)
+        leases = self.leases
+        leases.request(name, now)  # asks again after a rejection, keeping its place
+        if not leases.granted(name, now):
+            return
+        if use.opened is None:
+            use.opened = now
+            self._robot._publish(DoorControlStarted(now, self._robot._door_attempt_id(), name))
+        elif now - use.opened > self.config.max_control:
+            log.warning("%s: held door %s %.0f s: let go by force", self._robot.robot_id,
+                        name, now - use.opened)
+            self._robot._publish(DoorControlForced(now, self._robot._door_attempt_id(), name,
+                                                        now - use.opened))
+            self._forced[name] = now - use.opened
+            self._let_go(name, now, forced=True)
+            return
+        door.open(self._robot.robot_id)
+
+    def _let_go(self, name: str, now: float, *, forced: bool) -> None:
+        use = self._using.pop(name, None)
+        if use is None:
+            return
+        door = self._doors().get(name)
+        if door is not None:
+            door.close(self._robot.robot_id)
+        self.leases.release(name, now)
+        if use.opened is not None and not forced:
+            self._robot._publish(DoorControlFinished(now, self._robot._door_attempt_id(), name))
+        log.info("%s: lets go of door %s", self._robot.robot_id, name)
+
+    def _let_go_all(self, now: float) -> None:
+        for name in list(self._using):
+            self._let_go(name, now, forced=False)
+
+    # -- waiting before a door --------------------------------------------------------------
+
+    def _wait_or_go(self, ahead: list[tuple[str, float]], doors: Mapping[str, Door],
+                    now: float) -> None:
+        stack = self._robot.navigation_stack
+        assert stack is not None
+        navigator = stack.navigator
+        blocking = None
+        for name, distance in ahead:
+            if distance > self.config.stop_distance:
+                break
+            if not self._open_for_us(name, doors[name]):
+                blocking = name
+                break
+        if blocking is None:
+            waited, self._paused_for = self._paused_for, None
+            if waited is not None and self._we_paused and (
+                    navigator.state is NavigationState.PAUSED):
+                log.info("%s: door %s open, going on", self._robot.robot_id, waited)
+                navigator.resume(now)
+            self._we_paused = False
+            return
+        # A goal paused for something else (the fleet's traffic rule, an operator) is left
+        # as it is; one resumed by it while the door is shut is paused again.
+        if navigator.state is NavigationState.RUNNING:
+            navigator.pause(now)
+            self._we_paused = True
+            if self._paused_for != blocking:
+                log.info("%s: waits for door %s", self._robot.robot_id, blocking)
+        self._paused_for = blocking
+        # Waiting for the lease is bounded by the lease book (max_wait, max_hold); waiting
+        # for a granted door to open, here.
+        if blocking in self._forced:
+            self._give_up(blocking, f"door {blocking} was held {self._forced[blocking]:.0f} s, "
+                                    "too long, and released by force", now)
+            return
+        use = self._using.get(blocking)
+        if use is not None and use.opened is not None and (
+                now - use.opened > self.config.open_timeout):
+            status = doors[blocking].state()
+            why = ("its controller does not answer" if not status.answering
+                   else f"it is {status.state.value}")
+            self._give_up(blocking, f"door {blocking} did not open within "
+                                    f"{self.config.open_timeout:g} s ({why})", now)
+
+    def _open_for_us(self, name: str, door: Door) -> bool:
+        use = self._using.get(name)
+        return use is not None and use.opened is not None and (
+            door.state().state is DoorState.OPEN)
+
+    def _give_up(self, name: str, message: str, now: float) -> None:
+        self.failure = message
+        log.warning("%s: %s", self._robot.robot_id, message)
+        self._paused_for = None
+        self._we_paused = False
+        stack = self._robot.navigation_stack
+        assert stack is not None
+        stack.navigator.abort(FailureReason.DOOR_CLOSED, message, now)
+        self._let_go_all(now)
+
+    # -- geometry ------------------------------------------------------------------------------
+
+    def _ahead(self, path: Path | None, pose: Pose2D, doors: Mapping[str, Door]
+               ) -> list[tuple[str, float]]:
+        """The doors ``path`` crosses within ``lookahead`` from the point nearest the robot,
+        with their distances along it, nearest first."""
+        if path is None or len(path) < 2 or not doors:
+            return []
+        points = path.points
+        k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
+        found: list[tuple[str, float]] = []
+        for name, door in doors.items():
+            spec = door.state().spec
+            # A door already asked for stays asked for a little beyond the lookahead, so a
+            # re-plan a few centimetres longer does not give it back and ask again.
+            reach = self.config.lookahead + (self.config.keep_margin if name in self._using
+                                             else 0.0)
+            distance = _crossing(points, k, spec, reach, pose)
+            if distance is not None:
+                found.append((name, distance))
+        found.sort(key=lambda item: item[1])
+        return found
+
+    def _mark_passable(self, stack: NavigationStack, floor: str | None,
+                       doors: Mapping[str, Door]) -> None:
+        key = (id(stack.costmap), floor)
+        if key == self._passable_for:
+            return
+        self._passable_for = key
+        specs = [d.state().spec for d in doors.values()]
+        mask = passable_mask(specs, stack.costmap.info) if specs else None
+        stack.costmap.set_passable(mask)
+
+
+def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahead: float,
+              pose: Pose2D) -> float | None:
+    """Distance [m] along the path from the robot (at the path's point ``k``) to where it
+    first crosses ``door``'s segment, if within ``lookahead``.
+
+    Measured from the path's point nearest the robot: the leg back to the robot may cross a
+    door just passed, which is behind it, not ahead."""
+    start = math.hypot(points[k, 0] - pose.x, points[k, 1] - pose.y)
+    way = points[k:]
+    if way.shape[0] < 2:
+        return None
+    legs = np.hypot(*np.diff(way, axis=0).T)
+    before = start + np.concatenate(([0.0], np.cumsum(legs)[:-1]))  # at each leg's start
+    n = int(np.searchsorted(before, lookahead, side="right"))
+    if n == 0:
+        return None
+    a, b = way[:n], way[1:n + 1]
+    r = b - a
+    sx, sy = door.x2 - door.x1, door.y2 - door.y1
+    denom = r[:, 0] * sy - r[:, 1] * sx
+    qx, qy = door.x1 - a[:, 0], door.y1 - a[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (qx * sy - qy * sx) / denom
+        u = (qx * r[:, 1] - qy * r[:, 0]) / denom
+    hits = np.flatnonzero((np.abs(denom) > 1e-12) & (t >= 0.0) & (t <= 1.0)
+                          & (u >= 0.0) & (u <= 1.0))
+    if hits.shape[0] == 0:
+        return None
+    i = int(hits[0])
+    distance = float(before[i] + legs[i] * t[i])
+    return distance if distance <= lookahead else None
+
+
+def passable_mask(doors: list[WorldDoor], info: MapInfo) -> npt.NDArray[np.bool_]:
+    """Cells ``[iy, ix]`` of a map within :data:`PASSABLE_HALF_WIDTH` of any door's segment."""
+    mask = np.zeros((info.height, info.width), dtype=np.bool_)
+    res = info.resolution
+    for door in doors:
+        half = PASSABLE_HALF_WIDTH + 0.5 * res
+        x0, x1 = min(door.x1, door.x2) - half, max(door.x1, door.x2) + half
+        y0, y1 = min(door.y1, door.y2) - half, max(door.y1, door.y2) + half
+        ix0, iy0 = info.world_to_cell(x0, y0)
+        ix1, iy1 = info.world_to_cell(x1, y1)
+        ix0, iy0 = max(ix0, 0), max(iy0, 0)
+        ix1, iy1 = min(ix1, info.width - 1), min(iy1, info.height - 1)
+        if ix0 > ix1 or iy0 > iy1:
+            continue
+        gy, gx = np.mgrid[iy0:iy1 + 1, ix0:ix1 + 1]
+        centres = info.cells_to_world(np.column_stack((gx.ravel(), gy.ravel())))
+        near = np.array([door.distance_to(float(x), float(y)) <= half for x, y in centres])
+        mask[gy.ravel()[near], gx.ravel()[near]] = True
+    return mask

@@ -1,0 +1,81 @@
+"""GET /api/doors and an operator's hand on a door, over HTTP around the real RobotRuntime:
+doors listed with their state, held open by hand (the leaf leaves the simulated world), let go,
+and an unknown door a clear 404 that changes nothing."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+from polynav.api import ApiConfig, create_app
+from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
+from polynav.store.site_store import SiteStore
+from polynav.worlds import load_world
+from tests.api.server import ServerThread
+
+
+@pytest.fixture
+def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
+    world = load_world("demo")
+    store = SiteStore.open(tmp_path / "data", seed_world=world)
+    robot = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False))
+    yield robot
+    store.close()
+
+
+@pytest.fixture
+def http(runtime: RobotRuntime) -> Iterator[httpx.Client]:
+    thread = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
+    with httpx.Client(base_url=thread.url) as client:
+        yield client
+    thread.stop()
+
+
+def _doors(http: httpx.Client) -> dict[str, dict[str, object]]:
+    answer = http.get("/api/doors")
+    assert answer.status_code == 200
+    return {d["name"]: d for d in answer.json()["doors"]}
+
+
+def test_lists_the_demo_doors_with_their_state(http: httpx.Client) -> None:
+    doors = _doors(http)
+    assert sorted(doors) == ["fire_door_east", "fire_door_west", "lobby_gate"]
+    assert doors["lobby_gate"] == {
+        "name": "lobby_gate", "kind": "gate", "floor": "floor1",
+        "segment": [10.05, 11.0, 10.05, 13.0], "width": 2.0, "state": "closed",
+        "holders": [], "answering": True}
+    assert doors["fire_door_west"]["kind"] == "door"
+    assert doors["fire_door_west"]["floor"] == "floor2"
+
+
+def test_an_operator_holds_a_door_open_and_lets_it_go(http: httpx.Client,
+                                                      runtime: RobotRuntime) -> None:
+    floor = runtime.simulation.scene.floors["floor1"]
+    ix, iy = floor.info.world_to_cell(10.05, 12.0)
+    assert floor.occupied[iy, ix]  # the closed gate is in the world
+    opened = http.post("/api/doors/lobby_gate/open")
+    assert opened.status_code == 200
+    assert opened.json()["holders"] == ["operator"]
+    assert opened.json()["state"] == "opening"
+    runtime.advance(2.0)
+    assert _doors(http)["lobby_gate"]["state"] == "open"
+    assert not floor.occupied[iy, ix]
+    closed = http.post("/api/doors/lobby_gate/close")
+    assert closed.status_code == 200 and closed.json()["holders"] == []
+    runtime.advance(2.0)
+    assert _doors(http)["lobby_gate"]["state"] == "closed"
+    assert floor.occupied[iy, ix]
+
+
+def test_an_unknown_door_is_404_and_nothing_changes(http: httpx.Client) -> None:
+    before = _doors(http)
+    for action in ("open", "close"):
+        answer = http.post(f"/api/doors/back_door/{action}")
+        assert answer.status_code == 404
+        error = answer.json()["error"]
+        assert error["code"] == "not_found" and "back_door" in error["message"]
+    assert http.get("/api/doors/lobby_gate/open").status_code == 405
+    assert _doors(http) == before

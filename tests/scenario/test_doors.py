@@ -1,0 +1,145 @@
+"""Electronic doors on the robot's way, whole goals on simulated time (issue 38 item 1).
+
+A lone robot along floor 2's corridor opens each fire door as it comes, waits for none that is
+open in time, passes, and the door closes behind it; a door whose controller never answers
+keeps the robot before it until the goal fails naming the door; two robots of one building
+coming from both sides go through one door one at a time. Judged on ground truth.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from polynav.geometry import Pose2D
+from polynav.house.building import Building
+from polynav.robot.lift import DoorState
+from polynav.runtime import events
+from polynav.runtime.config import RuntimeConfig
+from polynav.runtime.door_passage import (
+    DoorControlFinished,
+    DoorControlForced,
+    DoorControlStarted,
+    DoorPassage,
+)
+from polynav.runtime.robot_runtime import RobotRuntime
+from polynav.site import Point, PointKind
+from polynav.store.site_store import SiteStore
+from polynav.worlds.world import World
+
+WEST, EAST = "fire_door_west", "fire_door_east"
+LEAF_X = {WEST: 15.3, EAST: 28.2}
+
+
+def _ended(runtime: RobotRuntime) -> bool:
+    return runtime.status().navigation_state in ("succeeded", "failed", "canceled")
+
+
+@pytest.fixture
+def runtime(world: World, store: SiteStore) -> RobotRuntime:
+    rt = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False, seed=3))
+    rt.start_navigation("floor2", point="corridor_west")
+    rt.advance(0.5)
+    return rt
+
+
+def _door_events(sub: object) -> list[events.RuntimeEvent]:
+    got = sub.get_nowait()  # type: ignore[attr-defined]
+    return [e for e in got if isinstance(e, DoorControlStarted | DoorControlFinished
+                                         | DoorControlForced | events.NavigationPaused)]
+
+
+def test_a_lone_robot_opens_each_door_passes_it_and_it_closes_behind(
+        runtime: RobotRuntime) -> None:
+    sub = runtime.bus.subscribe(10_000)
+    runtime.go_to(point="corridor_east", map_name="floor2")
+    crossings: list[tuple[str, DoorState]] = []
+
+    def watch() -> bool:
+        pose = runtime.simulation.true_pose
+        for name, x in LEAF_X.items():
+            if abs(pose.x - x) < 0.3:  # the body is in the doorway
+                crossings.append((name, runtime.door(name).state().state))
+        return _ended(runtime)
+
+    assert runtime.advance_until(watch, 200.0)
+    assert runtime.status().navigation_state == "succeeded"
+    assert runtime.simulation.collisions == []
+    # Both doors crossed, each fully open all the while the body was in it.
+    assert {name for name, _ in crossings} == {WEST, EAST}
+    assert {state for _, state in crossings} == {DoorState.OPEN}
+    got = [(type(e).__name__, getattr(e, "door", "")) for e in _door_events(sub)]
+    assert got == [("DoorControlStarted", WEST), ("DoorControlFinished", WEST),
+                   ("DoorControlStarted", EAST), ("DoorControlFinished", EAST)]
+    runtime.advance(3.0)
+    assert {runtime.door(n).state().state for n in LEAF_X} == {DoorState.CLOSED}
+    assert runtime.doors_rule.held == ()
+
+
+def test_a_door_whose_controller_never_answers_fails_the_goal_naming_it(
+        runtime: RobotRuntime) -> None:
+    runtime.set_door_answering(WEST, False)
+    sub = runtime.bus.subscribe(10_000)
+    runtime.go_to(point="corridor_east", map_name="floor2")
+    paused_at: list[float] = []
+
+    def watch() -> bool:
+        if runtime.status().navigation_state == "paused" and not paused_at:
+            paused_at.append(runtime.now())
+        return _ended(runtime)
+
+    assert runtime.advance_until(watch, 120.0)
+    status = runtime.status()
+    assert status.navigation_state == "failed"
+    assert status.reason is not None and status.reason.startswith("door closed: ")
+    assert WEST in status.reason and "does not answer" in status.reason
+    # It stopped before the leaf and waited there until the door's open timeout had passed
+    # since it was granted the door and asked it open, then gave up.
+    timeout = runtime.doors_rule.config.open_timeout
+    started = [e.stamp for e in _door_events(sub) if isinstance(e, DoorControlStarted)]
+    assert len(started) == 1 and paused_at and paused_at[0] > started[0]
+    assert timeout <= runtime.now() - started[0] <= timeout + 0.5
+    true = runtime.simulation.true_pose
+    assert LEAF_X[WEST] - 1.5 < true.x < LEAF_X[WEST] - 0.4
+    assert runtime.simulation.collisions == []
+    assert runtime.door(WEST).state().state is DoorState.CLOSED
+    assert runtime.doors_rule.held == ()
+
+
+def test_two_robots_through_one_door_from_both_sides_one_at_a_time(
+        world: World, store: SiteStore) -> None:
+    west = Point("west_of_door", "floor2", Pose2D(12.6, 12.0, 0.0), PointKind.GENERAL)
+    east = Point("east_of_door", "floor2", Pose2D(18.2, 12.0, math.pi), PointKind.GENERAL)
+    store.add_point(Point("goal_east", "floor2", Pose2D(19.0, 12.0, 0.0)))
+    store.add_point(Point("goal_west", "floor2", Pose2D(11.5, 12.0, math.pi)))
+    building = Building(store, world, robots=2, starts=[west, east],
+                        config=RuntimeConfig(people=False))
+    subs = [rt.bus.subscribe(10_000) for rt in building.runtimes]
+    building.send("robot1", "goal_east", "floor2")
+    building.send("robot2", "goal_west", "floor2")
+    holders: list[tuple[str, ...]] = []
+
+    def watch() -> bool:
+        holders.append(building.runtimes[0].door(WEST).state().holders)
+        return all(agent.outcome is not None for agent in building.agents)
+
+    assert building.advance_until(watch, 200.0)
+    assert [agent.outcome for agent in building.agents] == ["succeeded", "succeeded"]
+    assert [c for rt in building.runtimes for c in rt.simulation.collisions] == []
+    # The door was held by one robot at a time, each in turn.
+    assert max(len(h) for h in holders) == 1
+    turns = [h[0] for n, h in enumerate(holders) if h and (n == 0 or holders[n - 1] != h)]
+    assert sorted(turns) == ["robot1", "robot2"]
+    # Each robot controlled it once, through the fleet's leases; one of them waited.
+    seen = [_door_events(sub) for sub in subs]
+    for got in seen:
+        assert [(type(e).__name__, getattr(e, "door", "")) for e in got
+                if not isinstance(e, events.NavigationPaused)] == [
+            ("DoorControlStarted", WEST), ("DoorControlFinished", WEST)]
+    assert all(isinstance(rt.doors_rule, DoorPassage) for rt in building.runtimes)
+    assert all(agent.door_leases is rt.doors_rule.leases
+               for agent, rt in zip(building.agents, building.runtimes, strict=True))
+    paused = [sum(isinstance(e, events.NavigationPaused) for e in got) for got in seen]
+    assert sorted(p > 0 for p in paused) == [False, True]
+    assert building.master.zone_requests > 0
