@@ -75,6 +75,13 @@ def test_the_console_is_served_at_the_root_and_shows_the_map_and_the_robot(
         return Array.from(at.data);
     }""", [sx, sy])
     assert pixel[1] > pixel[0] and pixel[1] > pixel[2], pixel  # green: the robot's footprint
+    # The floor's doors and gates (GET /api/doors) are drawn with their state: the lobby's gate.
+    page.wait_for_function("window.polynav.view.layers.doors.length > 0", timeout=WAIT * 1000)
+    doors = page.evaluate("window.polynav.view.layers.doors.map(d => [d.name, d.kind, d.state])")
+    floor = console.runtime.status().floor
+    expected = {s.spec.name for s in console.runtime.door_states() if s.spec.floor == floor}
+    assert expected and {name for name, _, _ in doors} == expected
+    assert any(kind == "gate" for _, kind, _ in doors)
     page.wait_for_function("document.getElementById('st-mode').textContent === 'free'")
     screenshot(page, "overview")
     # At SPEED times real time, the stream is asked for about 10 statuses per wall second.

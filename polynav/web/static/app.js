@@ -270,10 +270,13 @@ export class Console {
 
   async pollFleet() {
     try {
-      const [fleet, lifts] = await Promise.all([this.api.get("/api/fleet"),
-        this.api.get("/api/lifts")]);
+      const [fleet, lifts, doors] = await Promise.all([this.api.get("/api/fleet"),
+        this.api.get("/api/lifts"), this.api.get("/api/doors").catch(() => ({ doors: [] }))]);
       this.renderFleet(fleet.robots);
       this.view.set("lifts", lifts.lifts);
+      const shown = this.maps.find((m) => m.name === this.viewMap);
+      this.view.set("doors", doors.doors.filter((d) => shown && (d.floor === shown.floor ||
+        d.floor === shown.name)));
       $("lift-list").innerHTML = "";
       for (const l of lifts.lifts) {
         const li = document.createElement("li");

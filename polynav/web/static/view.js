@@ -23,7 +23,7 @@ export class MapView {
     this.offset = { x: 0, y: 0 }; // CSS px of world (0, 0)
     this.fitted = false;
     this.layers = {
-      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [],
+      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [], doors: [],
       draft: null, selected: null, footprint: { radius: 0.25 },
     };
     this.robot = null; // {x, y, theta} shown, eased toward `target`
@@ -187,6 +187,7 @@ export class MapView {
     }
     const L = this.layers;
     for (const k of L.keepouts) this.drawKeepout(k);
+    for (const d of L.doors) this.drawDoor(d);
     this.drawPolyline(L.path, COLORS.path, 2.5);
     ctx.fillStyle = COLORS.scan;
     for (const [x, y] of L.scan) {
@@ -271,6 +272,31 @@ export class MapView {
     }
   }
 
+  drawDoor(d) { // a door or gate: its leaf, red while closed, amber moving, green open
+    const ctx = this.ctx;
+    const [x1, y1, x2, y2] = d.segment;
+    const a = this.toScreen(x1, y1);
+    const b = this.toScreen(x2, y2);
+    ctx.beginPath();
+    ctx.moveTo(a.x, a.y);
+    ctx.lineTo(b.x, b.y);
+    ctx.setLineDash(d.state === "open" ? [4, 4] : []);
+    ctx.strokeStyle = d.state === "closed" ? "#c22" : d.state === "open" ? "#2a2" : "#d80";
+    ctx.lineWidth = 4;
+    ctx.stroke();
+    ctx.setLineDash([]);
+    this.label((x1 + x2) / 2, (y1 + y2) / 2, `${d.name} ${d.state}`, ctx.strokeStyle, 10);
+  }
+
+  drawCar(p) { // a lift car's floor, 1.4 m square about its inside point
+    const ctx = this.ctx;
+    const s = this.toScreen(p.x, p.y);
+    const half = 0.7 * this.scale;
+    ctx.strokeStyle = "#a50";
+    ctx.lineWidth = 2;
+    ctx.strokeRect(s.x - half, s.y - half, 2 * half, 2 * half);
+  }
+
   drawOther(o) {
     this.drawDisc(o.x, o.y, 0.3, COLORS.other, o.theta);
     this.label(o.x, o.y, o.name, COLORS.other, 14);
@@ -296,6 +322,7 @@ export class MapView {
     if (p.kind === "lift-inside") { // the car there: where it is, its doors, its motion
       const car = this.layers.lifts.find((l) => p.name.startsWith(l.name));
       if (car) {
+        this.drawCar(p);
         const motion = car.motion === "up" ? " ▲" : car.motion === "down" ? " ▼" : "";
         this.label(p.x, p.y, `${car.current_floor}${motion} ${car.door}` +
           `${car.mode !== "normal" ? " ✕" : ""}`, "#a50", -22);
