@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -26,7 +27,9 @@ UNINITIALIZED = LocalizationState.UNINITIALIZED
 @pytest.fixture(scope="module")
 def world() -> World:
     warm_up()
-    return load_world("demo")
+    # The tracker against the map it was built for: the demo's doors and gates (closed leaves
+    # the map does not hold) are left out, as unmapped obstacles are here.
+    return dataclasses.replace(load_world("demo"), doors=())
 
 
 @dataclass
