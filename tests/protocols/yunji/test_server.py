@@ -530,11 +530,13 @@ def test_cancel_notification_names_the_marker_of_an_offset_move(
     harness.runtime.advance(1.0)
     client.send("/api/move/cancel")
     harness.runtime.advance(0.5)
-    # The lobby gate, within reach of the start, is asked open at once (01030) and let go
-    # when the move ends (01031); the move's own notices name the marker.
-    codes = _notifications(client, 4)
-    assert [(n["code"], n["data"]["target"]) for n in codes] == [
-        ("01001", "kitchen"), ("01030", "kitchen"), ("01004", "kitchen"), ("01031", "kitchen")]
+    # The move's own notices name the marker; the lobby gate's (01030/01031, when the route
+    # reached it before the cancel: test_door_notices.py) name it too.
+    codes = [client.push("notification")]
+    while codes[-1]["code"] != "01004":
+        codes.append(client.push("notification"))
+    assert [n["code"] for n in codes if n["code"] not in ("01030", "01031")] == ["01001", "01004"]
+    assert all(n["data"]["target"] == "kitchen" for n in codes)
 
 
 def test_failed_move_notification_is_a_warning(harness: Harness, client: Client) -> None:
