@@ -180,6 +180,17 @@ def test_a_task_made_from_points_runs_and_its_tree_shows_progress(
     screenshot(page, "task-done")
 
 
+def undo_offers(page: Any, label: str) -> None:
+    """Wait until the console has taken the edit's answer and offers its undo.
+
+    The store changes before the browser has read the answer; an undo pressed in between
+    would undo the edit before it.
+    """
+    page.wait_for_function(
+        "label => document.getElementById('undo').title === `undo: ${label} (Ctrl+Z)`",
+        arg=label, timeout=WAIT * 1000)
+
+
 def test_points_and_shapes_edited_on_the_map_are_saved_and_undone(
     page: Any, console: Console
 ) -> None:
@@ -196,6 +207,7 @@ def test_points_and_shapes_edited_on_the_map_are_saved_and_undone(
         assert math.hypot(made["x"] - x, made["y"] - y) < 0.05
         page.wait_for_function("window.polynav.points.some(p => p.name === 'dock_a')")
         screenshot(page, "point-added")
+        undo_offers(page, "add point dock_a")
         page.click("#undo")
         wait_until(lambda: http.get("/api/points/dock_a",
                                     params={"map": "floor1"}).status_code == 404)
@@ -209,14 +221,17 @@ def test_points_and_shapes_edited_on_the_map_are_saved_and_undone(
         page.mouse.move(*screen_of(page, kitchen["x"] + 0.5, kitchen["y"]), steps=5)
         page.mouse.up()
         wait_until(lambda: abs(point(http, "kitchen")["x"] - (kitchen["x"] + 0.5)) < 0.05)
+        undo_offers(page, "move point kitchen")
         page.fill("#point-name", "galley")
         page.click("#point-rename")
         wait_until(lambda: http.get("/api/points/galley",
                                     params={"map": "floor1"}).status_code == 200)
         assert http.get("/api/points/kitchen", params={"map": "floor1"}).status_code == 404
+        page.wait_for_function("window.polynav.editor.selected?.name === 'galley'")
         page.click("#point-delete")
         wait_until(lambda: http.get("/api/points/galley",
                                     params={"map": "floor1"}).status_code == 404)
+        undo_offers(page, "delete point galley")
         page.keyboard.press("Control+z")  # undo the delete: the point is back as it was
         wait_until(lambda: http.get("/api/points/galley",
                                     params={"map": "floor1"}).status_code == 200)
