@@ -65,6 +65,9 @@ def _run_and_kill(data: Path, mode: str, start: int, writes: int, kill_at: int =
                 assert line, proc.stderr.read() if proc.stderr else ""
                 last = int(line)
             os.kill(proc.pid, signal.SIGKILL)
+            # The writer may have gone on writing before the kill landed (a loaded machine
+            # can pause this process for many writes): what it reported is in the pipe.
+            last = max([last, *(int(line) for line in proc.stdout)])
     finally:
         if proc.poll() is None:
             proc.kill()
