@@ -27,9 +27,11 @@ from pathlib import Path
 from typing import Any
 
 from polynav.errors import PolynavError
-from polynav.nav.attempt import NavigationState
+from polynav.nav.attempt import GoalOptions, NavigationState
 from polynav.robot.profile import RobotProfile, load_profile
+from polynav.runtime.goal_commands import UNDOCK_DISTANCE
 from polynav.runtime.sim_driver import simulate
+from polynav.site import PointKind
 from polynav.worlds import load_world
 
 BUDGET_REAL_TIME_FACTOR = 20.0
@@ -74,9 +76,16 @@ def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
         # Warm the kernels and the tracker before timing: start-up is not the steady state.
         driver.run(max([1.0, *(d.spec.open_time for d in driver.sim.scene.doors.values())]))
         sim_start, wall_start = driver.now, time.perf_counter()
+        docked = False
         for point in floor.points:
             goals += 1
-            driver.stack.go_to(point.pose, driver.now)
+            # As the runtime does: a charger point is reached by docking (its pose touches the
+            # plate), and the next goal first backs off the charger.
+            options = GoalOptions(
+                dock=point.kind is PointKind.CHARGER,
+                undock_distance=UNDOCK_DISTANCE if docked else None,
+            )
+            driver.stack.go_to(point.pose, driver.now, options)
             end = driver.now + timeout
             while not driver.stack.navigator.state.finished and driver.now < end:
                 stamp, true = driver.now, driver.sim.true_pose
@@ -87,6 +96,7 @@ def run_seed(world_name: str, floors: list[str] | None, seed: int, people: bool,
                     error_sum += math.hypot(est.x - true.x, est.y - true.y)
                     error_samples += 1
             ok = driver.stack.navigator.state is NavigationState.SUCCEEDED
+            docked = ok and point.kind is PointKind.CHARGER
             final = driver.sim.true_pose.distance_to(point.pose)
             succeeded += ok
             if ok:
