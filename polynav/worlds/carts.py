@@ -21,6 +21,7 @@ import math
 from dataclasses import dataclass
 
 from polynav.errors import InvalidRequest
+from polynav.footprint import Footprint
 from polynav.geometry import Pose2D
 
 LEG_RADIUS = 0.03
@@ -103,3 +104,37 @@ def entry_pose(pose: Pose2D, length: float, clearance: float) -> Pose2D:
     """Where a robot waits before driving in: on the object's axis, behind its back legs by
     ``clearance`` [m] (the robot's reach plus a margin), facing in."""
     return pose.compose(Pose2D(-(0.5 * length + clearance), 0.0, 0.0))
+
+
+def carried_footprint(body: Footprint, load: Pose2D, length: float, width: float,
+                      leg_radius: float = LEG_RADIUS) -> Footprint:
+    """The outline the robot plans and drives with while it carries a load: the convex hull
+    of its body and of the load's frame (its legs' rectangle grown by a leg's radius) standing
+    at ``load`` in the base frame. A hull, not the union: the planner's checks take one
+    polygon, and what lies between body and load is not worth squeezing through."""
+    hx, hy = 0.5 * length + leg_radius, 0.5 * width + leg_radius
+    c, s = math.cos(load.theta), math.sin(load.theta)
+    corners = [(load.x + c * x - s * y, load.y + s * x + c * y)
+               for x, y in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy))]
+    pts = [(float(x), float(y)) for x, y in body.outline(Pose2D(), segments=16)] + corners
+    return Footprint.polygon(_hull(pts), key="carried")
+
+
+def _hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The convex hull, counter-clockwise (Andrew's monotone chain)."""
+    pts = sorted(set(points))
+
+    def cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[tuple[float, float]] = []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 1e-12:
+            lower.pop()
+        lower.append(p)
+    upper: list[tuple[float, float]] = []
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 1e-12:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]

@@ -99,3 +99,17 @@ def test_the_demo_has_two_carts_in_the_lobby_and_a_cabin_at_its_parking_spot() -
         for x, y in (*cart.legs(), (cart.pose.x, cart.pose.y), (wait.x, wait.y)):
             ix, iy = info.world_to_cell(x, y)
             assert not occupied[iy - 4:iy + 5, ix - 4:ix + 5].any(), (cart.name, x, y)
+
+
+def test_the_carried_footprint_holds_the_body_and_the_cart() -> None:
+    from polynav.footprint import Footprint
+    from polynav.worlds.carts import carried_footprint
+
+    body = Footprint.circle(0.25)
+    carried = carried_footprint(body, Pose2D(0.02, 0.0, 0.0), 0.9, 0.7)
+    assert carried.covers(body)
+    assert carried.inscribed_radius == pytest.approx(0.38, abs=1e-6)
+    assert carried.circumscribed_radius == pytest.approx(math.hypot(0.5, 0.38), abs=1e-6)
+    # A body longer than the cart sticks out of it: the hull keeps it.
+    long_body = Footprint.rectangle(1.2, 0.4)
+    assert carried_footprint(long_body, Pose2D(), 0.9, 0.7).covers(long_body)
