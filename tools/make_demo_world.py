@@ -530,7 +530,7 @@ CARTS: list[dict[str, object]] = [
     {"name": "cart_2", "kind": "cart", "floor": "floor1", "x": 8.6, "y": 4.6, "theta": 0.0,
      "length": 0.9, "width": 0.7, "mass": 55.0},
     {"name": "cabin_1", "kind": "cabin", "floor": "floor2", "x": 1.6, "y": 4.3,
-     "theta": 3.141592653589793, "length": 0.9, "width": 0.7, "mass": 60.0,
+     "theta": 3.141592653589793, "length": 0.9, "width": 0.7, "mass": 35.0,
      "cabin_id": "CAB-0001"},
 ]
 

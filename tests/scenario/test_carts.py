@@ -92,3 +92,46 @@ def test_nothing_to_dock_to_and_a_cart_too_heavy_are_refused_and_nothing_changes
     runtime.advance(1.0)
     assert not runtime.carts.busy and runtime.status().attempt_id is None
     assert runtime.simulation.true_pose.distance_to(before) < 0.01
+
+
+def test_a_cabin_with_another_id_is_refused_and_the_robot_backs_out(
+        world: World, store: SiteStore) -> None:
+    cabin = world.cart("cabin_1")  # floor 2, housekeeping; its tag reads CAB-0001
+    rt = RobotRuntime.simulated(store, world, config=RuntimeConfig(people=False, seed=5))
+    rt.start_navigation("floor2", point="housekeeping")
+    rt.advance(0.5)
+    sub = rt.bus.subscribe(1000)
+    rt.carts.dock(cart="cabin_1", cabin_id="CAB-0002")
+    assert rt.advance_until(lambda: _done(rt), 120.0)
+    got = _actions(sub.get_nowait())
+    assert got[-1] == ("dock", "cabin_1", CartStep.FAILED, CartFailure.WRONG_CABIN), got
+    sim = rt.simulation
+    assert sim.load is None and rt.carts.load is None
+    assert sim.scene.carts.carts["cabin_1"].pose == cabin.pose
+    assert sim.true_pose.distance_to(cabin.pose) > 0.5  # backed out
+    # The right id: latched.
+    rt.carts.dock(cart="cabin_1", cabin_id="CAB-0001")
+    assert rt.advance_until(lambda: _done(rt), 120.0)
+    load = sim.load
+    assert load is not None and load.name == "cabin_1"
+    assert sim.collisions == []
+
+
+def test_a_leave_whose_way_out_is_blocked_is_retried(runtime: RobotRuntime) -> None:
+    runtime.carts.dock(cart="trolley")
+    assert runtime.advance_until(lambda: _done(runtime), 120.0)
+    assert runtime.carts.load is not None
+    sub = runtime.bus.subscribe(1000)
+    sim = runtime.simulation
+    runtime.carts.leave()
+    # The e-stop holds the robot under the cart while it tries to drive out.
+    assert runtime.advance_until(
+        lambda: (runtime.carts.status()["action"] or {}).get("phase") == "exiting", 30.0)
+    sim.press_estop()
+    assert runtime.advance_until(lambda: any(
+        e.step is CartStep.RETRIED for e in sub.get_nowait() if isinstance(e, CartAction)), 10.0)
+    sim.release_estop()
+    assert runtime.advance_until(lambda: _done(runtime), 30.0)
+    assert sim.load is None and runtime.carts.load is None
+    cart = sim.scene.carts.carts["trolley"]
+    assert sim.true_pose.distance_to(cart.pose) > 0.8
