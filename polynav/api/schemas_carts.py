@@ -43,6 +43,7 @@ class CartActionOut(BaseModel):
 
     action: Literal["dock", "leave"]
     cart: str
+    load: Literal["cart", "cabin"]
     phase: Literal["going", "seeing", "entering", "taking", "carrying", "releasing", "exiting"]
     attempt: int
 

@@ -36,12 +36,13 @@ from __future__ import annotations
 import enum
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from polynav.docking.detector import points_of_scan
 from polynav.docking.legs import find_legs
-from polynav.errors import Conflict, InvalidRequest
+from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.nav.attempt import GoalOptions
 from polynav.nav.stack import StackConfig
@@ -103,6 +104,7 @@ class _Job:
     progress_at: float = 0.0
     start_odometry: Pose2D | None = None
     cabin_id: str | None = None
+    then: Callable[[], None] | None = None  # after a successful leave
     failure: tuple[CartFailure, str] | None = None  # a try failed: back out, then retry
 
 
@@ -122,6 +124,8 @@ class CartCommands:
         self._job: _Job | None = None
         self.load: Load | None = None
         self._known: dict[str, tuple[str, Pose2D]] = {}  # where each load was left
+        self.count = 0
+        """Docks and leaves started so far (a dialect's task ids)."""
         runtime.add_step_listener(self._on_step)
 
     # -- queries -----------------------------------------------------------------------------
@@ -149,6 +153,7 @@ class CartCommands:
                                                "kind": load.cart.kind.value,
                                                "mass": load.cart.mass},
             "action": None if job is None else {"action": job.action, "cart": job.cart.name,
+                                                "load": job.cart.kind.value,
                                                 "phase": job.phase.value,
                                                 "attempt": job.attempt},
         }
@@ -183,6 +188,7 @@ class CartCommands:
             goal_id = rt._start_goal(None, entry, map_name, None)
             self._job = _Job("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
                              cabin_id=cabin_id)
+            self.count += 1
             self._publish(CartStep.STARTED)
             log.info("dock to %s %s: going to its entry %s on %s", target.kind.value,
                      target.name, entry, floor)
@@ -190,9 +196,11 @@ class CartCommands:
 
         return self._rt.run_between_ticks(run)
 
-    def leave(self, *, point: str | None = None, map_name: str | None = None) -> WorldCart:
+    def leave(self, *, point: str | None = None, map_name: str | None = None,
+              then: Callable[[], None] | None = None) -> WorldCart:
         """Leave the load: carried to ``point`` (on ``map_name``, default the current map)
-        first if one is given, then let go of and driven out from under.
+        first if one is given, then let go of and driven out from under; ``then`` runs on the
+        loop once the load is left (a dialect's move that leaves first).
 
         Raises:
             Conflict: the robot carries nothing, or is busy docking or leaving.
@@ -205,11 +213,12 @@ class CartCommands:
             if self._job is not None:
                 raise Conflict(f"busy: a {self._job.action} of {self._job.cart.name} is under way")
             rt = self._rt
-            job = _Job("leave", load.cart, Phase.RELEASING, since=rt.now())
+            job = _Job("leave", load.cart, Phase.RELEASING, since=rt.now(), then=then)
             if point is not None:
                 job.goal_id = rt._start_goal(point, None, map_name, GoalOptions())
                 job.phase = Phase.CARRYING
             self._job = job
+            self.count += 1
             self._publish(CartStep.STARTED)
             if job.phase is Phase.RELEASING:
                 self._let_go()
@@ -319,6 +328,11 @@ class CartCommands:
         log.info("%s of %s %s%s", job.action, job.cart.name, step.value,
                  f": {reason.value}: {detail}" if reason else "")
         self._job = None
+        if step is CartStep.SUCCEEDED and job.then is not None:
+            try:
+                job.then()
+            except PolynavError as exc:
+                log.warning("after leaving %s: %s", job.cart.name, exc)
 
     # -- stepping ----------------------------------------------------------------------------
 

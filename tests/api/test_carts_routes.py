@@ -50,8 +50,8 @@ def test_lists_the_demo_carts_and_cabin(http: httpx.Client) -> None:
 def test_a_cart_docked_and_left_over_http(http: httpx.Client, runtime: RobotRuntime) -> None:
     started = http.post("/api/carts/dock", json={"cart": "cart_1"})
     assert started.status_code == 200, started.text
-    assert started.json()["action"] == {"action": "dock", "cart": "cart_1", "phase": "going",
-                                        "attempt": 1}
+    assert started.json()["action"] == {"action": "dock", "cart": "cart_1", "load": "cart",
+                                        "phase": "going", "attempt": 1}
     assert runtime.advance_until(lambda: not runtime.carts.busy, 90.0)
     body = http.get("/api/carts").json()
     assert body["load"] == {"name": "cart_1", "kind": "cart", "mass": 40.0}
