@@ -105,6 +105,7 @@ class _Job:
     start_odometry: Pose2D | None = None
     cabin_id: str | None = None
     then: Callable[[], None] | None = None  # after a successful leave
+    number: int = 0  # which dock or leave of the runtime's it is
     failure: tuple[CartFailure, str] | None = None  # a try failed: back out, then retry
 
 
@@ -125,7 +126,8 @@ class CartCommands:
         self.load: Load | None = None
         self._known: dict[str, tuple[str, Pose2D]] = {}  # where each load was left
         self.count = 0
-        """Docks and leaves started so far (a dialect's task ids)."""
+        """Docks and leaves started so far (their numbers: task actions, dialects' ids)."""
+        self._outcomes: dict[int, tuple[bool, str, str]] = {}
         runtime.add_step_listener(self._on_step)
 
     # -- queries -----------------------------------------------------------------------------
@@ -143,6 +145,11 @@ class CartCommands:
         """Where the robot believes ``cart`` stands: its floor and pose (the world's start, or
         where a robot of this runtime left it)."""
         return self._known.get(cart.name, (cart.floor, cart.pose))
+
+    def outcome(self, number: int) -> tuple[bool, str, str] | None:
+        """Once dock or leave ``number`` ended: whether it succeeded, the load's name and the
+        reason it failed; ``None`` while it runs (or for a number never started)."""
+        return self._outcomes.get(number)
 
     def status(self) -> dict[str, object]:
         """What the robot carries and what it is doing with carts, JSON-ready."""
@@ -186,9 +193,9 @@ class CartCommands:
             entry = entry_pose(pose, target.length, ENTRY_CLEARANCE)
             map_name = rt._sim.world.floor(floor).map_name if rt._sim is not None else floor
             goal_id = rt._start_goal(None, entry, map_name, None)
-            self._job = _Job("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
-                             cabin_id=cabin_id)
             self.count += 1
+            self._job = _Job("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
+                             cabin_id=cabin_id, number=self.count)
             self._publish(CartStep.STARTED)
             log.info("dock to %s %s: going to its entry %s on %s", target.kind.value,
                      target.name, entry, floor)
@@ -217,8 +224,9 @@ class CartCommands:
             if point is not None:
                 job.goal_id = rt._start_goal(point, None, map_name, GoalOptions())
                 job.phase = Phase.CARRYING
-            self._job = job
             self.count += 1
+            job.number = self.count
+            self._job = job
             self._publish(CartStep.STARTED)
             if job.phase is Phase.RELEASING:
                 self._let_go()
@@ -229,8 +237,11 @@ class CartCommands:
     def cancel(self) -> bool:
         """Stop a dock or leave under way (the robot halts where it is); whether one ran."""
         def run() -> bool:
-            if self._job is None:
+            job = self._job
+            if job is None:
                 return False
+            if job.phase in (Phase.GOING, Phase.CARRYING):
+                self._rt._cancel_goal()
             self._rt._motion.halt()
             self._end(CartStep.FAILED, CartFailure.CANCELED, "canceled")
             return True
@@ -325,6 +336,8 @@ class CartCommands:
         if job is None:
             return
         self._publish(step, reason, detail)
+        self._outcomes[job.number] = (step is CartStep.SUCCEEDED, job.cart.name,
+                                      "" if reason is None else f"{reason.value}: {detail}")
         log.info("%s of %s %s%s", job.action, job.cart.name, step.value,
                  f": {reason.value}: {detail}" if reason else "")
         self._job = None
