@@ -64,6 +64,9 @@ def test_a_cart_docked_carried_across_a_lift_and_left_at_a_point(
     assert load is not None and load.name == "trolley", _actions(sub.get_nowait())
     assert sim.true_pose.distance_to(TRUE) < 0.05
     assert runtime.carts.status()["load"] == {"name": "trolley", "kind": "cart", "mass": 30.0}
+    runtime.advance(0.2)
+    assert runtime.status().to_dict()["load"] == {"name": "trolley", "kind": "cart",
+                                                  "mass": 30.0}
     runtime.carts.leave(point="initial", map_name="floor2")
     assert runtime.advance_until(lambda: _done(runtime), 400.0)
     got = _actions(sub.get_nowait())
@@ -76,6 +79,7 @@ def test_a_cart_docked_carried_across_a_lift_and_left_at_a_point(
     assert abs(math.remainder(cart.pose.theta - goal.theta, 2 * math.pi)) <= 0.05
     assert sim.collisions == []
     assert runtime.carts.status()["load"] is None
+    assert "load" not in runtime.status().to_dict()
 
 
 def test_nothing_to_dock_to_and_a_cart_too_heavy_are_refused_and_nothing_changes(
