@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,6 +31,7 @@ import numpy.typing as npt
 
 from polynav.errors import Conflict
 from polynav.geometry import Pose2D, angle_diff
+from polynav.robot.sim.charger import points_clearance
 from polynav.worlds.carts import CartKind, WorldCart, leg_positions
 
 log = logging.getLogger(__name__)
@@ -148,6 +150,25 @@ class CartYard:
         if held is not None and held.spec.kind is CartKind.CART:
             self.release(body)
         return None
+
+    def clearance(self, body: str, floor: str, pose: Pose2D, radius: float,
+                  polygon: tuple[tuple[float, float], ...],
+                  wall_gap: Callable[[float, float, float], float]) -> float:
+        """Signed gap [m] between ``body`` at ``pose`` (a disk of ``radius`` or ``polygon``)
+        and the legs on ``floor`` (its own load's aside), and between its load's legs there
+        and the walls (``wall_gap(x, y, r)``: a disc's gap to the walls)."""
+        legs = self.legs(floor, mask=body)
+        gap = math.inf
+        if legs.shape[0]:
+            near = legs[np.hypot(legs[:, 0] - pose.x, legs[:, 1] - pose.y) <= radius + 0.5]
+            if near.shape[0]:
+                gap = points_clearance(pose, radius, polygon, near[:, :2]) - float(
+                    near[:, 2].max())
+        load = self.carried_by(body)
+        if load is not None:
+            for x, y in self.carried_legs(body, pose):
+                gap = min(gap, wall_gap(float(x), float(y), load.spec.leg_radius))
+        return gap
 
     def carried_legs(self, body: str, pose: Pose2D) -> npt.NDArray[np.float64]:
         """(4, 2) world x, y of ``body``'s load's legs were the body at ``pose`` (none if it

@@ -48,7 +48,7 @@ from polynav.robot.interface import (
 from polynav.robot.sim import charger as charger_faults
 from polynav.robot.sim.battery import Battery
 from polynav.robot.sim.carts import SimCart
-from polynav.robot.sim.charger import SimCharger, body_clearance, points_clearance
+from polynav.robot.sim.charger import SimCharger, body_clearance
 from polynav.robot.sim.collision import (
     Collision,
     Obstacle,
@@ -510,23 +510,11 @@ class Simulation:
     def _legs_clearance(self, pose: Pose2D) -> float:
         """Gap [m] between the body at ``pose`` and the carts' legs on its floor (its own
         load's aside), and between its load's legs there and the walls."""
-        c, yard = self.config, self._scene.carts
-        legs = yard.legs(self._floor, mask=self.name)
-        gap = math.inf
-        if legs.shape[0]:
-            near = legs[np.hypot(legs[:, 0] - pose.x, legs[:, 1] - pose.y)
-                        <= c.robot_radius + 0.5]
-            if near.shape[0]:
-                gap = points_clearance(pose, c.robot_radius, c.footprint_polygon,
-                                       near[:, :2]) - float(near[:, 2].max())
-        load = yard.carried_by(self.name)
-        if load is not None:
-            here = self._floors[self._floor]
-            for x, y in yard.carried_legs(self.name, pose):
-                gap = min(gap, body_wall_clearance(
-                    here.occupied, here.info, Pose2D(float(x), float(y)),
-                    radius=load.spec.leg_radius, horizon=c.collision_release_distance))
-        return gap
+        c, here = self.config, self._floors[self._floor]
+        return self._scene.carts.clearance(
+            self.name, self._floor, pose, c.robot_radius, c.footprint_polygon,
+            lambda x, y, r: body_wall_clearance(here.occupied, here.info, Pose2D(x, y),
+                                                radius=r, horizon=c.collision_release_distance))
 
     # -- loads (carts and cabins) ---------------------------------------------------------------
 
