@@ -128,6 +128,8 @@ class CartCommands:
         self.count = 0
         """Docks and leaves started so far (their numbers: task actions, dialects' ids)."""
         self._outcomes: dict[int, tuple[bool, str, str]] = {}
+        self.last_goal: int | None = None
+        """The attempt id of the last dock's or leave's goal (its way there), if it had one."""
         runtime.add_step_listener(self._on_step)
 
     # -- queries -----------------------------------------------------------------------------
@@ -194,6 +196,7 @@ class CartCommands:
             map_name = rt._sim.world.floor(floor).map_name if rt._sim is not None else floor
             goal_id = rt._start_goal(None, entry, map_name, None)
             self.count += 1
+            self.last_goal = goal_id
             self._job = _Job("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
                              cabin_id=cabin_id, number=self.count)
             self._publish(CartStep.STARTED)
@@ -225,6 +228,7 @@ class CartCommands:
                 job.goal_id = rt._start_goal(point, None, map_name, GoalOptions())
                 job.phase = Phase.CARRYING
             self.count += 1
+            self.last_goal = job.goal_id
             job.number = self.count
             self._job = job
             self._publish(CartStep.STARTED)

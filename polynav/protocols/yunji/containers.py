@@ -68,6 +68,20 @@ def leave_then_move(ctx: Context, point: str | None, pose: Pose2D | None,
     ctx.runtime.carts.leave(then=move)
 
 
+def move_status(ctx: Context, snapshot: StatusSnapshot, default: str) -> str:
+    """``default`` (the move's), or ``running`` while a dock or a leave runs, and ``failed``
+    once one failed whose way there is the last move: the move task a client sent to a
+    container's marker is done when the container is docked to."""
+    carts = ctx.runtime.carts
+    if carts.busy:
+        return "running"
+    outcome = carts.outcome(carts.count)
+    if (outcome is not None and not outcome[0] and snapshot.attempt_id is not None
+            and snapshot.attempt_id == carts.last_goal):
+        return "failed"
+    return default
+
+
 def running_status(ctx: Context, snapshot: StatusSnapshot, default: str) -> str:
     """``default`` (the move's), or the dock or leave under way (§3.3 L242-L245)."""
     action = ctx.runtime.carts.status()["action"]

@@ -52,7 +52,7 @@ def robot_status(ctx: Context, params: Params) -> Reply:
     return Reply(
         results={
             "move_target": target or "",
-            "move_status": move_status.value,
+            "move_status": containers.move_status(ctx, s, move_status.value),
             "running_status": containers.running_status(ctx, s, running_status(s)),
             "move_retry_times": int(s.retries),
             "charge_state": s.charging,

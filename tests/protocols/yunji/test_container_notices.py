@@ -62,11 +62,14 @@ def test_a_move_to_a_container_marker_docks_and_the_next_move_leaves_it(
     reply = _ok(client, "/api/move?marker=container_a")
     assert len(reply["task_id"]) == 32
     statuses: list[str] = []
+    harness.runtime.advance(0.5)
+    assert _ok(client, "/api/robot_status")["results"]["move_status"] == "running"
     codes = _codes_until(harness, client, "01061", seen=statuses)
     # The way to the container is a move of its own (01001 .. 01002) inside the dock.
     assert codes == ["01001", "01060", "01002", "01061"], codes
     assert "dock_to_container" in statuses
     assert harness.runtime.simulation.load is not None
+    assert _ok(client, "/api/robot_status")["results"]["move_status"] == "succeeded"
     # Busy docking or not, the next move leaves the container first, then goes.
     _ok(client, "/api/move?marker=lobby")
     statuses.clear()
@@ -89,6 +92,7 @@ def test_a_container_not_where_its_marker_is_fails_01062(
     _ok(client, "/api/move?marker=container_a")
     codes = _codes_until(harness, client, "01062")
     assert codes[:3] == ["01001", "01060", "01002"] and "01061" not in codes, codes
+    assert _ok(client, "/api/robot_status")["results"]["move_status"] == "failed"
     assert sim.load is None
 
 
