@@ -33,11 +33,9 @@ a real robot's site has no carts yet, and docking there is refused with that rea
 
 from __future__ import annotations
 
-import enum
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from polynav.docking.detector import points_of_scan
@@ -50,7 +48,8 @@ from polynav.robot.devices import AxisMode
 from polynav.robot.sim.carts import LIFT_HEIGHT
 from polynav.robot.sim.devices.axis import SimAxis
 from polynav.runtime.cart_events import CartAction, CartFailure, CartStep
-from polynav.worlds.carts import CartKind, WorldCart, carried_footprint, entry_pose
+from polynav.runtime.cart_jobs import CartJob, Load, Phase, loaded_config
+from polynav.worlds.carts import CartKind, WorldCart, entry_pose
 
 if TYPE_CHECKING:
     from polynav.runtime.robot_runtime import RobotRuntime
@@ -79,50 +78,12 @@ ENTER_SPEED = 0.15
 """[m/s] driving in and out."""
 
 
-class Phase(enum.Enum):
-    GOING = "going"
-    SEEING = "seeing"
-    ENTERING = "entering"
-    TAKING = "taking"
-    CARRYING = "carrying"
-    RELEASING = "releasing"
-    EXITING = "exiting"
-
-
-@dataclass(slots=True)
-class _Job:
-    action: str  # "dock" or "leave"
-    cart: WorldCart
-    phase: Phase
-    attempt: int = 1
-    goal_id: int | None = None
-    since: float = 0.0
-    target: Pose2D | None = None  # the load's pose as seen (map frame)
-    scans: int = 0
-    last_scan: float = -1.0
-    progress: float = 0.0  # odometry distance covered in this phase
-    progress_at: float = 0.0
-    start_odometry: Pose2D | None = None
-    cabin_id: str | None = None
-    then: Callable[[], None] | None = None  # after a successful leave
-    number: int = 0  # which dock or leave of the runtime's it is
-    failure: tuple[CartFailure, str] | None = None  # a try failed: back out, then retry
-
-
-@dataclass(frozen=True, slots=True)
-class Load:
-    """What the robot carries: the load and where it sits in the robot's frame."""
-
-    cart: WorldCart
-    offset: Pose2D
-
-
 class CartCommands:
     """The robot's carts and cabins service (see the module docstring)."""
 
     def __init__(self, runtime: RobotRuntime) -> None:
         self._rt = runtime
-        self._job: _Job | None = None
+        self._job: CartJob | None = None
         self.load: Load | None = None
         self._known: dict[str, tuple[str, Pose2D]] = {}  # where each load was left
         self.count = 0
@@ -197,7 +158,7 @@ class CartCommands:
             goal_id = rt._start_goal(None, entry, map_name, None)
             self.count += 1
             self.last_goal = goal_id
-            self._job = _Job("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
+            self._job = CartJob("dock", target, Phase.GOING, goal_id=goal_id, since=rt.now(),
                              cabin_id=cabin_id, number=self.count)
             self._publish(CartStep.STARTED)
             log.info("dock to %s %s: going to its entry %s on %s", target.kind.value,
@@ -223,7 +184,7 @@ class CartCommands:
             if self._job is not None:
                 raise Conflict(f"busy: a {self._job.action} of {self._job.cart.name} is under way")
             rt = self._rt
-            job = _Job("leave", load.cart, Phase.RELEASING, since=rt.now(), then=then)
+            job = CartJob("leave", load.cart, Phase.RELEASING, since=rt.now(), then=then)
             if point is not None:
                 job.goal_id = rt._start_goal(point, None, map_name, GoalOptions())
                 job.phase = Phase.CARRYING
@@ -256,28 +217,8 @@ class CartCommands:
 
     def stack_config(self, config: StackConfig) -> StackConfig:
         """``config`` for the robot as it is now: loaded, the carried footprint and the
-        profile's loaded speeds."""
-        load, payload = self.load, self._rt.profile.payload
-        if load is None or payload is None:
-            return config
-        c = load.cart
-        body = carried_footprint(self._rt.profile.footprint, load.offset, c.length, c.width,
-                                 c.leg_radius)
-        ctl = config.controller
-        v = min(ctl.max_linear_velocity, payload.linear_velocity)
-        w = min(ctl.max_angular_velocity, payload.angular_velocity)
-        controller = replace(
-            ctl, max_linear_velocity=v, max_angular_velocity=w,
-            linear_acceleration=min(ctl.linear_acceleration, payload.linear_acceleration),
-            min_regulated_speed=min(ctl.min_regulated_speed, v),
-            min_approach_velocity=min(ctl.min_approach_velocity, v),
-            min_rotation_speed=min(ctl.min_rotation_speed, w))
-        cm = config.costmap
-        costmap = replace(cm, robot_radius=max(cm.robot_radius, body.inscribed_radius),
-                          inscribed_cell_margin=0.0,
-                          inflation_radius=max(cm.inflation_radius,
-                                               body.circumscribed_radius + 0.05))
-        return replace(config, controller=controller, costmap=costmap, footprint=body)
+        profile's loaded speeds (:func:`~polynav.runtime.cart_jobs.loaded_config`)."""
+        return loaded_config(config, self._rt.profile, self.load)
 
     # -- internals ---------------------------------------------------------------------------
 
@@ -380,7 +321,7 @@ class CartCommands:
                 return  # nothing to lift, or too heavy: the jack stalls under it
         sim.set_jack_height(height)
 
-    def _tick(self, job: _Job, now: float) -> None:
+    def _tick(self, job: CartJob, now: float) -> None:
         rt = self._rt
         if job.phase in (Phase.GOING, Phase.CARRYING):
             state = self._goal_state(job)
@@ -414,14 +355,14 @@ class CartCommands:
         elif job.phase is Phase.EXITING:
             self._drive_out(job, now)
 
-    def _goal_state(self, job: _Job) -> str | None:
+    def _goal_state(self, job: CartJob) -> str | None:
         status = self._rt.status()
         if status.attempt_id != job.goal_id:
             return None
         state = status.navigation_state
         return state if state in ("succeeded", "failed", "canceled") else None
 
-    def _enter_phase(self, job: _Job, phase: Phase, now: float) -> None:
+    def _enter_phase(self, job: CartJob, phase: Phase, now: float) -> None:
         job.phase = phase
         job.since = now
         job.scans = 0
@@ -430,7 +371,7 @@ class CartCommands:
         job.progress = 0.0
         job.progress_at = now
 
-    def _seen(self, job: _Job, estimate: Pose2D) -> Pose2D | None:
+    def _seen(self, job: CartJob, estimate: Pose2D) -> Pose2D | None:
         """The load's pose in the newest scan (map frame), if a new scan shows its legs."""
         scan = self._rt.robot.read_scan()
         if scan is None or scan.stamp == job.last_scan:
@@ -444,7 +385,7 @@ class CartCommands:
                           c.length, c.width, c.leg_radius)
         return None if found is None else found.pose
 
-    def _see(self, job: _Job, now: float, estimate: Pose2D) -> None:
+    def _see(self, job: CartJob, now: float, estimate: Pose2D) -> None:
         seen = self._seen(job, estimate)
         if seen is not None:
             job.target = seen
@@ -458,7 +399,7 @@ class CartCommands:
                                 f"no legs of {job.cart.name} near ({pose.x:.2f}, {pose.y:.2f}) "
                                 f"on {floor}")
 
-    def _drive_in(self, job: _Job, now: float, estimate: Pose2D) -> None:
+    def _drive_in(self, job: CartJob, now: float, estimate: Pose2D) -> None:
         seen = self._seen(job, estimate)
         target = job.target
         assert target is not None
@@ -486,7 +427,7 @@ class CartCommands:
         w = -2.0 * heading - math.atan2(2.0 * error.y, v + 0.05)
         self._rt._motion.teleop(Twist(v, max(-0.5, min(0.5, w))), now)
 
-    def _stalled(self, job: _Job, now: float) -> bool:
+    def _stalled(self, job: CartJob, now: float) -> bool:
         odometry = self._rt.robot.read_odometry().pose
         assert job.start_odometry is not None
         covered = odometry.distance_to(job.start_odometry)
@@ -494,7 +435,7 @@ class CartCommands:
             job.progress, job.progress_at = covered, now
         return now - job.progress_at > STALL_TIME
 
-    def _start_taking(self, job: _Job) -> None:
+    def _start_taking(self, job: CartJob) -> None:
         rt, sim = self._rt, self._rt._sim
         if job.cart.kind is CartKind.CABIN:
             tag = sim.cabin_tag() if sim is not None else None
@@ -509,7 +450,7 @@ class CartCommands:
         rt.peripherals.devices.jacking.move(rt.now(), AxisMode.POSITION, target=JACK_UP,
                                             speed=0.03)
 
-    def _take(self, job: _Job, now: float, estimate: Pose2D) -> None:
+    def _take(self, job: CartJob, now: float, estimate: Pose2D) -> None:
         sim = self._rt._sim
         held = sim.load if sim is not None else None
         if held is not None and held.name == job.cart.name:
@@ -524,10 +465,10 @@ class CartCommands:
             self._lower(job)
             self._back_out(job)
 
-    def _holder(self, job: _Job) -> str:
+    def _holder(self, job: CartJob) -> str:
         return "latch" if job.cart.kind is CartKind.CABIN else "jack"
 
-    def _lower(self, job: _Job) -> None:
+    def _lower(self, job: CartJob) -> None:
         rt, sim = self._rt, self._rt._sim
         if job.cart.kind is CartKind.CABIN:
             if sim is not None:
@@ -541,7 +482,7 @@ class CartCommands:
         self._enter_phase(job, Phase.RELEASING, self._rt.now())
         self._lower(job)
 
-    def _released(self, job: _Job, now: float, estimate: Pose2D) -> None:
+    def _released(self, job: CartJob, now: float, estimate: Pose2D) -> None:
         sim = self._rt._sim
         if sim is not None and sim.load is not None:
             if now - job.since > TAKE_TIME:
@@ -557,10 +498,10 @@ class CartCommands:
             self._rt._settings_dirty = True
         self._back_out(job)
 
-    def _back_out(self, job: _Job) -> None:
+    def _back_out(self, job: CartJob) -> None:
         self._enter_phase(job, Phase.EXITING, self._rt.now())
 
-    def _drive_out(self, job: _Job, now: float) -> None:
+    def _drive_out(self, job: CartJob, now: float) -> None:
         distance = 0.5 * job.cart.length + ENTRY_CLEARANCE - 0.1
         odometry = self._rt.robot.read_odometry().pose
         assert job.start_odometry is not None
@@ -593,7 +534,7 @@ class CartCommands:
             return
         self._rt._motion.teleop(Twist(-ENTER_SPEED, 0.0), now)
 
-    def _retry_or_fail(self, job: _Job, now: float, reason: CartFailure, detail: str) -> None:
+    def _retry_or_fail(self, job: CartJob, now: float, reason: CartFailure, detail: str) -> None:
         """A dock's try failed: back out to the entry pose and try again, or give up."""
         self._rt._motion.halt()
         if job.phase is Phase.SEEING:  # not in yet: look again from where it stands

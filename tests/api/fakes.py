@@ -25,7 +25,7 @@ from polynav.robot.profile import load_profile
 from polynav.robot.sim.door import SimDoor
 from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
-from polynav.runtime.cart_commands import Load
+from polynav.runtime.cart_jobs import Load
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.mapping_jobs import JobKind, MappingJob, MappingJobs
