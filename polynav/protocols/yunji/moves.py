@@ -200,7 +200,10 @@ def _goal_options(params: Params) -> GoalOptions:
 
 
 def move_cancel(ctx: Context, params: Params) -> Reply:
-    """§3.2. Nothing to cancel is ``REQUEST_DENIED`` (§A-M4)."""
+    """§3.2. Nothing to cancel is ``REQUEST_DENIED`` (§A-M4); a dock to or a leave of a
+    container or cabin under way is the move task, and stops (01062/01082, 01052/01072)."""
+    if ctx.runtime.carts.cancel():
+        return Reply()
     ctx.runtime.cancel()
     return Reply()
 

@@ -107,3 +107,16 @@ def test_a_leave_held_under_the_container_is_retried_then_fails(
     assert reply["status"] == "OK", reply
     codes = _codes_until(harness, client, "01052")
     assert [c for c in codes if c != "02003"] == ["01050", "01053", "01053", "01052"], codes
+
+
+def test_a_dock_is_the_move_task_and_is_cancelled_with_it(
+        harness: Harness, client: Client) -> None:
+    sim = harness.runtime.simulation
+    _marker(client, "container_a", sim.world.cart(CART).pose, 1001)
+    _ok(client, "/api/move?marker=container_a")
+    harness.runtime.advance(1.0)
+    _ok(client, "/api/move/cancel")
+    codes = _codes_until(harness, client, "01062")
+    assert codes == ["01001", "01060", "01004", "01062"], codes
+    assert not harness.runtime.carts.busy and sim.load is None
+    assert client.request("/api/move/cancel")["status"] == "REQUEST_DENIED"
