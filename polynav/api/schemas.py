@@ -254,6 +254,9 @@ class StatusOut(BaseModel):
         description="the mapping session while mapping, or while a stop job saves the map"
     )
     stamp: float
+    load: dict[str, str | float] | None = Field(
+        default=None, description="the cart or cabin the robot carries: its `name`, `kind` "
+        "(`cart` or `cabin`) and `mass` [kg]; left out when it carries nothing")
     links: dict[str, str] = Field(
         default_factory=dict,
         description="serial lines the dialects serve, name -> device path (`galileo_serial`: "

@@ -86,6 +86,8 @@ class StatusSnapshot:
     """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
     frame: str = "map"
     mapping: MappingStatus | None = None
+    load: dict[str, object] | None = None
+    """The cart or cabin the robot carries (name, kind, mass), if any."""
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
@@ -121,6 +123,8 @@ class StatusSnapshot:
             "mapping": None if self.mapping is None else self.mapping.to_dict(),
             "stamp": float(self.stamp),
         }
+        if self.load is not None:
+            out["load"] = dict(self.load)
         if self.route is not None:
             navigation = out["navigation"]
             assert isinstance(navigation, dict)
