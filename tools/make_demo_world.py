@@ -521,14 +521,14 @@ DOORS: list[dict[str, object]] = [
      "y2": 13.0, "kind": "gate", "open_time": 1.5, "close_time": 1.5},
 ]
 
-# Carts and a cabin (polynav.worlds.carts): two carts parked in the lobby's south-east corner,
-# away from the routes (the robot docks driving east, from the lobby), and a cabin at its
-# parking spot in floor 2's housekeeping room (docked driving west).
+# Carts and a cabin (polynav.worlds.carts): two carts parked in floor 1's store room north-west
+# of the lobby, a dead end off every route (the robot docks driving north), and
+# a cabin at its parking spot in floor 2's housekeeping room (docked driving west).
 CARTS: list[dict[str, object]] = [
-    {"name": "cart_1", "kind": "cart", "floor": "floor1", "x": 8.6, "y": 2.0, "theta": 0.0,
-     "length": 0.9, "width": 0.7, "mass": 40.0},
-    {"name": "cart_2", "kind": "cart", "floor": "floor1", "x": 8.6, "y": 4.6, "theta": 0.0,
-     "length": 0.9, "width": 0.7, "mass": 55.0},
+    {"name": "cart_1", "kind": "cart", "floor": "floor1", "x": 3.2, "y": 20.0,
+     "theta": 1.5707963267948966, "length": 0.9, "width": 0.7, "mass": 40.0},
+    {"name": "cart_2", "kind": "cart", "floor": "floor1", "x": 1.4, "y": 20.0,
+     "theta": 1.5707963267948966, "length": 0.9, "width": 0.7, "mass": 55.0},
     {"name": "cabin_1", "kind": "cabin", "floor": "floor2", "x": 1.6, "y": 4.3,
      "theta": 3.141592653589793, "length": 0.9, "width": 0.7, "mass": 35.0,
      "cabin_id": "CAB-0001"},

@@ -4,6 +4,7 @@ heavier than the robot carries, nothing to dock to, a bad body."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -40,9 +41,9 @@ def test_lists_the_demo_carts_and_cabin(http: httpx.Client) -> None:
     body = http.get("/api/carts").json()
     carts = {c["name"]: c for c in body["carts"]}
     assert sorted(carts) == ["cabin_1", "cart_1", "cart_2"]
-    assert carts["cart_1"] == {"name": "cart_1", "kind": "cart", "floor": "floor1", "x": 8.6,
-                               "y": 2.0, "theta": 0.0, "length": 0.9, "width": 0.7,
-                               "mass": 40.0, "carried": False}
+    assert carts["cart_1"] == {"name": "cart_1", "kind": "cart", "floor": "floor1", "x": 3.2,
+                               "y": 20.0, "theta": pytest.approx(math.pi / 2), "length": 0.9,
+                               "width": 0.7, "mass": 40.0, "carried": False}
     assert carts["cabin_1"]["kind"] == "cabin" and carts["cabin_1"]["floor"] == "floor2"
     assert body["load"] is None and body["action"] is None
 

@@ -10,7 +10,7 @@ from typing import Any
 from polynav.geometry import Pose2D
 from tests.protocols.yunji.conftest import Client, Harness
 
-CART = "cart_1"  # floor 1, (8.6, 2.0) facing east, 40 kg: near the robot's start
+CART = "cart_1"  # floor 1, (3.2, 20.0) facing north, 40 kg: in the store room north of the lobby
 
 COVERED: dict[str, str] = {
     "notify 10 01060": "test_a_move_to_a_container_marker_docks_and_the_next_move_leaves_it",

@@ -41,12 +41,12 @@ def _beam(sim: Simulation, world_angle: float) -> float:
 
 def test_the_lidar_sees_a_carts_legs_and_the_robot_drives_in_between_and_lifts_it(
         demo: World) -> None:
-    cart = demo.cart("cart_1")  # floor 1, (8.6, 2.0), facing east, legs 0.9 x 0.7
+    cart = demo.cart("cart_1")  # floor 1, (3.2, 20.0), facing north, legs 0.9 x 0.7
     start = entry_pose(cart.pose, cart.length, 0.6)
     sim = Simulation(demo, config=SimConfig(), people=False, floor="floor1", pose=start)
     sim.step(0.2)
-    # The back-left leg at (8.15, 2.35) is seen: 0.6 m ahead, 0.35 m to the left, minus 3 cm.
-    angle = math.atan2(0.35, 0.6)
+    # The back-left leg at (2.85, 19.55) is seen: 0.6 m ahead, 0.35 m to the left, minus 3 cm.
+    angle = cart.pose.theta + math.atan2(0.35, 0.6)
     assert _beam(sim, angle) == pytest.approx(math.hypot(0.6, 0.35) - 0.03, abs=0.04)
     _drive(sim, Twist(0.3, 0.0), 1.05 / 0.3)
     assert not sim.collisions
@@ -74,17 +74,21 @@ def test_a_leg_stops_the_base_and_a_carried_leg_stops_at_a_wall(demo: World) -> 
     cart = demo.cart("cart_1")
     beside = cart.pose.compose(Pose2D(-0.45, -0.6, 0.0))  # behind the back-right leg's side
     sim = Simulation(demo, config=SimConfig(), people=False, floor="floor1",
-                     pose=Pose2D(beside.x, beside.y, math.pi / 2))
-    _drive(sim, Twist(0.3, 0.0), 2.0)  # north, into the back-right leg
+                     pose=Pose2D(beside.x, beside.y, cart.pose.theta + math.pi / 2))
+    _drive(sim, Twist(0.3, 0.0), 2.0)  # to the cart's left, into the back-right leg
     assert sim.collisions and sim.collisions[-1].obstacle == "wall"
-    # Carried east into the lobby's east wall (x = 10): the front legs hit it first.
+    # Carried west in its store room (x 0.3-5) into the room's west wall (x = 0.3): the front
+    # legs, 0.45 m ahead of the robot's centre, hit it before the body does.
     other = Simulation(demo, config=SimConfig(), people=False, floor="floor1",
                        pose=demo.cart("cart_2").pose, scene=sim.scene, name="other")
     assert other.set_jack_height(0.06) is not None
+    _drive(other, Twist(0.0, 0.5), math.pi / 2 / 0.5)  # face west, the load turning along
+    assert not other.collisions
     _drive(other, Twist(0.3, 0.0), 4.0)
     assert other.collisions
-    front = max(x for x, _ in other.scene.carts.carried_legs("other", other.true_pose))
-    assert 9.85 < front + 0.03 < 10.05
+    front = min(x for x, _ in other.scene.carts.carried_legs("other", other.true_pose))
+    assert 0.15 < front - 0.03 < 0.35  # the wall's face at x = 0.25, met within a step
+    assert other.true_pose.x - 0.25 > 0.4  # the body stopped short of the wall
 
 
 def test_a_carried_cart_rides_the_lift(demo: World) -> None:
