@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 
-from polynav.errors import NotFound
+from polynav.errors import NotFound, look_up
 from polynav.robot.door import OPERATOR, Door, DoorStatus
 from polynav.robot.sim.door import SimDoor
 from polynav.runtime.door_passage import DoorPassage
@@ -37,10 +37,7 @@ class DoorCommands(RuntimeParts):
         Raises:
             NotFound: no such door.
         """
-        found = self.doors.get(name)
-        if found is None:
-            raise NotFound("door", name)
-        return found
+        return look_up(self.doors, "door", name)
 
     def door_states(self) -> list[DoorStatus]:
         """Every door's state, by name."""
