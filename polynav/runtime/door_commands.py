@@ -16,6 +16,7 @@ from polynav.errors import NotFound, look_up
 from polynav.robot.door import OPERATOR, Door, DoorStatus
 from polynav.robot.sim.door import SimDoor
 from polynav.runtime.door_passage import DoorPassage
+from polynav.runtime.door_status import DoorsView, doors_view
 from polynav.runtime.internals import RuntimeParts
 
 log = logging.getLogger(__name__)
@@ -42,6 +43,13 @@ class DoorCommands(RuntimeParts):
     def door_states(self) -> list[DoorStatus]:
         """Every door's state, by name."""
         return [door.state() for _, door in sorted(self.doors.items())]
+
+    def _doors_view(self) -> DoorsView:
+        """The doors as the status shows them: the rule's door waited at and doors held, and
+        the robot's floor's doors."""
+        rule = getattr(self, "doors_rule", None)
+        waiting, held = (None, ()) if rule is None else (rule.waiting_for, rule.held)
+        return doors_view(self.doors, self._place.floor, waiting, held)
 
     def open_door(self, name: str) -> DoorStatus:
         """Hold door ``name`` open by hand until :meth:`close_door` (between ticks).
