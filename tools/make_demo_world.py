@@ -506,6 +506,7 @@ def world_document(floors: list[Floor]) -> dict[str, object]:
         "floors": docs,
         "lifts": lift_cars(floors),
         "doors": DOORS,
+        "carts": CARTS,
     }
 
 
@@ -518,6 +519,19 @@ DOORS: list[dict[str, object]] = [
      "y2": 13.0, "kind": "door", "open_time": 2.0, "close_time": 2.0},
     {"name": "lobby_gate", "floor": "floor1", "x1": 10.05, "y1": 11.0, "x2": 10.05,
      "y2": 13.0, "kind": "gate", "open_time": 1.5, "close_time": 1.5},
+]
+
+# Carts and a cabin (polynav.worlds.carts): two carts parked in the lobby's south-east corner,
+# away from the routes (the robot docks driving east, from the lobby), and a cabin at its
+# parking spot in floor 2's housekeeping room (docked driving west).
+CARTS: list[dict[str, object]] = [
+    {"name": "cart_1", "kind": "cart", "floor": "floor1", "x": 8.6, "y": 2.0, "theta": 0.0,
+     "length": 0.9, "width": 0.7, "mass": 40.0},
+    {"name": "cart_2", "kind": "cart", "floor": "floor1", "x": 8.6, "y": 4.6, "theta": 0.0,
+     "length": 0.9, "width": 0.7, "mass": 55.0},
+    {"name": "cabin_1", "kind": "cabin", "floor": "floor2", "x": 1.6, "y": 4.3,
+     "theta": 3.141592653589793, "length": 0.9, "width": 0.7, "mass": 35.0,
+     "cabin_id": "CAB-0001"},
 ]
 
 

@@ -11,6 +11,7 @@ from polynav.api.auth_gate import install_login
 from polynav.api.config import ApiConfig
 from polynav.api.errors import FAULT, install_error_handlers
 from polynav.api.routes import (
+    carts,
     control,
     doors,
     fleet,
@@ -40,7 +41,7 @@ log = logging.getLogger(__name__)
 
 ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
-    fleet, lifts, doors, tasks, schedules, ws, keepouts, paths, scene,
+    fleet, lifts, doors, tasks, schedules, ws, keepouts, paths, scene, carts,
 )
 
 

@@ -259,6 +259,9 @@ class StatusOut(BaseModel):
         default=None,
         description="the door the robot waits at, those it passes, and its floor's doors' states",
     )
+    load: dict[str, str | float] | None = Field(
+        default=None, description="the cart or cabin the robot carries: its `name`, `kind` "
+        "(`cart` or `cabin`) and `mass` [kg]; left out when it carries nothing")
     links: dict[str, str] = Field(
         default_factory=dict,
         description="serial lines the dialects serve, name -> device path (`galileo_serial`: "

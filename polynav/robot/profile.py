@@ -46,6 +46,10 @@ The file, every key optional except ``name`` and ``footprint`` (units SI, angles
                                                # range if it sees behind, else 0)
     sign_camera: {range: 4.0, fov: 1.2}   # a camera that spots "no entry" signs ahead (only some
                                           # robots: left out, the robot has none)
+    payload: {max_mass: 50.0,             # what it can carry on its jack or latch [kg] and how
+              linear_velocity: 0.4,       # it drives loaded (cruise speeds and acceleration,
+              angular_velocity: 1.0,      # within the limits); left out, it carries nothing
+              linear_acceleration: 0.4}
 
 Frame conventions (REP 103): x forward, y left, the base's origin is its centre of rotation. A
 polygon is listed in order (either winding), must not cross itself, and must contain the
@@ -205,6 +209,18 @@ class SignCamera:
 
 
 @dataclass(frozen=True, slots=True)
+class Payload:
+    """What the robot can carry (a cart on its jacking axis, a cabin on its latch): the most
+    mass [kg], and how it drives while loaded: cruise speeds [m/s, rad/s] and acceleration
+    [m/s²], each at most the unloaded cruise's (a load shifts the centre of mass up)."""
+
+    max_mass: float = 50.0
+    linear_velocity: float = 0.4
+    angular_velocity: float = 1.0
+    linear_acceleration: float = 0.4
+
+
+@dataclass(frozen=True, slots=True)
 class RobotProfile:
     """One robot: body, limits, sensors and charger contact (see the module docstring).
 
@@ -227,6 +243,8 @@ class RobotProfile:
     #: How the robot's ROS driver is reached over rosbridge (``polynav run --robot-bridge``):
     #: topic and frame names; ``None``: ROS's defaults.
     ros: BridgeConfig | None = None
+    #: What the robot can carry and how it drives loaded; ``None``: it carries nothing.
+    payload: Payload | None = None
 
     def __post_init__(self) -> None:
         _validate(self)
@@ -315,6 +333,7 @@ class RobotProfile:
             **({"ros": asdict(self.ros)} if self.ros is not None else {}),
             **({"sign_camera": asdict(self.sign_camera)}
                if self.sign_camera is not None else {}),
+            **({"payload": asdict(self.payload)} if self.payload is not None else {}),
         }
 
 
@@ -364,7 +383,8 @@ def parse_profile(doc: object) -> RobotProfile:
     """
     top = _mapping(doc, "robot")
     _known(top, "robot", ("name", "description", "footprint", "limits", "cruise", "lidar",
-                          "odometry", "imu", "charger", "reverse", "ros", "sign_camera"))
+                          "odometry", "imu", "charger", "reverse", "ros", "sign_camera",
+                          "payload"))
     name = top.get("name")
     if not isinstance(name, str) or not name.strip():
         raise ProfileError("name", f"expected a non-empty string, got {name!r}")
@@ -395,6 +415,8 @@ def parse_profile(doc: object) -> RobotProfile:
         ros=_ros(top.get("ros")),
         sign_camera=(None if top.get("sign_camera") is None
                      else _section(SignCamera, top["sign_camera"], "sign_camera")),
+        payload=(None if top.get("payload") is None
+                 else _section(Payload, top["payload"], "payload")),
     )
 
 
@@ -549,6 +571,15 @@ def _validate(p: RobotProfile) -> None:
         if not 0.0 < p.sign_camera.fov <= 2.0 * math.pi + 1e-9:
             raise ProfileError("sign_camera.fov",
                                f"must be within (0, 2π], got {p.sign_camera.fov:g}")
+    if p.payload is not None:
+        _non_negative(p.payload.max_mass, "payload.max_mass")
+        for name in ("linear_velocity", "angular_velocity", "linear_acceleration"):
+            value = getattr(p.payload, name)
+            _positive(value, f"payload.{name}")
+            top = getattr(p.cruise, name)
+            if value > top:
+                raise ProfileError(f"payload.{name}", f"{value:g} is above cruise.{name} "
+                                                      f"({top:g})")
     physics = SimConfig().physics_rate
     for key, rate in (("lidar.rate", li.rate), ("imu.rate", p.imu.rate)):
         if rate > physics:

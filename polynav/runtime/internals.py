@@ -13,7 +13,7 @@ from __future__ import annotations
 import abc
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
@@ -36,6 +36,9 @@ from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
 from polynav.runtime.task_commands import TaskCommands
 from polynav.runtime.watchers import EStopWatcher
+
+if TYPE_CHECKING:
+    from polynav.runtime.cart_commands import CartCommands
 
 T = TypeVar("T")
 
@@ -78,6 +81,7 @@ class RuntimeParts(abc.ABC):
     _mapping: MappingSession | None
     _exploration: Exploration | None
     _mapping_jobs: MappingJobs
+    carts: CartCommands
 
     def _map_start(self, map_name: str, point: str | None, pose: Pose2D | None) -> MapStart:
         """Read map ``map_name`` to start on, placed by ``point`` or ``pose`` (not both).

@@ -194,7 +194,7 @@ class NavigationCommands(RuntimeParts):
         self._check_localization(self.now())
 
     def _new_stack(self) -> NavigationStack:
-        config = self._settings.stack_config(self._base_stack_config)
+        config = self.carts.stack_config(self._settings.stack_config(self._base_stack_config))
         if config.control_rate != self.config.control_rate:
             config = replace(config, control_rate=self.config.control_rate)
         if self._mapless:

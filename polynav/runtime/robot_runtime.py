@@ -66,6 +66,7 @@ from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
 from polynav.runtime.auto_charge import AutoCharge
 from polynav.runtime.automation_tasks import AutomationTasks
+from polynav.runtime.cart_commands import CartCommands
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
@@ -204,6 +205,7 @@ class RobotRuntime(
         devices = simulated_devices(self._clock.now(), self._robot.read_scan,
                                     seed=self.config.seed)
         self.peripherals = Peripherals(self, devices, getattr(store, "data_dir", None))
+        self.carts = CartCommands(self)  # carts and cabins: dock, carry, leave
         self.queries = SiteQueries(self)
         data_dir = getattr(store, "data_dir", None)
         self.automations = AutomationTasks(self, AutomationRunner(

@@ -89,6 +89,8 @@ class StatusSnapshot:
     frame: str = "map"
     mapping: MappingStatus | None = None
     doors: DoorsView | None = None
+    load: dict[str, object] | None = None
+    """The cart or cabin the robot carries (name, kind, mass), if any."""
 
     def to_dict(self) -> dict[str, object]:
         """The ``GET /api/status`` body (JSON-ready)."""
@@ -126,6 +128,8 @@ class StatusSnapshot:
         }
         if self.doors is not None:
             out["doors"] = self.doors.to_dict()
+        if self.load is not None:
+            out["load"] = dict(self.load)
         if self.route is not None:
             navigation = out["navigation"]
             assert isinstance(navigation, dict)

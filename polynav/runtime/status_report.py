@@ -27,6 +27,12 @@ class StatusReport(RuntimeParts):
     def _mapping_status(self, now: float) -> MappingStatus | None:
         """The mapping session as the status shows it (mapping commands)."""
 
+    def _load_status(self) -> dict[str, object] | None:
+        """The cart or cabin carried, as the status shows it (cart commands)."""
+        carts = getattr(self, "carts", None)  # none yet while the runtime is being built
+        load = None if carts is None else carts.status()["load"]
+        return dict(load) if isinstance(load, dict) else None
+
     @abc.abstractmethod
     def _route_overlay(self, snapshot: StatusSnapshot) -> StatusSnapshot:
         """The snapshot with a goal on another map's route and lift phase (lift commands)."""
@@ -85,6 +91,7 @@ class StatusReport(RuntimeParts):
             frame=(GoalFrame.ODOM if self._mapless else GoalFrame.MAP).value,
             mapping=self._mapping_status(now),
             doors=self._doors_view(),
+            load=self._load_status(),
         ))
 
     def _floor_level(self, floor: str | None) -> int | None:

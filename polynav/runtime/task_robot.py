@@ -171,6 +171,20 @@ class RuntimeTaskRobot:
         self._when_ended(task_id, "video", stop)
         return stem + ".mkv"
 
+    def dock_cart(self, *, cart: str | None, point: str | None, cabin_id: str | None) -> int:
+        self._runtime.carts.dock(cart=cart, point=point, cabin_id=cabin_id)
+        return self._runtime.carts.count
+
+    def leave_cart(self, *, point: str | None, map_name: str | None) -> int:
+        self._runtime.carts.leave(point=point, map_name=map_name)
+        return self._runtime.carts.count
+
+    def cart_outcome(self, number: int) -> tuple[bool, str, str] | None:
+        return self._runtime.carts.outcome(number)
+
+    def cancel_cart(self) -> None:
+        self._runtime.carts.cancel()
+
     def move_axis(self, axis: str, mode: AxisMode, *, target: float = 0.0, speed: float = 0.0,
                   duration: float = 0.0) -> str:
         job = self._runtime.peripherals.move_axis(axis, mode, target=target, speed=speed,

@@ -207,6 +207,23 @@ class TaskRobot(Protocol):
 
     # -- lifts ---------------------------------------------------------------------------------
 
+    def dock_cart(self, *, cart: str | None, point: str | None, cabin_id: str | None) -> int:
+        """Start docking to a cart or cabin; the dock's number (:meth:`cart_outcome`)."""
+        ...
+
+    def leave_cart(self, *, point: str | None, map_name: str | None) -> int:
+        """Start leaving the load (at ``point`` first when given); the leave's number."""
+        ...
+
+    def cart_outcome(self, number: int) -> tuple[bool, str, str] | None:
+        """Once dock or leave ``number`` ended: whether it succeeded, the load's name, the
+        reason it failed; ``None`` while it runs."""
+        ...
+
+    def cancel_cart(self) -> None:
+        """Stop the dock or leave under way, if any."""
+        ...
+
     def call_lift(self, *, car: str | None, level: int | None, task_id: str) -> LiftCall:
         """Hold a car (``car``, else the one held, else the nearest) and ask it to the floor
         at ``level`` (``None``: the robot's) with its doors open; given back when task

@@ -5,7 +5,8 @@ ground-truth occupancy :class:`~polynav.maps.map.Map` (the lidar casts its rays 
 robot collides with it), the floor's named :class:`~polynav.site.Point` s, the lift shaft that
 joins the floors, and the routes the floor's people walk. The world's :class:`LiftCar` s say which
 floors each car serves, where its points are and how fast it moves; its :class:`WorldDoor` s are
-the electronic doors and gates robots open on their way. The same map also serves as the
+the electronic doors and gates robots open on their way; its :class:`WorldCart` s the carts and
+cabins robots carry (:mod:`polynav.worlds.carts`). The same map also serves as the
 navigation map of the demo site, as if it had been surveyed perfectly.
 """
 
@@ -23,6 +24,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.map import Map
 from polynav.robot.profile import RobotProfile
 from polynav.site import Point
+from polynav.worlds.carts import WorldCart
 
 log = logging.getLogger(__name__)
 
@@ -317,6 +319,16 @@ class World:
     """The building's lift cars (``lifts:`` in world.yaml)."""
     doors: tuple[WorldDoor, ...] = ()
     """The building's electronic doors and gates (``doors:`` in world.yaml)."""
+    carts: tuple[WorldCart, ...] = ()
+    """The carts and cabins standing in the building (``carts:`` in world.yaml)."""
+
+    def cart(self, name: str) -> WorldCart:
+        """The cart or cabin called ``name``.
+
+        Raises:
+            InvalidRequest: none has that name.
+        """
+        return _named(self.carts, name, "cart", f"in world {self.name!r}")
 
     def door(self, name: str) -> WorldDoor:
         """The door called ``name``.

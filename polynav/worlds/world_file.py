@@ -29,6 +29,11 @@ The layout, every length in metres and every angle in radians::
       - {name: fire_door_1, floor: floor2, x1: 15.3, y1: 10.95, x2: 15.3, y2: 13.05,
          kind: door, open_time: 2.0, close_time: 2.0, controller: simulated}
       - {name: lobby_gate, floor: floor1, x: 10.0, y: 12.0, theta: 0.0, width: 2.0, kind: gate}
+    carts:                          # optional: carts (lifted) and cabins (latched) to carry
+      - {name: cart_1, kind: cart, floor: floor1, x: 8.5, y: 2.0, theta: 0.0, length: 0.9,
+         width: 0.7, mass: 40.0}
+      - {name: cabin_1, kind: cabin, floor: floor2, x: 4.0, y: 1.5, theta: 0.0,
+         cabin_id: CAB-0001, mass: 60.0}
 
 ``kind`` takes the values of :class:`~polynav.site.PointKind` (``general``, ``charger``,
 ``initial``, ``lift-outside``, ``lift-inside`` ...); ``number``, ``lift``, ``people``, ``radius``,
@@ -39,7 +44,10 @@ inside one in its shaft); ``waiting``, ``speed``, ``floor_height``, ``door_time`
 ``capacity`` may be left out. A door's place is its leaf's segment (``x1, y1, x2, y2``) or its
 centre, the heading it is crossed along and its width (``x, y, theta, width``); ``kind``
 (``door``, the default, or ``gate``), ``open_time``, ``close_time`` [s] and ``controller``
-(``simulated``) may be left out. Ground truth is loaded with
+(``simulated``) may be left out. A cart's or cabin's place is its centre and the heading a
+docked robot faces (:mod:`polynav.worlds.carts`); ``length`` and ``width`` (its legs'
+rectangle), ``mass`` [kg] and ``leg_radius`` may be left out, a cabin's ``cabin_id`` may not.
+Ground truth is loaded with
 :func:`polynav.maps.ros_map.load_map`, so any ROS map can be the reality of a simulated floor.
 """
 
@@ -57,6 +65,7 @@ from polynav.geometry import Pose2D
 from polynav.maps.ros_map import load_map
 from polynav.robot.profile import ProfileError, RobotProfile, load_profile, parse_profile
 from polynav.site import Point, PointKind
+from polynav.worlds.carts import CartKind, WorldCart
 from polynav.worlds.errors import WorldFormatError
 from polynav.worlds.world import (
     AccessPoint,
@@ -128,8 +137,13 @@ def read_world(folder: str | Path) -> World:
     door_names = [d.name for d in doors]
     if len(set(door_names)) != len(door_names):
         raise WorldFormatError("doors", f"door names repeat: {door_names}")
+    carts = tuple(_cart(c, floors, f"carts[{n}]")
+                  for n, c in enumerate(_list(doc.get("carts", []), "carts")))
+    cart_names = [c.name for c in carts]
+    if len(set(cart_names)) != len(cart_names):
+        raise WorldFormatError("carts", f"cart and cabin names repeat: {cart_names}")
     world = World(name=name, floors=floors, start_floor=start_floor, start_pose=start_pose,
-                  robot=robot, lifts=lifts, doors=doors)
+                  robot=robot, lifts=lifts, doors=doors, carts=carts)
     log.info("loaded world %r from %s: floors %s", name, root, names)
     return world
 
@@ -306,6 +320,36 @@ def _door(raw: object, floors: tuple[WorldFloor, ...], key: str) -> WorldDoor:
         return WorldDoor.across(name, floor, _num(doc, "x", key), _num(doc, "y", key),
                                 _num(doc, "theta", key, default=0.0), _num(doc, "width", key),
                                 kind=kind, controller=controller, **timing)
+    except InvalidRequest as exc:
+        raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
+
+
+def _cart(raw: object, floors: tuple[WorldFloor, ...], key: str) -> WorldCart:
+    """A ``carts:`` entry: ``name``, ``kind`` (cart or cabin), ``floor``, ``x, y, theta``, and
+    optionally ``length``, ``width``, ``mass``, ``leg_radius``; a cabin's ``cabin_id``."""
+    doc = _mapping(raw, key)
+    name = _str(doc, "name", f"{key}.name")
+    kind_value = doc.get("kind", CartKind.CART.value)
+    try:
+        kind = CartKind(kind_value)
+    except ValueError:
+        raise WorldFormatError(f"{key}.kind", f"{kind_value!r} is not one of cart, cabin"
+                               ) from None
+    floor = doc.get("floor")
+    names = [f.name for f in floors]
+    if floor is None:
+        raise WorldFormatError(f"{key}.floor", f"{kind.value} {name!r} is on no floor")
+    if floor not in names:
+        raise WorldFormatError(f"{key}.floor", f"{kind.value} {name!r}: no floor {floor!r} "
+                                               f"(floors: {names})")
+    cabin_id = doc.get("cabin_id")
+    if cabin_id is not None and not isinstance(cabin_id, str):
+        raise WorldFormatError(f"{key}.cabin_id", f"expected a string, got {cabin_id!r}")
+    pose = _pose(doc, key)
+    size = {field: _num(doc, field, key, default=default) for field, default in (
+        ("length", 0.9), ("width", 0.7), ("mass", 40.0), ("leg_radius", 0.03))}
+    try:
+        return WorldCart(name, kind, floor, pose, cabin_id=cabin_id, **size)
     except InvalidRequest as exc:
         raise WorldFormatError(f"{key}.{exc.field}", exc.reason) from None
 

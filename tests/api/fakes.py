@@ -25,6 +25,7 @@ from polynav.robot.profile import load_profile
 from polynav.robot.sim.door import SimDoor
 from polynav.robot.sim.lift_car import SimLiftCar
 from polynav.runtime import events
+from polynav.runtime.cart_jobs import Load
 from polynav.runtime.event_bus import EventBus
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.mapping_jobs import JobKind, MappingJob, MappingJobs
@@ -35,9 +36,57 @@ from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.task_commands import TaskCommands
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
+from polynav.worlds.carts import WorldCart
 
 T = TypeVar("T")
 EPOCH = dt.datetime(2030, 1, 7, 9, 0)
+
+
+class FakeCarts:
+    """The cart service of a robot whose motion jumps to its results: the demo's loads listed,
+    a dock's arguments checked as the real service checks them, then the load taken at once,
+    and left at once."""
+
+    def __init__(self, carts: tuple[WorldCart, ...]) -> None:
+        self._carts = {c.name: c for c in carts}
+        self.load: Any = None
+        self.busy = False
+
+    def loads(self) -> list[WorldCart]:
+        return list(self._carts.values())
+
+    def where(self, cart: WorldCart) -> tuple[str, Pose2D]:
+        return cart.floor, cart.pose
+
+    def status(self) -> dict[str, object]:
+        load = self.load
+        return {"load": None if load is None else {"name": load.cart.name,
+                                                   "kind": load.cart.kind.value,
+                                                   "mass": load.cart.mass},
+                "action": None}
+
+    def dock(self, *, cart: str | None = None, point: str | None = None,
+             cabin_id: str | None = None) -> WorldCart:
+        if (cart is None) == (point is None):
+            raise InvalidRequest("cart", "give exactly one of cart and point")
+        if cart is None or cart not in self._carts:
+            raise InvalidRequest("cart", f"no cart or cabin {cart!r}")
+        if self.load is not None:
+            raise Conflict(f"the robot already carries {self.load.cart.name}")
+        taken = self._carts[cart]
+        if cabin_id is not None and cabin_id != taken.cabin_id:
+            raise Conflict(f"the latch read cabin id {taken.cabin_id!r}, not {cabin_id!r}")
+        self.load = Load(taken, Pose2D())
+        return taken
+
+    def leave(self, *, point: str | None = None, map_name: str | None = None) -> WorldCart:
+        if self.load is None:
+            raise Conflict("the robot carries no cart or cabin to leave")
+        left, self.load = self.load.cart, None
+        return cast(WorldCart, left)
+
+    def cancel(self) -> bool:
+        return False
 
 
 class _TaskHost:
@@ -119,6 +168,7 @@ class FakeRuntime:
                             world.floor(d.floor).map.info, lambda door, margin: False,
                             lambda: self.now)
             for d in world.doors}
+        self.carts = FakeCarts(world.carts)
         self.tasks = TaskCommands(cast(RobotRuntime, _TaskHost(self)))
         self.tasks.load()
 

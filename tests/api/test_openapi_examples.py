@@ -47,6 +47,7 @@ NEEDS = {
     "save_mapping": "start_mapping",
     "stop_mapping": "start_mapping",
     "delete_path": "save_path",
+    "leave_cart": "dock_cart",
 }
 # Operations that name a resource (a path or a body naming a car, map, point) or need a mode:
 # the ones the issue asks to reach, which must have examples that answer 2xx.
@@ -54,6 +55,7 @@ MUST_REACH = {
     "request_lift", "set_lift_mode", "start_navigation", "send_goal", "set_initial_pose",
     "get_map", "get_map_image", "list_points", "create_point", "get_point", "update_point",
     "delete_point", "start_mapping", "save_mapping", "stop_mapping", "create_task",
+    "dock_cart", "leave_cart",
 }
 
 

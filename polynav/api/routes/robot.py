@@ -127,6 +127,16 @@ class SignCameraIO(_Strict):
     fov: Number | None = None
 
 
+class PayloadIO(_Strict):
+    """What the robot can carry on its jack or latch [kg], and how it drives loaded: cruise
+    speeds [m/s, rad/s] and acceleration [m/s²], none above the unloaded cruise."""
+
+    max_mass: Number | None = None
+    linear_velocity: Number | None = None
+    angular_velocity: Number | None = None
+    linear_acceleration: Number | None = None
+
+
 class ReverseIO(_Strict):
     """May the base back up in a recovery, and how far [m] behind it its sensors see (left out:
     the lidar's range if it sees behind, else 0)."""
@@ -149,6 +159,7 @@ class ProfileIn(_Strict):
     charger: ChargerIO | None = None
     reverse: ReverseIO | None = None
     sign_camera: SignCameraIO | None = None
+    payload: PayloadIO | None = None
 
 
 class ProfileOut(BaseModel):
@@ -168,6 +179,8 @@ class ProfileOut(BaseModel):
     reverse: ReverseIO
     sign_camera: SignCameraIO | None = Field(
         default=None, description="only for robots with one")
+    payload: PayloadIO | None = Field(
+        default=None, description="only for robots that carry carts or cabins")
 
 
 ProfileBody = Body(

@@ -21,6 +21,7 @@ from collections.abc import Callable
 
 from polynav.protocols.yunji.messages import Notification
 from polynav.runtime import events
+from polynav.runtime.cart_events import CartAction, CartFailure, CartStep
 from polynav.runtime.door_passage import (
     DoorControlFinished,
     DoorControlForced,
@@ -117,27 +118,11 @@ NOTIFICATIONS: dict[str, tuple[str, str]] = {
     "03001": ("warning", "Abnormal object was detected in the robot."),
 }
 
-_NO_CONTAINERS = "polynav has no container or cabin docking (no product feature behind it)"
 # Codes whose trigger polynav has no feature for: catalogued, never sent (docs/yunji.md).
 NOT_PRODUCED: dict[str, str] = {
-    "01028": _NO_CONTAINERS,
     "01029": "polynav's bases (simulated and bridged) are differential: there is no lateral "
              "(sideways) mode to switch to, so the switch can neither be made nor fail "
              "(docs/decisions.md)",
-    "01050": _NO_CONTAINERS,
-    "01051": _NO_CONTAINERS,
-    "01052": _NO_CONTAINERS,
-    "01053": _NO_CONTAINERS,
-    "01060": _NO_CONTAINERS,
-    "01061": _NO_CONTAINERS,
-    "01062": _NO_CONTAINERS,
-    "01070": _NO_CONTAINERS,
-    "01071": _NO_CONTAINERS,
-    "01072": _NO_CONTAINERS,
-    "01073": _NO_CONTAINERS,
-    "01080": _NO_CONTAINERS,
-    "01081": _NO_CONTAINERS,
-    "01082": _NO_CONTAINERS,
 }
 
 # Codes the mapper below sends.
@@ -153,7 +138,27 @@ PRODUCED: frozenset[str] = frozenset({
     "04030", "04031", "04032", "04033", "04040", "04041", "04050", "04051", "04052", "04060",
     "04061", "04062", "04070", "04071",
     "01030", "01031", "01032",  # doors and gates on the way (runtime.door_passage)
+    # Containers and cabins (runtime.cart_commands, protocols.yunji.containers).
+    "01028", "01050", "01051", "01052", "01053", "01060", "01061", "01062",
+    "01070", "01071", "01072", "01073", "01080", "01081", "01082",
 })
+# A dock or leave of a container (a cart) or a cabin: step -> code (§3.10.1 L656-L669).
+_CART_CODES: dict[tuple[str, str, CartStep], str] = {
+    ("leave", "cart", CartStep.STARTED): "01050",
+    ("leave", "cart", CartStep.SUCCEEDED): "01051",
+    ("leave", "cart", CartStep.FAILED): "01052",
+    ("leave", "cart", CartStep.RETRIED): "01053",
+    ("dock", "cart", CartStep.STARTED): "01060",
+    ("dock", "cart", CartStep.SUCCEEDED): "01061",
+    ("dock", "cart", CartStep.FAILED): "01062",
+    ("leave", "cabin", CartStep.STARTED): "01070",
+    ("leave", "cabin", CartStep.SUCCEEDED): "01071",
+    ("leave", "cabin", CartStep.FAILED): "01072",
+    ("leave", "cabin", CartStep.RETRIED): "01073",
+    ("dock", "cabin", CartStep.STARTED): "01080",
+    ("dock", "cabin", CartStep.SUCCEEDED): "01081",
+    ("dock", "cabin", CartStep.FAILED): "01082",
+}
 PLANNING_NOTICE_PERIOD = 5.0  # [s] between repeats of 01201/01202/01203 (§3.10.1 L677)
 
 _MOVE_END: dict[type[events.RuntimeEvent], str] = {
@@ -297,6 +302,12 @@ class NotificationMapper:
             return [notification(code, {"target": self._target(event.attempt_id)})]
         if isinstance(event, DoorControlForced):
             return [notification("01032")]
+        if isinstance(event, CartAction):
+            # A wrong cabin id is told (01028) before the dock's failure (01082); a dock's
+            # retry has no code of its own (only leaving has one, 01053/01073).
+            wrong = ["01028"] if event.reason is CartFailure.WRONG_CABIN else []
+            step = _CART_CODES.get((event.action, event.load, event.step))
+            return [notification(c) for c in [*wrong, *([step] if step else [])]]
         return self._status(event)
 
     def _lift(self, event: LiftPhaseChanged) -> list[str]:

@@ -7,6 +7,7 @@ import math
 
 from polynav.errors import InvalidRequest, NotFound
 from polynav.geometry import Pose2D, yaw_to_quaternion
+from polynav.protocols.yunji import containers
 from polynav.protocols.yunji.context import (
     Context,
     Handler,
@@ -181,7 +182,7 @@ def get_current_location(ctx: Context, params: Params) -> Reply:
             "near_markers": [
                 {"distance": d, "key": marker_type(p), "marker_name": p.name} for d, p in near
             ],
-            "running_status": running_status(s),
+            "running_status": containers.running_status(ctx, s, running_status(s)),
         }
     )
 

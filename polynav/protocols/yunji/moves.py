@@ -14,6 +14,7 @@ from dataclasses import replace
 from polynav.errors import Conflict, InvalidRequest, NotFound
 from polynav.geometry import Pose2D, wrap_angle
 from polynav.nav.attempt import GoalOptions
+from polynav.protocols.yunji import containers
 from polynav.protocols.yunji.context import (
     Context,
     Handler,
@@ -81,6 +82,17 @@ def move(ctx: Context, params: Params) -> Reply:
     # pending_target is this move's (the snapshot is refreshed after each runtime command).
     with ctx.move_lock:
         _refuse_while_running(ctx)
+        carts = ctx.runtime.carts
+        if carts.busy:
+            raise Conflict("a container or cabin is being docked to or left")
+        if carts.load is not None:  # docked: leave it first (§D.8), as a charging pile
+            containers.leave_then_move(ctx, target or None, pose,
+                                       _map_of(ctx, target) if target else None, options)
+            return Reply(task_id=containers.cart_task_id(carts.count))
+        if pose is None and containers.load_marker(
+                ctx.store.point(_map_of(ctx, target), target)):
+            containers.dock(ctx, target, params.get("cabin_id") or None)
+            return Reply(task_id=containers.cart_task_id(carts.count))
         with ctx.lock:
             ctx.pending_target = target
         try:
@@ -188,7 +200,10 @@ def _goal_options(params: Params) -> GoalOptions:
 
 
 def move_cancel(ctx: Context, params: Params) -> Reply:
-    """§3.2. Nothing to cancel is ``REQUEST_DENIED`` (§A-M4)."""
+    """§3.2. Nothing to cancel is ``REQUEST_DENIED`` (§A-M4); a dock to or a leave of a
+    container or cabin under way is the move task, and stops (01062/01082, 01052/01072)."""
+    if ctx.runtime.carts.cancel():
+        return Reply()
     ctx.runtime.cancel()
     return Reply()
 

@@ -8,6 +8,7 @@ import logging
 import math
 
 from polynav.errors import Conflict, InvalidRequest, NotFound
+from polynav.protocols.yunji import containers
 from polynav.protocols.yunji.context import (
     Context,
     Handler,
@@ -51,8 +52,8 @@ def robot_status(ctx: Context, params: Params) -> Reply:
     return Reply(
         results={
             "move_target": target or "",
-            "move_status": move_status.value,
-            "running_status": running_status(s),
+            "move_status": containers.move_status(ctx, s, move_status.value),
+            "running_status": containers.running_status(ctx, s, running_status(s)),
             "move_retry_times": int(s.retries),
             "charge_state": s.charging,
             "soft_estop_state": s.estop_software,

@@ -121,7 +121,20 @@ def body_clearance(
             if math.hypot(c.face.x - pose.x, c.face.y - pose.y) <= radius + 1.0]
     if not near:
         return math.inf
-    pts = np.concatenate(near)
+    return points_clearance(pose, radius, polygon, np.concatenate(near))
+
+
+def points_clearance(
+    pose: Pose2D,
+    radius: float,
+    polygon: tuple[tuple[float, float], ...],
+    pts: npt.NDArray[np.float64],
+) -> float:
+    """Signed gap [m] between the base at ``pose`` (a disk of ``radius``, or ``polygon`` in the
+    base frame) and world points ``pts`` (rows x, y): negative where a point is inside the body;
+    ``inf`` with no points."""
+    if pts.shape[0] == 0:
+        return math.inf
     c, s = math.cos(pose.theta), math.sin(pose.theta)
     dx, dy = pts[:, 0] - pose.x, pts[:, 1] - pose.y
     bx, by = c * dx + s * dy, -s * dx + c * dy

@@ -27,7 +27,8 @@ The building's lift cars (:class:`~polynav.robot.sim.lift_car.SimLiftCar`, one p
 entry of the world) are stepped first; a car that arrives at a floor carries the bodies standing
 in its shaft there (each keeps its pose: the shafts coincide), so a robot rides by standing in
 the car. The world's doors (:class:`~polynav.robot.sim.door.SimDoor`) are stepped next: a door
-not fully open has its leaf in its floor's ground truth.
+not fully open has its leaf in its floor's ground truth. The world's carts and cabins
+(:mod:`~polynav.robot.sim.carts`) stand on their legs, or move with the body carrying them.
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ import numpy.typing as npt
 from polynav.clock import ManualClock
 from polynav.errors import InvalidRequest
 from polynav.maps.map import MapInfo
+from polynav.robot.sim.carts import CartYard
 from polynav.robot.sim.charger import SimCharger
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.door import SimDoor
@@ -119,6 +121,8 @@ class Scene:
                                self.clock.now)
             for door in world.doors
         }
+        self.carts = CartYard(world.carts)
+        """The world's carts and cabins (:mod:`~polynav.robot.sim.carts`)."""
 
     def _door_occupied(self, door: WorldDoor, margin: float) -> bool:
         """Whether a body or a person stands within ``margin`` [m] of ``door``'s leaf."""
@@ -244,6 +248,7 @@ class Scene:
         for body in self._bodies:  # each sees where the ones before it have moved to
             hits = len(body._collisions)
             body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
+            self.carts.follow(body.name, body.floor, body.true_pose)
             if len(body._collisions) > hits and body._collisions[-1].obstacle == "robot":
                 self._note_contact(body, now)
         self.clock.set(now)

@@ -33,7 +33,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from polynav.errors import InvalidRequest
+from polynav.errors import Conflict, InvalidRequest
 from polynav.geometry import Pose2D, Twist
 from polynav.robot.interface import (
     BatteryState,
@@ -47,6 +47,7 @@ from polynav.robot.interface import (
 )
 from polynav.robot.sim import charger as charger_faults
 from polynav.robot.sim.battery import Battery
+from polynav.robot.sim.carts import SimCart
 from polynav.robot.sim.charger import SimCharger, body_clearance
 from polynav.robot.sim.collision import (
     Collision,
@@ -65,6 +66,7 @@ from polynav.robot.sim.sign_camera import seen_signs
 from polynav.robot.sim.sim_robot import SimRobot
 from polynav.robot.sim.wifi import VisibleNetwork, WirelessCard
 from polynav.site import PointKind
+from polynav.worlds.carts import CartKind
 from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
@@ -351,6 +353,7 @@ class Simulation:
         self._plate_gap = self._plate_clearance(name, pose)
         self._floor = name
         self._base.place(pose)
+        self._scene.carts.follow(self.name, name, pose)
         self._in_contact = False
         now = self.clock.now()
         self._take_scan(now)
@@ -430,7 +433,7 @@ class Simulation:
         else:
             base.apply(step)  # a standing base stays put; its velocity may still change
         if self._in_contact and min(
-            self._wall_gap, self._plate_gap,
+            self._wall_gap, self._plate_gap, self._legs_clearance(base.pose),
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, people),
             person_clearance(base.pose.x, base.pose.y, c.robot_radius, robots),
         ) >= c.collision_release_distance:
@@ -473,6 +476,9 @@ class Simulation:
         plate = self._plate_clearance(self._floor, pose)  # a charger's plate: a wall too
         if plate < 0.0 and plate < self._plate_gap - _EPS:
             return "wall"
+        legs = self._legs_clearance(pose)  # carts' legs, and the legs of the load carried
+        if legs < 0.0 and legs < self._legs_clearance(self._base.pose) - _EPS:
+            return "wall"
         checks: tuple[tuple[npt.NDArray[np.float64], Obstacle], ...] = (
             (people, "person"), (robots, "robot"))
         for circles, kind in checks:
@@ -492,11 +498,66 @@ class Simulation:
         if robots is None:
             robots = self._scene.robots_near(self)
         circles = np.concatenate((people, robots)) if robots.shape[0] else people
+        legs = self._scene.carts.legs(self._floor, mask=self.name)
+        if legs.shape[0]:
+            circles = np.concatenate((circles, legs))
         scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now,
                                 here.charger_segments)
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
+
+    def _legs_clearance(self, pose: Pose2D) -> float:
+        """Gap [m] between the body at ``pose`` and the carts' legs on its floor (its own
+        load's aside), and between its load's legs there and the walls."""
+        c, here = self.config, self._floors[self._floor]
+        return self._scene.carts.clearance(
+            self.name, self._floor, pose, c.robot_radius, c.footprint_polygon,
+            lambda x, y, r: body_wall_clearance(here.occupied, here.info, Pose2D(x, y),
+                                                radius=r, horizon=c.collision_release_distance))
+
+    # -- loads (carts and cabins) ---------------------------------------------------------------
+
+    @property
+    def load(self) -> SimCart | None:
+        """The cart or cabin the robot carries, if any."""
+        return self._scene.carts.carried_by(self.name)
+
+    def set_jack_height(self, height: float) -> SimCart | None:
+        """The jacking axis now stands at ``height`` [m]: raised under a cart it lifts it,
+        lowered it sets it down (:meth:`~polynav.robot.sim.carts.CartYard.jack`)."""
+        return self._scene.carts.jack(self.name, self._floor, self._base.pose, height)
+
+    def cabin_tag(self) -> str | None:
+        """What the latch's tag reader reads: the id of the cabin the robot stands in
+        (aligned), or of the one it carries; None with no cabin there."""
+        load = self.load
+        if load is None:
+            load = self._scene.carts.under(self.name, self._floor, self._base.pose,
+                                           CartKind.CABIN)
+        if load is None or load.spec.kind is not CartKind.CABIN:
+            return None
+        return load.spec.cabin_id
+
+    def latch(self) -> SimCart:
+        """Close the latch on the cabin the robot stands in.
+
+        Raises:
+            Conflict: no cabin there (or the robot carries something already).
+        """
+        yard = self._scene.carts
+        cabin = yard.under(self.name, self._floor, self._base.pose, CartKind.CABIN)
+        if cabin is None:
+            raise Conflict("the latch closed on nothing: no cabin around the robot")
+        yard.take(cabin, self.name, self._base.pose)
+        return cabin
+
+    def unlatch(self) -> SimCart | None:
+        """Open the latch: the cabin carried (if any) is left where it stands."""
+        load = self.load
+        if load is None or load.spec.kind is not CartKind.CABIN:
+            return None
+        return self._scene.carts.release(self.name)
 
     def _plate_clearance(self, floor: str, pose: Pose2D) -> float:
         c = self.config

@@ -5,6 +5,7 @@ from polynav.tasks.actions import (
     automation,
     axes,
     callback,
+    carts,
     charging,
     devices,
     launch,
@@ -16,5 +17,6 @@ from polynav.tasks.actions import (
     waiting,
 )
 
-__all__ = ["automation", "axes", "callback", "charging", "devices", "launch", "lifts", "media",
+__all__ = ["automation", "axes", "callback", "carts", "charging", "devices", "launch", "lifts",
+           "media",
            "motion", "navigation", "transfer", "waiting"]

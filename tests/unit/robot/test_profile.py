@@ -163,3 +163,20 @@ def test_the_stack_reverses_only_as_the_profile_allows_and_backs_out_only_as_far
     assert not may_not.navigator.reverse_allowed
     blind = stack_config_for(parse_profile(_doc(reverse={"rear_view": 0.0})))
     assert blind.navigator.recovery_backout_distance == BLIND_BACKOUT
+
+
+def test_the_payload_says_what_the_robot_carries_and_how_it_drives_loaded() -> None:
+    from polynav.robot.profile import Payload, parse_profile
+
+    doc = {"name": "mule", "footprint": {"radius": 0.25},
+           "payload": {"max_mass": 80.0, "linear_velocity": 0.3}}
+    mule = parse_profile(doc)
+    assert mule.payload == Payload(max_mass=80.0, linear_velocity=0.3)
+    assert parse_profile(mule.to_document()).payload == mule.payload
+    assert parse_profile({"name": "x", "footprint": {"radius": 0.25}}).payload is None
+    for field, value, words in (("max_mass", -1.0, "must be >= 0"),
+                                ("linear_velocity", 5.0, "above cruise.linear_velocity"),
+                                ("angular_velocity", 0.0, "must be > 0")):
+        with pytest.raises(ProfileError) as error:
+            parse_profile({**doc, "payload": {field: value}})
+        assert error.value.field == f"robot.payload.{field}" and words in error.value.reason
