@@ -207,6 +207,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="[s] with --transport mqtt, end after this much wall time even if "
                         "the simulated time is not reached (a machine that cannot keep the "
                         "pace); the figures cover the simulated time reached")
+    parser.add_argument("--broker-restart-at", type=float, default=None, metavar="S",
+                        help="[s of site time] with --transport mqtt, kill the broker then and "
+                        "start it again (every mission must still end once)")
     parser.add_argument("--kinematic-speed", type=float, default=1.0,
                         help="[m/s] the light vehicles drive at (default 1)")
     parser.add_argument("--lift-wait", type=float, default=30.0,

@@ -417,7 +417,13 @@ class FleetManager:
                                         now=now, mission=order.mission)
 
     def _dispatch(self, now: float) -> None:
-        for mission in self.records.missions(MissionState.QUEUED):
+        queued = self.records.missions(MissionState.QUEUED)
+        if not queued:
+            return
+        # The robots weighed once per dispatch, not per mission (1,000 robots and a queue of
+        # 50 were 50,000 candidates a dispatch); each robot given a mission is taken out.
+        candidates = {c.serial: c for c in self._candidates()}
+        for mission in queued:
             try:
                 first = self._stop(0, mission.stops[0])
             except (InvalidRequest, NotFound) as exc:
@@ -426,14 +432,15 @@ class FleetManager:
                 self.records.cancel_mission(mission.mission_id, now=now)
                 self._emit("mission.cancelled", mission=mission.mission_id, why=str(exc))
                 continue
-            serial = choose(self._candidates(), Target(first.map_name, first.pose.x,
-                                                       first.pose.y),
+            serial = choose(list(candidates.values()), Target(first.map_name, first.pose.x,
+                                                               first.pose.y),
                             levels=self.levels, config=self.config.dispatch)
             if serial is None:
                 return
             claimed = self.records.claim_mission(serial, now=now)
             if claimed is None:
                 return  # another manager took the queue
+            del candidates[serial]
             self._start(serial, claimed, now)
 
     def _start(self, serial: str, mission: Mission, now: float) -> None:
