@@ -115,10 +115,13 @@ class FleetRecords:
 
         return self._db.run(work, _RC)
 
-    def claim_mission(self, robot: str, *, now: float) -> Mission | None:
+    def claim_mission(self, robot: str, *, now: float,
+                      mission_id: str | None = None) -> Mission | None:
         """Give ``robot`` the oldest queued mission (a requeued one keeps its place by when it
-        was added), or None when none is queued. A robot does one mission at a time: while it
-        has an active one, that one is returned (so a retried claim takes no second mission).
+        was added), or None when none is queued; with ``mission_id``, that mission if it is
+        still queued (the one the robot was chosen for), else None. A robot does one mission
+        at a time: while it has an active one, that one is returned (so a retried claim takes
+        no second mission).
 
         On PostgreSQL the oldest queued row is taken ``FOR UPDATE SKIP LOCKED``: two managers
         claiming at once for two robots get two missions, neither waits for the other.
@@ -135,10 +138,11 @@ class FleetRecords:
                 m.robot == robot, m.state == MissionState.ACTIVE.value)).first()
             if active is not None:
                 return _mission(active)
-            oldest = conn.execute(
-                select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
-                .order_by(m.created, m.seq).limit(1)
-                .with_for_update(skip_locked=True)).first()
+            queued = select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
+            if mission_id is not None:
+                queued = queued.where(m.id == mission_id)
+            oldest = conn.execute(queued.order_by(m.created, m.seq).limit(1)
+                                  .with_for_update(skip_locked=True)).first()
             if oldest is None:
                 return None
             conn.execute(update(s.missions).where(m.id == oldest.id).values(
@@ -147,6 +151,36 @@ class FleetRecords:
             self._audit(conn, now, "mission.claimed", mission=oldest.id, robot=robot,
                         attempt=oldest.attempts + 1)
             return self._mission_in(conn, oldest.id)
+
+        return self._db.run(work, _RC)
+
+    def resume_mission(self, mission_id: str, robot: str, *, now: float) -> Mission | None:
+        """Give a queued mission back to ``robot``, which was doing it when it was lost and is
+        back still doing it (its state names the mission's order): active again, on the same
+        attempt (no new claim); None when the mission is no longer queued (another robot
+        claimed it, or it was cancelled) or ``robot`` has another active mission.
+
+        Raises:
+            NotFound: no such mission. InvalidRequest: an empty robot name or a bad time.
+        """
+        _check_name("robot", robot)
+        now = _check_time(now)
+        m = s.missions.c
+
+        def work(conn: Connection) -> Mission | None:
+            self._mission_in(conn, mission_id)  # NotFound
+            if conn.execute(select(m.id).where(
+                    m.robot == robot, m.state == MissionState.ACTIVE.value)).first():
+                return None
+            # One statement decides: of two managers resuming and claiming it at once, the
+            # one whose update finds it still queued has it.
+            taken = conn.execute(update(s.missions).where(
+                m.id == mission_id, m.state == MissionState.QUEUED.value).values(
+                state=MissionState.ACTIVE.value, robot=robot, updated=now))
+            if taken.rowcount != 1:
+                return None
+            self._audit(conn, now, "mission.resumed", mission=mission_id, robot=robot)
+            return self._mission_in(conn, mission_id)
 
         return self._db.run(work, _RC)
 
