@@ -85,7 +85,7 @@ class FleetManagerConfig:
     max_sends: int = 5
     max_attempts: int = 3
     dispatch_period: float = 0.5
-    lost_grace: float = 30.0
+    lost_grace: float = 15.0
     queue_poll_period: float = 2.0
     dispatch: DispatchConfig = field(default_factory=DispatchConfig)
     events_kept: int = 1000
