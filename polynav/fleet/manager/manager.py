@@ -43,7 +43,13 @@ from typing import Any, Protocol
 from polynav.errors import ConfigError, InvalidRequest, NotFound, PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
-from polynav.fleet.manager.dispatch import Candidate, DispatchConfig, Target, choose
+from polynav.fleet.manager.dispatch import (
+    Candidate,
+    DispatchConfig,
+    Target,
+    available,
+    choose,
+)
 from polynav.fleet.manager.ledger import RecordsLedger
 from polynav.fleet.master_control import MasterControl, Stop
 from polynav.fleet.records import AuditEntry, FleetRecords, Mission, MissionState
@@ -410,27 +416,41 @@ class FleetManager:
 
     def _follow_missions(self, now: float) -> None:
         self._follow_returned(now)
-        for serial, job in list(self._assignments.items()):
+        started: list[tuple[str, _Assignment]] = []
+        done: list[tuple[str, _Assignment]] = []
+        failed: list[tuple[str, _Assignment, str]] = []
+        for serial, job in self._assignments.items():
             state = self.master.state(serial)
             if state is None:
                 continue
             ours = state.order_id == job.order_id
             if ours and not job.confirmed:
-                job.confirmed = True
-                self.records.order_confirmed(job.order_id, 0, now=now)
-                self._emit("mission.started", mission=job.mission_id, robot=serial,
-                           order=job.order_id)
+                started.append((serial, job))
             errors = [e for e in state.errors if any(
                 r.reference_key == "orderId" and r.reference_value == job.order_id
                 for r in e.error_references)]
             if errors and (not ours or any(e.error_type == "orderFailed" for e in errors)):
-                why = f"{errors[-1].error_type}: {errors[-1].error_description}"
-                self._attempt_failed(serial, job, why, now)
+                failed.append((serial, job,
+                               f"{errors[-1].error_type}: {errors[-1].error_description}"))
             elif ours and not state.node_states:
+                done.append((serial, job))
+        if started or done:
+            # One transaction for the tick's confirmations and ends; memory follows once it
+            # is written (a failed write leaves both for the next tick).
+            ended = set(self.records.progress(
+                confirmed=[(job.order_id, 0) for _, job in started],
+                done=[job.mission_id for _, job in done], now=now))
+            for serial, job in started:
+                job.confirmed = True
+                self._emit("mission.started", mission=job.mission_id, robot=serial,
+                           order=job.order_id)
+            for serial, job in done:
                 del self._assignments[serial]
-                self.records.finish_mission(job.mission_id, now=now)
-                log.info("mission %s done by %s", job.mission_id, serial)
-                self._emit("mission.done", mission=job.mission_id, robot=serial)
+                if job.mission_id in ended:
+                    log.info("mission %s done by %s", job.mission_id, serial)
+                    self._emit("mission.done", mission=job.mission_id, robot=serial)
+        for serial, job, why in failed:
+            self._attempt_failed(serial, job, why, now)
 
     def _attempt_failed(self, serial: str, job: _Assignment, why: str, now: float) -> None:
         del self._assignments[serial]
@@ -464,9 +484,12 @@ class FleetManager:
         queued = self.records.missions(MissionState.QUEUED)
         if not queued:
             return
-        # The robots weighed once per dispatch, not per mission (1,000 robots and a queue of
-        # 50 were 50,000 candidates a dispatch); each robot given a mission is taken out.
-        candidates = {c.serial: c for c in self._candidates()}
+        # The robots weighed once per dispatch, not per mission, and only those free to go
+        # (1,000 robots and a queue of 50 were 50,000 candidates weighed a dispatch); each
+        # robot given a mission is taken out.
+        candidates = {c.serial: c for c in self._candidates()
+                      if available(c, self.config.dispatch)}
+        chosen: list[tuple[str, str]] = []
         for mission in queued:
             until = self._held.get(mission.mission_id, now)
             if until > now:  # its lost robot may come back still doing it
@@ -485,15 +508,23 @@ class FleetManager:
                                                                first.pose.y),
                             levels=self.levels, config=self.config.dispatch)
             if serial is None:
-                return
-            claimed = self.records.claim_mission(serial, now=now,
-                                                 mission_id=mission.mission_id)
-            if claimed is None:
-                continue  # another manager took it
+                break
             del candidates[serial]
-            self._start(serial, claimed, now)
+            chosen.append((serial, mission.mission_id))
+        if not chosen:
+            return
+        # One transaction for the claims and one for the orders sent: a fleet of 1,000 freed
+        # dozens of robots a dispatch, and a transaction each held the states unread.
+        claimed = self.records.claim_missions(chosen, now=now)  # another manager's: left out
+        sent = [self._start(serial, mission, now) for serial, mission in claimed]
+        self.records.orders_sent([(order_id, 0, serial, mission_id)
+                                  for order_id, serial, mission_id in filter(None, sent)],
+                                 now=now)
 
-    def _start(self, serial: str, mission: Mission, now: float) -> None:
+    def _start(self, serial: str, mission: Mission,
+               now: float) -> tuple[str, str, str] | None:
+        """Send ``mission``'s order to ``serial``; (order id, serial, mission id) to record as
+        sent, None if it could not be sent (the mission is queued again)."""
         order_id = f"{mission.mission_id}-{mission.attempts}"
         try:
             stops = [self._stop(k, stop) for k, stop in enumerate(mission.stops)]
@@ -501,14 +532,13 @@ class FleetManager:
         except PolynavError as exc:
             log.warning("mission %s not sent to %s: %s", mission.mission_id, serial, exc)
             self.records.requeue_mission(mission.mission_id, now=now)
-            return
+            return None
         self._assignments[serial] = _Assignment(mission.mission_id, order_id)
-        self.records.order_sent(order_id, 0, robot=serial, now=now,
-                                mission=mission.mission_id)
         log.info("mission %s dispatched to %s (attempt %d)", mission.mission_id, serial,
                  mission.attempts)
         self._emit("mission.dispatched", mission=mission.mission_id, robot=serial,
                    order=order_id, attempt=mission.attempts)
+        return order_id, serial, mission.mission_id
 
     def _candidates(self) -> list[Candidate]:
         out = []
