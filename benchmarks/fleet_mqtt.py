@@ -78,6 +78,8 @@ from polynav.worlds.world import World
 BUDGET_LATENCY_P99 = 0.100  # [s], 1,000 kinematic agents
 STATE_PERIOD = 1.0  # [s of site time] a full robot's longest between two states
 DISPATCH_SHARE = 20  # at most 1/20 of the robots are sent an order per coordinator tick (20 ms)
+ANSWER_EVERY = 50  # a light worker answers orders between every this many vehicles' moves
+MISSION_PERIOD = 60.0  # [s of site time] by default, one mission per robot per this posted
 MAX_LEAD = 1.0  # [s of site time] a worker may run ahead of the slowest other one
 CONTACT_WINDOW = 2.0  # [s of site time]: one pair's contacts closer than this are one collision
 READY_TIMEOUT = 600.0  # [s of wall time] for the workers to build their share
@@ -103,6 +105,7 @@ class Broker:
         config = workdir / "mosquitto.conf"
         lines = [f"listener {self.port} 127.0.0.1", "allow_anonymous true",
                  "persistence false", "sys_interval 1", "max_queued_messages 100000",
+                 "set_tcp_nodelay true",
                  "log_dest none"]
         if os.geteuid() == 0:
             lines.append("user root")
@@ -281,23 +284,33 @@ def _kinematic_worker(spec: WorkerSpec, sync: Sync) -> dict[str, Any]:
     t0 = _wait_start(sync)
     cpu0, wall0 = time.process_time(), time.monotonic()
     next_all = wall0
+    def answer() -> None:
+        """Read what arrived and tick the vehicles it was for: an order is answered at once
+        (its state is its acknowledgement)."""
+        shared.pump()
+        for _ in range(3):
+            touched = shared.take_touched()
+            if not touched:
+                break
+            for serial in touched:
+                vehicles[serial].tick(clock[0])
+
     while not sync.stop.is_set():
         shared.wait("order", 0.01)
         wall = time.monotonic()
         clock[0] = (wall - t0) * args.speed
         if clock[0] >= args.sim_seconds:
             break
-        shared.pump()
+        answer()
         if wall >= next_all:  # every vehicle moves, 10 times a second
-            for vehicle in vehicles.values():
+            for k, vehicle in enumerate(vehicles.values()):
                 vehicle.tick(clock[0])
+                if k % ANSWER_EVERY == ANSWER_EVERY - 1:
+                    # 500 vehicles' moves and visualizations take ~20 ms: orders that arrive
+                    # meanwhile are answered between every few dozen, not after all of them.
+                    answer()
             next_all += 0.1
-        for _ in range(3):  # an order is answered at once: its state is its acknowledgement
-            touched = shared.take_touched()
-            if not touched:
-                break
-            for serial in touched:
-                vehicles[serial].tick(clock[0])
+        answer()
     wall, cpu = time.monotonic() - wall0, time.process_time() - cpu0
     for serial in vehicles:
         shared.publish(m.topic(serial, m.Connection), m.Connection(
@@ -343,7 +356,8 @@ class Pending:
     target: tuple[str, str]
     queued_at: float  # site time
     dispatched_at: float | None = None  # site time of its first dispatch
-    timed_out: bool = False
+    robot: str | None = None
+    timed_out: str | None = None  # how its robot stood when it timed out
 
 
 @dataclass(slots=True)
@@ -552,6 +566,10 @@ class _Run:
         self.broker_restarts = 0
         self.failures: list[str] = []
         self.queue_waits: list[float] = []
+        self.rate = (args.mission_rate if args.mission_rate is not None
+                     else len(serials) / MISSION_PERIOD)
+        self.tokens = 0.0
+        self.last_post = 0.0
 
     def follow(self, now: float) -> None:
         """Read the manager's events: dispatches (queue waits) and ends; cancel a mission past
@@ -562,9 +580,11 @@ class _Run:
             pending = self.pending.get(mission_id) if isinstance(mission_id, str) else None
             if pending is None:
                 continue
-            if event.kind == "mission.dispatched" and pending.dispatched_at is None:
-                pending.dispatched_at = event.at
-                self.queue_waits.append(event.at - pending.queued_at)
+            if event.kind == "mission.dispatched":
+                pending.robot = str(event.detail.get("robot"))
+                if pending.dispatched_at is None:
+                    pending.dispatched_at = event.at
+                    self.queue_waits.append(event.at - pending.queued_at)
             elif event.kind == "mission.requeued":
                 self.requeues += 1
             elif event.kind in ("mission.done", "mission.failed", "mission.cancelled"):
@@ -575,8 +595,8 @@ class _Run:
                     self.succeeded += 1
                     outcome = "succeeded"
                 else:
-                    why = ("no end within the mission timeout" if pending.timed_out
-                           else event.detail.get("why", event.kind))
+                    why = (f"no end within the mission timeout ({pending.timed_out})"
+                           if pending.timed_out else event.detail.get("why", event.kind))
                     outcome = f"failed: {why}"
                     self.failures.append(f"{event.detail.get('robot')} -> {pending.target[0]}/"
                                          f"{pending.target[1]}: {outcome}")
@@ -586,18 +606,25 @@ class _Run:
         for mission_id, pending in list(self.pending.items()):
             if (pending.dispatched_at is not None and not pending.timed_out
                     and now - pending.dispatched_at > self.args.mission_timeout):
-                pending.timed_out = True
+                pending.timed_out = _how_it_stands(self.manager, pending.robot)
                 self.deadlocks += 1
                 self.manager.cancel(mission_id)
 
     def post(self, now: float) -> None:
-        """Keep one mission per robot posted: at most one robot in 20 per tick (a starting fleet
-        of 1,000 does not post 1,000 missions in one burst), each to a random general point
-        (a full robot's: one no mission is bound for and no robot stands within 1 m of)."""
+        """Keep up to one mission per robot posted, at most ``--mission-rate`` per second of
+        site time (default one per robot per minute: the nearest free robot takes each, so a
+        fleet kept fully busy only measures how fast the manager can go) and one per 20 robots
+        per tick (a starting fleet of 1,000 does not post 1,000 missions in one burst), each to
+        a random general point (a full robot's: one no mission is bound for and no robot
+        stands within 1 m of)."""
         room = len(self.serials) - len(self.pending)
-        budget = min(room, max(1, len(self.serials) // DISPATCH_SHARE))
+        self.tokens = min(self.tokens + (now - self.last_post) * self.rate,
+                          max(1.0, self.rate))  # at most a second's worth saved up
+        self.last_post = now
+        budget = min(room, max(1, len(self.serials) // DISPATCH_SHARE), int(self.tokens))
         if budget <= 0:
             return
+        self.tokens -= budget
         master = self.manager.master
         taken: set[tuple[str, str]] = set() if self.kinematic else (
             {p.target for p in self.pending.values()} | _stood_on(master, self.serials,
@@ -621,6 +648,19 @@ class _Run:
                 taken.add((map_name, point))
             mission_id = post_mission(self.manager, map_name, point)
             self.pending[mission_id] = Pending((map_name, point), now)
+
+
+def _how_it_stands(manager: FleetManager, serial: str | None) -> str:
+    """A robot's last state in a few words: why a mission of it timed out."""
+    state = manager.master.state(serial) if serial is not None else None
+    if state is None:
+        return f"{serial}: no state"
+    here = state.agv_position
+    where = f"at ({here.x:.1f}, {here.y:.1f}) on {here.map_id}" if here else "nowhere"
+    errors = ", ".join(f"{e.error_type}: {e.error_description}" for e in state.errors)
+    return (f"{serial} {where}, {state.navigation_state}, waiting for "
+            f"{state.waiting_for or 'nothing'}, holding {list(state.zones)}, "
+            f"{len(state.node_states)} nodes left, errors [{errors}]")
 
 
 def _stood_on(master: MasterControl, serials: list[str],
@@ -711,6 +751,7 @@ def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Wat
         "missions_per_hour": round(succeeded / (sim / 3600.0), 1) if sim > 0 else 0.0,
         "failed": run.failures, "deadlocks": run.deadlocks,
         "dispatch": "fleet manager (polynav fleet's FleetManager, SQLite records)",
+        "mission_rate_per_s": round(run.rate, 2),
         "missions_unfinished": len(run.pending), "mission_requeues": run.requeues,
         "queue_wait_p50_s": round(float(np.percentile(queue_waits, 50)), 2)
         if len(queue_waits) else None,
@@ -763,7 +804,8 @@ def report(figures: dict[str, Any]) -> list[str]:
         f"{f['deadlocks']}, lease waits {f['lease_waits']} (mean {f['mean_lease_wait_s']} s, "
         f"{f['lease_rejections']} rejections), lift rides {f['lift_rides']} (mean wait "
         f"{f['mean_lift_wait_s']} s)",
-        f"dispatch by the {f['dispatch']}: queue wait p50 {f['queue_wait_p50_s']} s, p99 "
+        f"dispatch by the {f['dispatch']}, missions posted at most {f['mission_rate_per_s']}"
+        f"/s: queue wait p50 {f['queue_wait_p50_s']} s, p99 "
         f"{f['queue_wait_p99_s']} s (site time, posted -> dispatched); requeued "
         f"{f['mission_requeues']}, unfinished at the end {f['missions_unfinished']}, broker "
         f"restarts {f['broker_restarts']}",
