@@ -568,7 +568,8 @@ class _Run:
         self.queue_waits: list[float] = []
         self.rate = (args.mission_rate if args.mission_rate is not None
                      else len(serials) / MISSION_PERIOD)
-        self.tokens = 0.0
+        self.tokens = float(len(serials))  # every robot's first mission, then the rate
+        self.posted = 0
         self.last_post = 0.0
 
     def follow(self, now: float) -> None:
@@ -611,15 +612,18 @@ class _Run:
                 self.manager.cancel(mission_id)
 
     def post(self, now: float) -> None:
-        """Keep up to one mission per robot posted, at most ``--mission-rate`` per second of
+        """Keep up to one mission per robot posted: every robot's first at the start, then at
+        most ``--mission-rate`` per second of
         site time (default one per robot per minute: the nearest free robot takes each, so a
         fleet kept fully busy only measures how fast the manager can go) and one per 20 robots
         per tick (a starting fleet of 1,000 does not post 1,000 missions in one burst), each to
         a random general point (a full robot's: one no mission is bound for and no robot
         stands within 1 m of)."""
         room = len(self.serials) - len(self.pending)
-        self.tokens = min(self.tokens + (now - self.last_post) * self.rate,
-                          max(1.0, self.rate))  # at most a second's worth saved up
+        self.tokens += (now - self.last_post) * self.rate
+        if self.posted >= len(self.serials):
+            # Once the first missions are out, at most a second's worth is saved up.
+            self.tokens = min(self.tokens, max(1.0, self.rate))
         self.last_post = now
         budget = min(room, max(1, len(self.serials) // DISPATCH_SHARE), int(self.tokens))
         if budget <= 0:
@@ -647,6 +651,7 @@ class _Run:
             if not self.kinematic:
                 taken.add((map_name, point))
             mission_id = post_mission(self.manager, map_name, point)
+            self.posted += 1
             self.pending[mission_id] = Pending((map_name, point), now)
 
 
