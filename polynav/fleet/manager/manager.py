@@ -78,6 +78,9 @@ class FleetManagerConfig:
         max_attempts: a mission is claimed by robots at most this many times, then fails.
         dispatch_period: how often orders are re-sent and, after a change of the queue or a
             robot freed, the queue is dispatched.
+        max_dispatch: at most this many missions are dispatched in one tick; the rest of the
+            queue goes at the next tick (a full queue meeting a fleet of free robots, at
+            start-up, went out as a thousand orders at once, answered a second late).
         lost_grace: a mission requeued because its robot was lost (its last will) goes to
             another robot only this long after, unless the robot comes back without it sooner:
             a restarted broker delivers every robot's will while the robots drive on, and
@@ -91,6 +94,7 @@ class FleetManagerConfig:
     max_sends: int = 5
     max_attempts: int = 3
     dispatch_period: float = 0.5
+    max_dispatch: int = 20
     lost_grace: float = 15.0
     queue_poll_period: float = 2.0
     dispatch: DispatchConfig = field(default_factory=DispatchConfig)
@@ -101,7 +105,7 @@ class FleetManagerConfig:
             value = getattr(self, name)
             if not value > 0.0:
                 raise ConfigError(_KEY + name, f"must be > 0, got {value}")
-        for name in ("max_sends", "max_attempts", "events_kept"):
+        for name in ("max_sends", "max_attempts", "events_kept", "max_dispatch"):
             value = getattr(self, name)
             if value < 1:
                 raise ConfigError(_KEY + name, f"must be >= 1, got {value}")
@@ -511,6 +515,11 @@ class FleetManager:
                 break
             del candidates[serial]
             chosen.append((serial, mission.mission_id))
+            if len(chosen) >= self.config.max_dispatch:
+                # The rest at the next tick, not a dispatch period later.
+                self._queue_changed = True
+                self._next_dispatch = now
+                break
         if not chosen:
             return
         # One transaction for the claims and one for the orders sent: a fleet of 1,000 freed

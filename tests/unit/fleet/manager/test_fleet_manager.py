@@ -314,3 +314,17 @@ def test_a_queued_mission_whose_point_left_the_site_is_cancelled_not_retried(
         POINTS.update(before)
     assert fm.mission("gone").state is MissionState.CANCELLED
     assert robot.order_ids() == ["kept-1"]
+
+
+def test_a_full_queue_goes_out_max_dispatch_missions_a_tick(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    fm = FleetManager(transport, records, Site(), levels={"floor1": 1, "floor2": 2},
+                      config=FleetManagerConfig(dispatch_period=0.5, max_dispatch=2))
+    robots = online(transport, fm, ("r1", 0.0), ("r2", 5.0), ("r3", 9.0))
+    for k in (1, 2, 3):
+        fm.submit([{"point": "desk", "map": "floor1"}], mission_id=f"m{k}")
+    fm.tick(1.0)
+    assert [m.mission_id for m in fm.missions(MissionState.ACTIVE)] == ["m1", "m2"]
+    fm.tick(1.1)  # the rest at the next tick, not a dispatch period later
+    assert len(fm.missions(MissionState.ACTIVE)) == 3
+    assert sorted(o for r in robots for o in r.order_ids()) == ["m1-1", "m2-1", "m3-1"]
