@@ -94,7 +94,7 @@ class FleetManagerConfig:
     max_sends: int = 5
     max_attempts: int = 3
     dispatch_period: float = 0.5
-    max_dispatch: int = 20
+    max_dispatch: int = 10
     lost_grace: float = 15.0
     queue_poll_period: float = 2.0
     dispatch: DispatchConfig = field(default_factory=DispatchConfig)
