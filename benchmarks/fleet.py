@@ -207,6 +207,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="[s] with --transport mqtt, end after this much wall time even if "
                         "the simulated time is not reached (a machine that cannot keep the "
                         "pace); the figures cover the simulated time reached")
+    parser.add_argument("--mission-rate", type=float, default=None, metavar="PER_S",
+                        help="with --transport mqtt, missions posted per second of site time "
+                        "at most (default: one per robot per minute)")
+    parser.add_argument("--broker-restart-at", type=float, default=None, metavar="S",
+                        help="[s of site time] with --transport mqtt, kill the broker then and "
+                        "start it again (every mission must still end once)")
     parser.add_argument("--kinematic-speed", type=float, default=1.0,
                         help="[m/s] the light vehicles drive at (default 1)")
     parser.add_argument("--lift-wait", type=float, default=30.0,
@@ -256,6 +262,8 @@ def _main_mqtt(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int
         parser.error("--speed must be > 0")
     if not args.visualization_period > 0.0:
         parser.error("--visualization-period must be > 0")
+    if args.mission_rate is not None and not args.mission_rate > 0.0:
+        parser.error("--mission-rate must be > 0")
     path = Path(__file__).resolve().parent / "fleet_mqtt.py"
     spec = importlib.util.spec_from_file_location("polynav_bench_fleet_mqtt", path)
     assert spec is not None and spec.loader is not None

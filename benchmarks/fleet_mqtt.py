@@ -17,12 +17,16 @@ forks P worker processes and dispatches random missions from this process (the c
 
 Every process runs on one site clock: site time = ``--speed`` x (wall time since a common
 start), the workers' loops catching up when they fall behind (the real-time factor says whether
-they kept the pace). The coordinator's master control (lease book, zone requests, orders) runs
-on it; missions go out through :func:`dispatch` (the one place to swap for the fleet manager),
-to at most one robot in 20 per coordinator tick of 20 ms (a starting fleet of 1,000 does not
-publish 1,000 orders in one burst).
+they kept the pace). The coordinator runs the fleet manager ``polynav fleet`` runs
+(:class:`~polynav.fleet.manager.FleetManager`: its records in SQLite, its master control's
+lease book deciding through them, on one shared MQTT connection) on it, ticked every 20 ms;
+missions are posted to it (:func:`post_mission`, as ``POST /api/missions``), one per robot
+kept posted, at most one per 20 robots per tick (a starting fleet of 1,000 does not post 1,000
+missions in one burst), and the manager queues them and dispatches each to the best robot.
+``--broker-restart-at S`` kills the broker at site time S and starts it again.
 
-Figures: missions per hour, success, lease waits, order latency (the order's publication to the
+Figures: missions per hour, success, the manager's queue wait (posted to dispatched, site time),
+lease waits, order latency (the order's publication to the
 first state that acknowledges it: names the order, or rejects it) p50/p99, broker messages/s
 (Mosquitto's ``$SYS`` counters), CPU per robot, real-time factor, collisions (robot pairs
 counted once across the processes), lost state messages (gaps in each robot's headerId), and how
@@ -34,6 +38,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import datetime as dt
+import itertools
 import math
 import multiprocessing as mp
 import os
@@ -55,14 +60,15 @@ import psutil
 
 from polynav.fleet import messages as m
 from polynav.fleet.kinematic_vehicle import KinematicConfig, KinematicVehicle
-from polynav.fleet.master_control import MasterControl, Stop
+from polynav.fleet.manager import FleetManager, FleetManagerConfig
+from polynav.fleet.master_control import MasterControl
 from polynav.fleet.mqtt_transport import MqttTransport
-from polynav.fleet.shared_client import SharedClient
+from polynav.fleet.records import FleetRecords
+from polynav.fleet.shared_client import LocalInbox, SharedClient
 from polynav.fleet.vehicle import VehicleConfig
 from polynav.geometry import Pose2D
 from polynav.house.building import Building
 from polynav.house.remote_robots import RemoteRobots
-from polynav.leases.book import LeaseBook
 from polynav.runtime.config import RuntimeConfig
 from polynav.site import Point, PointKind
 from polynav.store.site_store import SiteStore
@@ -72,6 +78,8 @@ from polynav.worlds.world import World
 BUDGET_LATENCY_P99 = 0.100  # [s], 1,000 kinematic agents
 STATE_PERIOD = 1.0  # [s of site time] a full robot's longest between two states
 DISPATCH_SHARE = 20  # at most 1/20 of the robots are sent an order per coordinator tick (20 ms)
+ANSWER_EVERY = 50  # a light worker answers orders between every this many vehicles' moves
+MISSION_PERIOD = 60.0  # [s of site time] by default, one mission per robot per this posted
 MAX_LEAD = 1.0  # [s of site time] a worker may run ahead of the slowest other one
 CONTACT_WINDOW = 2.0  # [s of site time]: one pair's contacts closer than this are one collision
 READY_TIMEOUT = 600.0  # [s of wall time] for the workers to build their share
@@ -97,11 +105,17 @@ class Broker:
         config = workdir / "mosquitto.conf"
         lines = [f"listener {self.port} 127.0.0.1", "allow_anonymous true",
                  "persistence false", "sys_interval 1", "max_queued_messages 100000",
+                 "set_tcp_nodelay true",
                  "log_dest none"]
         if os.geteuid() == 0:
             lines.append("user root")
         config.write_text("\n".join(lines) + "\n", encoding="utf-8")
-        self.process = subprocess.Popen([binary, "-c", str(config)], stdin=subprocess.DEVNULL,
+        self._command = [binary, "-c", str(config)]
+        self._cpu_before = 0.0  # [s] of the processes restarted away
+        self._start()
+
+    def _start(self) -> None:
+        self.process = subprocess.Popen(self._command, stdin=subprocess.DEVNULL,
                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         deadline = time.monotonic() + 10.0
         while time.monotonic() < deadline:
@@ -112,16 +126,24 @@ class Broker:
         self.stop()
         raise SystemExit("polynav bench fleet: mosquitto did not start")
 
+    def restart(self) -> None:
+        """Kill the broker (no clean goodbye: the clients see their connection drop) and start
+        it again on the same port, with nothing kept (``persistence false``)."""
+        self._cpu_before += self.cpu() - self._cpu_before
+        self.process.kill()
+        self.process.wait(timeout=5.0)
+        self._start()
+
     @property
     def url(self) -> str:
         return f"mqtt://127.0.0.1:{self.port}"
 
     def cpu(self) -> float:
-        """CPU seconds the broker has used."""
+        """CPU seconds the broker has used (over its restarts)."""
         with contextlib.suppress(psutil.Error):
             times = psutil.Process(self.process.pid).cpu_times()
-            return float(times.user + times.system)
-        return 0.0
+            return self._cpu_before + float(times.user + times.system)
+        return self._cpu_before
 
     def stop(self) -> None:
         if self.process.poll() is None:
@@ -262,23 +284,33 @@ def _kinematic_worker(spec: WorkerSpec, sync: Sync) -> dict[str, Any]:
     t0 = _wait_start(sync)
     cpu0, wall0 = time.process_time(), time.monotonic()
     next_all = wall0
+    def answer() -> None:
+        """Read what arrived and tick the vehicles it was for: an order is answered at once
+        (its state is its acknowledgement)."""
+        shared.pump()
+        for _ in range(3):
+            touched = shared.take_touched()
+            if not touched:
+                break
+            for serial in touched:
+                vehicles[serial].tick(clock[0])
+
     while not sync.stop.is_set():
         shared.wait("order", 0.01)
         wall = time.monotonic()
         clock[0] = (wall - t0) * args.speed
         if clock[0] >= args.sim_seconds:
             break
-        shared.pump()
+        answer()
         if wall >= next_all:  # every vehicle moves, 10 times a second
-            for vehicle in vehicles.values():
+            for k, vehicle in enumerate(vehicles.values()):
                 vehicle.tick(clock[0])
+                if k % ANSWER_EVERY == ANSWER_EVERY - 1:
+                    # 500 vehicles' moves and visualizations take ~20 ms: orders that arrive
+                    # meanwhile are answered between every few dozen, not after all of them.
+                    answer()
             next_all += 0.1
-        for _ in range(3):  # an order is answered at once: its state is its acknowledgement
-            touched = shared.take_touched()
-            if not touched:
-                break
-            for serial in touched:
-                vehicles[serial].tick(clock[0])
+        answer()
     wall, cpu = time.monotonic() - wall0, time.process_time() - cpu0
     for serial in vehicles:
         shared.publish(m.topic(serial, m.Connection), m.Connection(
@@ -309,27 +341,43 @@ def _worker(spec: WorkerSpec, sync: Sync, starts_of: Starts) -> None:
 
 
 @dataclass(slots=True)
-class Mission:
+class Sent:
+    """An order as the coordinator saw it go out: its first publication (re-sends keep it)."""
+
     order_id: str
-    target: tuple[str, str]
     published: float  # time.monotonic()
-    sent_at: float  # site time
     acked: bool = False
-    outcome: str | None = None
+
+
+@dataclass(slots=True)
+class Pending:
+    """A mission posted to the fleet manager and not ended yet."""
+
+    target: tuple[str, str]
+    queued_at: float  # site time
+    dispatched_at: float | None = None  # site time of its first dispatch
+    robot: str | None = None
+    timed_out: str | None = None  # how its robot stood when it timed out
 
 
 @dataclass(slots=True)
 class Watch:
-    """What the coordinator learns from every state it reads (SharedClient's observer)."""
+    """What the coordinator learns from every state it reads (SharedClient's observer) and every
+    order the fleet manager publishes (:class:`TimedTransport`)."""
 
     epoch: dt.datetime
-    missions: dict[str, Mission] = field(default_factory=dict)
+    orders: dict[str, Sent] = field(default_factory=dict)
     latencies: list[float] = field(default_factory=list)
     clocks: dict[str, float] = field(default_factory=dict)
     last_header: dict[str, int] = field(default_factory=dict)
     lost: int = 0
     reordered: int = 0
     states: int = 0
+
+    def published(self, serial: str, order_id: str, wall: float) -> None:
+        sent = self.orders.get(serial)
+        if sent is None or sent.order_id != order_id:  # not a re-send
+            self.orders[serial] = Sent(order_id, wall)
 
     def observe(self, serial: str, kind: str, item: m.Received, wall: float) -> None:
         if kind != "state" or not isinstance(item, m.State):
@@ -345,27 +393,38 @@ class Watch:
             self.last_header[serial] = item.header.header_id
             moment = dt.datetime.fromisoformat(item.header.timestamp.replace("Z", "+00:00"))
             self.clocks[serial] = (moment - self.epoch).total_seconds()
-        mission = self.missions.get(serial)
-        if mission is None or mission.outcome is not None:
+        sent = self.orders.get(serial)
+        if sent is None or sent.acked:
             return
-        refused = next((e for e in item.errors if any(
-            r.reference_key == "orderId" and r.reference_value == mission.order_id
-            for r in e.error_references)), None)
-        if item.order_id == mission.order_id or refused is not None:
-            if not mission.acked:
-                mission.acked = True
-                self.latencies.append(wall - mission.published)
-        if refused is not None and (item.order_id != mission.order_id
-                                    or refused.error_type == "orderFailed"):
-            mission.outcome = f"failed: {refused.error_type}: {refused.error_description}"
-        elif item.order_id == mission.order_id and not item.node_states:
-            mission.outcome = "succeeded"
+        if item.order_id == sent.order_id or any(
+                r.reference_key == "orderId" and r.reference_value == sent.order_id
+                for e in item.errors for r in e.error_references):
+            sent.acked = True
+            self.latencies.append(wall - sent.published)
 
 
-def dispatch(master: MasterControl, serial: str, stops: list[Stop]) -> str:
-    """Send robot ``serial`` a mission through ``stops``; returns its order id. The one place
-    missions become orders: the fleet manager takes it over."""
-    return master.send_order(serial, stops)
+class TimedTransport:
+    """The fleet manager's transport in the coordinator: the shared connection, noting the wall
+    time just before each order is published (the order latency's start)."""
+
+    def __init__(self, shared: SharedClient, watch: Watch) -> None:
+        self.shared = shared
+        self.watch = watch
+
+    def publish(self, topic: str, message: m.Message) -> None:
+        if isinstance(message, m.Order):
+            self.watch.published(message.header.serial_number, message.order_id,
+                                 time.monotonic())
+        self.shared.publish(topic, message)
+
+    def subscribe(self, topic: str) -> LocalInbox:
+        return self.shared.subscribe(topic)
+
+
+def post_mission(manager: FleetManager, map_name: str, point: str) -> str:
+    """Post a mission to ``point`` on ``map_name`` to the fleet manager, as ``POST
+    /api/missions`` does; its id. The manager queues it and dispatches it to the best robot."""
+    return manager.submit([{"point": point, "map": map_name}]).mission_id
 
 
 def run_mqtt(args: argparse.Namespace, starts_of: Starts) -> dict[str, Any]:
@@ -393,7 +452,8 @@ def run_mqtt(args: argparse.Namespace, starts_of: Starts) -> dict[str, Any]:
                                       name=f"fleet-worker-{i}")
                 process.start()
                 workers.append(process)
-            figures = _coordinate(args, sync, broker, serials, goals, epoch, kinematic)
+            figures = _coordinate(args, sync, broker, serials, goals, epoch, kinematic,
+                                  Path(tmp))
         finally:
             sync.stop.set()
             sync.go.set()
@@ -408,19 +468,74 @@ def run_mqtt(args: argparse.Namespace, starts_of: Starts) -> dict[str, Any]:
 
 def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: list[str],
                 goals: list[tuple[str, str, Pose2D]], epoch: dt.datetime,
-                kinematic: bool) -> dict[str, Any]:
+                kinematic: bool, tmp: Path) -> dict[str, Any]:
     watch = Watch(epoch)
     mqtt = MqttTransport(broker.url, "polynav/fleet-bench", max_queued=100000)
     # Pumped here only: an outcome the observer saw is then in the master's state at its tick
     # (pumping inside the tick, a robot drained earlier in it kept its state from before its
     # success, and was sent its next order from where it had been: noRouteError).
     shared = SharedClient(mqtt, observer=watch.observe, auto_pump=False)
-    master = MasterControl(shared, LeaseBook(), epoch=epoch)
-    for serial in serials:
-        master.add_robot(serial)
-    sys_counts = mqtt.subscribe_raw("$SYS/broker/publish/messages/+")
-    mqtt.wait_subscribed(10.0)
-    sync.coordinator_ready.set()
+    world = load_world(args.world)
+    with SiteStore.open(tmp / "site", seed_world=world) as store, FleetRecords.open(
+            f"sqlite:///{tmp / 'fleet.db'}", name="fleet-bench") as records:
+        # The fleet manager `polynav fleet` runs, on the shared connection.
+        manager = FleetManager(TimedTransport(shared, watch), records, store,
+                               levels={f.map_name: f.level for f in world.floors},
+                               config=FleetManagerConfig(events_kept=100_000), epoch=epoch)
+        for serial in serials:
+            manager.add_robot(serial)
+        sys_counts = mqtt.subscribe_raw("$SYS/broker/publish/messages/+")
+        mqtt.wait_subscribed(10.0)
+        sync.coordinator_ready.set()
+        _wait_ready(args, sync)
+        t0 = time.monotonic() + 0.2
+        sync.start_at.value = t0
+        sync.go.set()
+        cpu0, broker_cpu0 = time.process_time(), broker.cpu()
+        run = _Run(args, manager, serials, goals, kinematic, np.random.default_rng(args.seed))
+        counters: list[tuple[float, dict[str, int]]] = []
+        next_tick = t0
+        time.sleep(max(0.0, t0 - time.monotonic()))
+        give_up = t0 + (args.max_wall if args.max_wall is not None
+                        else args.sim_seconds / args.speed * 5.0 + 120.0)
+        restart_at = args.broker_restart_at
+        while True:
+            shared.wait("state", 0.005)
+            wall = time.monotonic()
+            shared.pump()
+            now = _site_time(watch, serials, (wall - t0) * args.speed, kinematic)
+            if now >= args.sim_seconds - (0.0 if kinematic else STATE_PERIOD) or wall > give_up:
+                break
+            _read_counters(sys_counts.drain(), counters, wall)
+            if restart_at is not None and now >= restart_at:
+                restart_at = None
+                run.broker_restarts += 1
+                broker.restart()
+            if wall < next_tick:
+                continue
+            next_tick = wall + 0.02
+            manager.tick(now)
+            run.follow(now)
+            run.post(now)
+        wall_seconds = time.monotonic() - t0
+        coordinator_cpu = time.process_time() - cpu0
+        broker_cpu = broker.cpu() - broker_cpu0
+        sync.stop.set()
+        results = []
+        for _ in range(args.processes):
+            try:
+                results.append(sync.results.get(timeout=120.0))
+            except Empty:
+                break
+        mqtt.close()
+    errors = [r["error"] for r in results if "error" in r]
+    if errors or len(results) < args.processes:
+        raise SystemExit(f"polynav bench fleet: workers failed: {errors or 'no results'}")
+    return _figures(args, results, watch, run, counters, wall_seconds, coordinator_cpu,
+                    broker_cpu)
+
+
+def _wait_ready(args: argparse.Namespace, sync: Sync) -> None:
     ready = 0
     deadline = time.monotonic() + READY_TIMEOUT
     while ready < args.processes:
@@ -431,86 +546,126 @@ def _coordinate(args: argparse.Namespace, sync: Sync, broker: Broker, serials: l
         if got < 0:
             raise SystemExit(f"polynav bench fleet: a worker failed: {sync.results.get()}")
         ready += 1
-    t0 = time.monotonic() + 0.2
-    sync.start_at.value = t0
-    sync.go.set()
-    cpu0, broker_cpu0 = time.process_time(), broker.cpu()
-    rng = np.random.default_rng(args.seed)
-    bound: dict[str, tuple[str, str]] = {}
-    done = succeeded = deadlocks = 0
-    failures: list[str] = []
-    counters: list[tuple[float, dict[str, int]]] = []
-    next_tick = t0
-    now = 0.0
-    time.sleep(max(0.0, t0 - time.monotonic()))
-    give_up = t0 + (args.max_wall if args.max_wall is not None
-                    else args.sim_seconds / args.speed * 5.0 + 120.0)
-    while True:
-        shared.wait("state", 0.005)
-        wall = time.monotonic()
-        shared.pump()
-        now = _site_time(watch, serials, (wall - t0) * args.speed, kinematic)
-        if now >= args.sim_seconds - (0.0 if kinematic else STATE_PERIOD) or wall > give_up:
-            break
-        _read_counters(sys_counts.drain(), counters, wall)
-        if wall < next_tick and not any(
-                ms.outcome is not None for ms in watch.missions.values()):
-            continue
-        next_tick = wall + 0.02
-        master.tick(now)
-        for serial, mission in list(watch.missions.items()):
-            if mission.outcome is None and now - mission.sent_at > args.mission_timeout:
-                deadlocks += 1
-                mission.outcome = "failed: no end within the mission timeout"
-                master.cancel_order(serial)
-            if mission.outcome is None:
+
+
+class _Run:
+    """The coordinator's missions: posted to the fleet manager, followed through its events."""
+
+    def __init__(self, args: argparse.Namespace, manager: FleetManager, serials: list[str],
+                 goals: list[tuple[str, str, Pose2D]], kinematic: bool,
+                 rng: np.random.Generator) -> None:
+        self.args = args
+        self.manager = manager
+        self.serials = serials
+        self.goals = goals
+        self.kinematic = kinematic
+        self.rng = rng
+        self.pending: dict[str, Pending] = {}
+        self.seq = 0
+        self.done = self.succeeded = self.deadlocks = self.requeues = 0
+        self.broker_restarts = 0
+        self.failures: list[str] = []
+        self.queue_waits: list[float] = []
+        self.rate = (args.mission_rate if args.mission_rate is not None
+                     else len(serials) / MISSION_PERIOD)
+        self.tokens = float(len(serials))  # every robot's first mission, then the rate
+        self.posted = 0
+        self.last_post = 0.0
+
+    def follow(self, now: float) -> None:
+        """Read the manager's events: dispatches (queue waits) and ends; cancel a mission past
+        the timeout."""
+        for event in self.manager.events_after(self.seq):
+            self.seq = event.seq
+            mission_id = event.detail.get("mission")
+            pending = self.pending.get(mission_id) if isinstance(mission_id, str) else None
+            if pending is None:
                 continue
-            del watch.missions[serial]
-            done += 1
-            succeeded += mission.outcome == "succeeded"
-            if mission.outcome != "succeeded":
-                failures.append(f"{serial} -> {mission.target[0]}/{mission.target[1]}: "
-                                f"{mission.outcome}")
-            if args.verbose:
-                print(f"t={now:8.1f}s {serial} {mission.target}: {mission.outcome}",
-                      flush=True)
-        taken = set() if kinematic else set(bound.values()) | _stood_on(master, serials, goals)
-        budget = max(1, len(serials) // DISPATCH_SHARE)
-        for serial in serials:
-            state = master.state(serial)
-            if serial in watch.missions or state is None or state.agv_position is None:
-                continue
-            if budget == 0:
-                break
-            budget -= 1
-            here = state.agv_position
-            options = [g for g in goals if (g[0], g[1]) not in taken
-                       and (args.cross_floor or g[0] == here.map_id)]
+            if event.kind == "mission.dispatched":
+                pending.robot = str(event.detail.get("robot"))
+                if pending.dispatched_at is None:
+                    pending.dispatched_at = event.at
+                    self.queue_waits.append(event.at - pending.queued_at)
+            elif event.kind == "mission.requeued":
+                self.requeues += 1
+            elif event.kind in ("mission.done", "mission.failed", "mission.cancelled"):
+                assert isinstance(mission_id, str)
+                del self.pending[mission_id]
+                self.done += 1
+                if event.kind == "mission.done":
+                    self.succeeded += 1
+                    outcome = "succeeded"
+                else:
+                    why = (f"no end within the mission timeout ({pending.timed_out})"
+                           if pending.timed_out else event.detail.get("why", event.kind))
+                    outcome = f"failed: {why}"
+                    self.failures.append(f"{event.detail.get('robot')} -> {pending.target[0]}/"
+                                         f"{pending.target[1]}: {outcome}")
+                if self.args.verbose:
+                    print(f"t={now:8.1f}s {event.detail.get('robot')} {pending.target}: "
+                          f"{outcome}", flush=True)
+        for mission_id, pending in list(self.pending.items()):
+            if (pending.dispatched_at is not None and not pending.timed_out
+                    and now - pending.dispatched_at > self.args.mission_timeout):
+                pending.timed_out = _how_it_stands(self.manager, pending.robot)
+                self.deadlocks += 1
+                self.manager.cancel(mission_id)
+
+    def post(self, now: float) -> None:
+        """Keep up to one mission per robot posted: every robot's first at the start, then at
+        most ``--mission-rate`` per second of
+        site time (default one per robot per minute: the nearest free robot takes each, so a
+        fleet kept fully busy only measures how fast the manager can go) and one per 20 robots
+        per tick (a starting fleet of 1,000 does not post 1,000 missions in one burst), each to
+        a random general point (a full robot's: one no mission is bound for and no robot
+        stands within 1 m of)."""
+        room = len(self.serials) - len(self.pending)
+        self.tokens += (now - self.last_post) * self.rate
+        if self.posted >= len(self.serials):
+            # Once the first missions are out, at most a second's worth is saved up.
+            self.tokens = min(self.tokens, max(1.0, self.rate))
+        self.last_post = now
+        budget = min(room, max(1, len(self.serials) // DISPATCH_SHARE), int(self.tokens))
+        if budget <= 0:
+            return
+        self.tokens -= budget
+        master = self.manager.master
+        taken: set[tuple[str, str]] = set() if self.kinematic else (
+            {p.target for p in self.pending.values()} | _stood_on(master, self.serials,
+                                                                   self.goals))
+        maps = None
+        if not self.args.cross_floor:  # to the floor of a robot that is free
+            busy = {v.serial for v in self.manager.robots() if v.mission is not None}
+            maps = [s.agv_position.map_id for serial in self.serials
+                    if serial not in busy and (s := master.state(serial)) is not None
+                    and s.agv_position is not None and not s.node_states]
+        for _ in range(budget):
+            if maps is not None and not maps:
+                return
+            floor = maps.pop(int(self.rng.integers(len(maps)))) if maps is not None else None
+            options = [g for g in self.goals if (g[0], g[1]) not in taken
+                       and (floor is None or g[0] == floor)]
             if not options:
                 continue
-            map_name, point, pose = options[int(rng.integers(len(options)))]
-            if not kinematic:
-                bound[serial] = (map_name, point)
+            map_name, point, _ = options[int(self.rng.integers(len(options)))]
+            if not self.kinematic:
                 taken.add((map_name, point))
-            published = time.monotonic()
-            order_id = dispatch(master, serial, [Stop(point, map_name, pose)])
-            watch.missions[serial] = Mission(order_id, (map_name, point), published, now)
-    wall_seconds = time.monotonic() - t0
-    coordinator_cpu = time.process_time() - cpu0
-    broker_cpu = broker.cpu() - broker_cpu0
-    sync.stop.set()
-    results = []
-    for _ in range(args.processes):
-        try:
-            results.append(sync.results.get(timeout=120.0))
-        except Empty:
-            break
-    mqtt.close()
-    errors = [r["error"] for r in results if "error" in r]
-    if errors or len(results) < args.processes:
-        raise SystemExit(f"polynav bench fleet: workers failed: {errors or 'no results'}")
-    return _figures(args, results, watch, done, succeeded, deadlocks, failures, counters,
-                    wall_seconds, coordinator_cpu, broker_cpu)
+            mission_id = post_mission(self.manager, map_name, point)
+            self.posted += 1
+            self.pending[mission_id] = Pending((map_name, point), now)
+
+
+def _how_it_stands(manager: FleetManager, serial: str | None) -> str:
+    """A robot's last state in a few words: why a mission of it timed out."""
+    state = manager.master.state(serial) if serial is not None else None
+    if state is None:
+        return f"{serial}: no state"
+    here = state.agv_position
+    where = f"at ({here.x:.1f}, {here.y:.1f}) on {here.map_id}" if here else "nowhere"
+    errors = ", ".join(f"{e.error_type}: {e.error_description}" for e in state.errors)
+    return (f"{serial} {where}, {state.navigation_state}, waiting for "
+            f"{state.waiting_for or 'nothing'}, holding {list(state.zones)}, "
+            f"{len(state.node_states)} nodes left, errors [{errors}]")
 
 
 def _stood_on(master: MasterControl, serials: list[str],
@@ -568,10 +723,11 @@ def _collisions(results: list[dict[str, Any]]) -> int:
     return pairs + sum(int(r["other_collisions"]) for r in results)
 
 
-def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Watch, done: int,
-             succeeded: int, deadlocks: int, failures: list[str],
+def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Watch, run: _Run,
              counters: list[tuple[float, dict[str, int]]], wall: float, coordinator_cpu: float,
              broker_cpu: float) -> dict[str, Any]:
+    done, succeeded = run.done, run.succeeded
+    queue_waits = np.asarray(run.queue_waits)
     sim = min(float(r["sim"]) for r in results)
     latencies = np.asarray(watch.latencies) * 1000.0
     lift_waits = [w for r in results for w in r["lift_waits"]]
@@ -580,7 +736,10 @@ def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Wat
     for name in ("received", "sent"):
         seen = [(t, c[name]) for t, c in counters if name in c]
         if len(seen) >= 2 and seen[-1][0] > seen[0][0]:
-            rates[name] = round((seen[-1][1] - seen[0][1]) / (seen[-1][0] - seen[0][0]), 1)
+            # A restarted broker counts from 0 again: its first count is all new.
+            total = sum(b - a if b >= a else b for (_, a), (_, b) in
+                        itertools.pairwise(seen))
+            rates[name] = round(total / (seen[-1][0] - seen[0][0]), 1)
     stale = [r["staleness"] for r in results if r["staleness"][0]]
     worst = max((s[3] for s in stale), default=0.0)
     p99 = max((s[2] for s in stale), default=0.0)
@@ -595,7 +754,15 @@ def _figures(args: argparse.Namespace, results: list[dict[str, Any]], watch: Wat
         "missions": done, "succeeded": succeeded,
         "success_rate": round(succeeded / done, 4) if done else 0.0,
         "missions_per_hour": round(succeeded / (sim / 3600.0), 1) if sim > 0 else 0.0,
-        "failed": failures, "deadlocks": deadlocks,
+        "failed": run.failures, "deadlocks": run.deadlocks,
+        "dispatch": "fleet manager (polynav fleet's FleetManager, SQLite records)",
+        "mission_rate_per_s": round(run.rate, 2),
+        "missions_unfinished": len(run.pending), "mission_requeues": run.requeues,
+        "queue_wait_p50_s": round(float(np.percentile(queue_waits, 50)), 2)
+        if len(queue_waits) else None,
+        "queue_wait_p99_s": round(float(np.percentile(queue_waits, 99)), 2)
+        if len(queue_waits) else None,
+        "broker_restarts": run.broker_restarts,
         "collisions": _collisions(results),
         "lease_waits": waits,
         "mean_lease_wait_s": round(sum(float(r["traffic_wait_time"]) for r in results) / waits,
@@ -642,6 +809,11 @@ def report(figures: dict[str, Any]) -> list[str]:
         f"{f['deadlocks']}, lease waits {f['lease_waits']} (mean {f['mean_lease_wait_s']} s, "
         f"{f['lease_rejections']} rejections), lift rides {f['lift_rides']} (mean wait "
         f"{f['mean_lift_wait_s']} s)",
+        f"dispatch by the {f['dispatch']}, missions posted at most {f['mission_rate_per_s']}"
+        f"/s: queue wait p50 {f['queue_wait_p50_s']} s, p99 "
+        f"{f['queue_wait_p99_s']} s (site time, posted -> dispatched); requeued "
+        f"{f['mission_requeues']}, unfinished at the end {f['missions_unfinished']}, broker "
+        f"restarts {f['broker_restarts']}",
         f"order latency (publish -> first state acknowledging it) p50 "
         f"{f['order_latency_p50_ms']} ms, p99 {f['order_latency_p99_ms']} ms, max "
         f"{f['order_latency_max_ms']} ms over {f['orders_acknowledged']} orders",

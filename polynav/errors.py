@@ -7,6 +7,11 @@ one lookup along the exception's MRO.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TypeVar
+
+_V = TypeVar("_V")
+
 
 class PolynavError(Exception):
     """Base of every error polynav raises on purpose."""
@@ -44,6 +49,18 @@ class NotFound(PolynavError, KeyError):
 
     def __str__(self) -> str:
         return str(self.args[0])
+
+
+def look_up(table: Mapping[str, _V], kind: str, name: str) -> _V:
+    """``table[name]``: the one way a by-name lookup fails (a door, a lift car, a schedule).
+
+    Raises:
+        NotFound: ``name`` is not in ``table``; the error names ``kind``.
+    """
+    found = table.get(name)
+    if found is None:
+        raise NotFound(kind, name)
+    return found
 
 
 class Conflict(PolynavError):

@@ -21,6 +21,7 @@ from pydantic import (
 )
 from typing_extensions import TypedDict
 
+from polynav.api.schemas_doors import StatusDoorsOut
 from polynav.api.schemas_mapping import MappingStatusOut
 from polynav.geometry import Pose2D
 from polynav.nav.attempt import PRECISE_POSITION_UNCERTAINTY, GoalOptions
@@ -254,6 +255,10 @@ class StatusOut(BaseModel):
         description="the mapping session while mapping, or while a stop job saves the map"
     )
     stamp: float
+    doors: StatusDoorsOut | None = Field(
+        default=None,
+        description="the door the robot waits at, those it passes, and its floor's doors' states",
+    )
     load: dict[str, str | float] | None = Field(
         default=None, description="the cart or cabin the robot carries: its `name`, `kind` "
         "(`cart` or `cabin`) and `mass` [kg]; left out when it carries nothing")

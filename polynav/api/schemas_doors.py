@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field
 
 from polynav.robot.door import DoorStatus
 
@@ -34,3 +34,32 @@ class DoorsOut(BaseModel):
     """GET /api/doors: every door and gate of the building."""
 
     doors: list[DoorOut]
+
+
+DoorStateName = Literal["closed", "opening", "open", "closing"]
+
+
+class DoorNowOut(BaseModel):
+    """A door the robot waits at or passes, and its state."""
+
+    name: str
+    state: DoorStateName | None = Field(
+        description="null when the door is on no floor the status reads (not expected)")
+
+
+class StatusDoorsOut(BaseModel):
+    """The doors in the status (sent at the status' rate, so names and states only; the
+    geometry is ``GET /api/doors``)."""
+
+    model_config = ConfigDict(json_schema_extra={"examples": [{
+        "waiting_for": {"name": "office_door", "state": "opening"},
+        "passing": [{"name": "office_door", "state": "opening"}],
+        "floor": {"office_door": "opening", "lab_gate": "closed"},
+    }]})
+
+    waiting_for: DoorNowOut | None = Field(
+        description="the door the robot stands paused before until it opens")
+    passing: list[DoorNowOut] = Field(
+        description="the doors the robot holds open to pass now (granted and asked open)")
+    floor: dict[str, DoorStateName] = Field(
+        description="each door of the robot's floor, name -> state")

@@ -46,6 +46,7 @@ from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
 from polynav.fleet.lift_sessions import FleetLiftSessions
 from polynav.fleet.order_check import MAX_COORDINATE, Verdict, check_order
+from polynav.fleet.order_progress import OrderProgress, order_progress
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import ZoneMap
 from polynav.geometry import Pose2D
@@ -491,18 +492,16 @@ class RobotAgent:
         """The robot's state now, as the next state message would say it."""
         status = self.runtime.status()
         run = self._run
-        nodes = run.remaining if run is not None and run.failed is None else ()
-        edges = run.order.edges[run.next_index - 1:] if run is not None and nodes else ()
-        last = run.last_node if run is not None else None
+        progress = (order_progress(run.order, run.next_index, failed=run.failed is not None)
+                    if run is not None else OrderProgress())
         return m.State(
             header=self.headers.stamp(self.serial_number, m.State),
-            order_id=run.order.order_id if run is not None else "",
-            order_update_id=run.order.order_update_id if run is not None else 0,
-            last_node_id=last.node_id if last is not None else "",
-            last_node_sequence_id=last.sequence_id if last is not None else 0,
-            node_states=tuple(m.NodeState(n.node_id, n.sequence_id, n.released,
-                                          _with_theta(n.node_position)) for n in nodes),
-            edge_states=tuple(m.EdgeState(e.edge_id, e.sequence_id, e.released) for e in edges),
+            order_id=progress.order_id,
+            order_update_id=progress.order_update_id,
+            last_node_id=progress.last_node_id,
+            last_node_sequence_id=progress.last_node_sequence_id,
+            node_states=progress.node_states,
+            edge_states=progress.edge_states,
             driving=_driving(status),
             operating_mode="AUTOMATIC",
             battery_state=m.BatteryState(float(status.battery_percent), status.charging),
@@ -556,10 +555,3 @@ def _driving(status: StatusSnapshot) -> bool:
 
 class _ActionFailed(PolynavError):
     """An instant action that cannot be carried out; its message is the action's result."""
-
-
-def _with_theta(position: m.NodePosition | None) -> m.NodePosition | None:
-    """A node's position as the state shows it: 2.0.0's node states require a theta."""
-    if position is None or position.theta is not None:
-        return position
-    return m.NodePosition(position.x, position.y, 0.0, position.map_id)

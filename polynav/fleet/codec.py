@@ -109,22 +109,41 @@ def _camel(name: str) -> str:
 
 
 def _to_json(value: object) -> Any:
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+    names = _json_names(type(value))
+    if names is not None:
         out: dict[str, Any] = {}
-        for f in dataclasses.fields(value):
-            item = getattr(value, f.name)
+        for name, key in names:
+            item = getattr(value, name)
             if item is None:
                 continue
-            if f.name == "header":
+            if key is None:  # the header: its fields at the top level
                 out.update(_to_json(item))
             else:
-                out[_camel(f.name)] = _to_json(item)
+                out[key] = _to_json(item)
         return out
     if isinstance(value, enum.Enum):
         return value.value
     if isinstance(value, tuple):
         return [_to_json(v) for v in value]
     return value
+
+
+_NAMES: dict[type, tuple[tuple[str, str | None], ...] | None] = {}
+
+
+def _json_names(kind: type) -> tuple[tuple[str, str | None], ...] | None:
+    """Per field of a message dataclass: its name and JSON key (None for the header, written
+    inline); None for a type that is not a dataclass. Read once per class: asking
+    ``dataclasses`` and camel-casing every field of every message was most of writing one."""
+    try:
+        return _NAMES[kind]
+    except KeyError:
+        pass
+    names = (tuple((f.name, None if f.name == "header" else _camel(f.name))
+                   for f in dataclasses.fields(kind))
+             if dataclasses.is_dataclass(kind) else None)
+    _NAMES[kind] = names
+    return names
 
 
 @functools.cache

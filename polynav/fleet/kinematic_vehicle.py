@@ -29,6 +29,7 @@ from polynav.errors import ConfigError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
 from polynav.fleet.order_check import Verdict, check_order
+from polynav.fleet.order_progress import OrderProgress, order_progress
 
 log = logging.getLogger(__name__)
 
@@ -157,18 +158,16 @@ class KinematicVehicle:
     def state(self) -> m.State:
         """The state as the next state message says it."""
         run = self._run
-        nodes = run.remaining if run is not None and run.failed is None else ()
-        edges = run.order.edges[run.next_index - 1:] if run is not None and nodes else ()
-        last = run.last_node if run is not None else None
+        progress = (order_progress(run.order, run.next_index, failed=run.failed is not None)
+                    if run is not None else OrderProgress())
         return m.State(
             header=self._headers.stamp(self.serial_number, m.State),
-            order_id=run.order.order_id if run is not None else "",
-            order_update_id=run.order.order_update_id if run is not None else 0,
-            last_node_id=last.node_id if last is not None else "",
-            last_node_sequence_id=last.sequence_id if last is not None else 0,
-            node_states=tuple(m.NodeState(n.node_id, n.sequence_id, n.released,
-                                          _with_theta(n.node_position)) for n in nodes),
-            edge_states=tuple(m.EdgeState(e.edge_id, e.sequence_id, e.released) for e in edges),
+            order_id=progress.order_id,
+            order_update_id=progress.order_update_id,
+            last_node_id=progress.last_node_id,
+            last_node_sequence_id=progress.last_node_sequence_id,
+            node_states=progress.node_states,
+            edge_states=progress.edge_states,
             driving=self._moving > 0.0,
             operating_mode="AUTOMATIC",
             battery_state=m.BatteryState(100.0, False),
@@ -395,10 +394,3 @@ class KinematicVehicle:
 
 class _ActionFailed(Exception):
     """An instant action that cannot be carried out; its message is the action's result."""
-
-
-def _with_theta(position: m.NodePosition | None) -> m.NodePosition | None:
-    """2.0.0's node states require a theta."""
-    if position is None or position.theta is not None:
-        return position
-    return m.NodePosition(position.x, position.y, 0.0, position.map_id)

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import socket
 import threading
 import time
 import urllib.parse
@@ -296,6 +297,7 @@ class MqttTransport:
         client.on_connect_fail = self._on_connect_fail
         client.on_subscribe = self._on_subscribe
         client.on_message = self._on_message
+        client.on_socket_open = _no_delay
         self._client = client
         self._start(host, port, keepalive, connect_timeout)
 
@@ -606,6 +608,15 @@ class MqttTransport:
                       exc_info=True)
             with self._lock:
                 self._dropped += 1
+
+
+def _no_delay(client: paho.Client, userdata: Any, sock: Any) -> None:
+    """Send each MQTT packet at once (``TCP_NODELAY``): paho leaves Nagle's algorithm on, and
+    a small order or state written while an earlier packet is unacknowledged then waits for
+    the peer's delayed ACK, up to 40 ms on Linux, on every hop. (The broker's side is its own
+    setting: Mosquitto's ``set_tcp_nodelay true``, docs/fleet.md.)"""
+    with contextlib.suppress(OSError, AttributeError):
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
 
 def _check_size(message: paho.MQTTMessage, limit: int) -> None:

@@ -9,7 +9,9 @@ number's exact topic, decoding only those someone here listens to (a worker hear
 vehicle's orders; it decodes its own).
 
 It is a :class:`~polynav.fleet.interface.Transport`: the vehicles or the master control use it
-as they use a transport of their own. What it cannot give each vehicle is a last will of its
+as they use a transport of their own. A subscription with ``+`` for the serial number
+(``uagv/v2/<manufacturer>/+/connection``, the fleet manager's) gets every vehicle's messages
+of that kind. What it cannot give each vehicle is a last will of its
 own (MQTT has one will per connection): a vehicle sharing a connection says OFFLINE when it
 closes, but if the process dies no CONNECTIONBROKEN is published for it.
 
@@ -81,13 +83,15 @@ class SharedClient:
         self.mqtt.publish(topic, message)
 
     def subscribe(self, topic: str) -> LocalInbox:
-        """An inbox for ``topic``, ``uagv/v2/<manufacturer>/<serial>/<kind>`` exactly.
+        """An inbox for ``topic``, ``uagv/v2/<manufacturer>/<serial>/<kind>``, ``serial``
+        exactly or ``+`` for every vehicle's.
 
         Raises:
-            InvalidRequest: another topic shape or manufacturer, or wildcards.
+            InvalidRequest: another topic shape or manufacturer, or other wildcards.
         """
         serial, kind = self._split(topic)
-        if serial is None or kind is None or "+" in topic or "#" in topic:
+        if (serial is None or kind is None or "#" in topic or "+" in kind
+                or ("+" in serial and serial != "+")):
             raise InvalidRequest("topic", f"{topic!r}: not a vehicle topic of "
                                           f"{self.manufacturer}")
         if kind not in self._raw:
@@ -113,17 +117,21 @@ class SharedClient:
             if not messages:
                 continue
             now = time.monotonic()
+            every = self._local.get(("+", kind))
             for message in messages:
                 serial, _ = self._split(message.topic)
                 inbox = self._local.get((serial or "", kind))
-                if inbox is None:
+                if inbox is None and every is None:
                     self.ignored += 1
                     continue
                 item = codec.read(kind, message.payload)
                 if self._observer is not None:
                     self._observer(serial or "", kind, item, now)
-                inbox.items.append(item)
-                self._touched.add(serial or "")
+                if inbox is not None:
+                    inbox.items.append(item)
+                    self._touched.add(serial or "")
+                if every is not None:
+                    every.items.append(item)
 
     def take_touched(self) -> set[str]:
         """The serial numbers that messages were handed to since the last call: a process of

@@ -12,10 +12,11 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping
 
-from polynav.errors import NotFound
+from polynav.errors import NotFound, look_up
 from polynav.robot.door import OPERATOR, Door, DoorStatus
 from polynav.robot.sim.door import SimDoor
 from polynav.runtime.door_passage import DoorPassage
+from polynav.runtime.door_status import DoorsView, doors_view
 from polynav.runtime.internals import RuntimeParts
 
 log = logging.getLogger(__name__)
@@ -37,14 +38,18 @@ class DoorCommands(RuntimeParts):
         Raises:
             NotFound: no such door.
         """
-        found = self.doors.get(name)
-        if found is None:
-            raise NotFound("door", name)
-        return found
+        return look_up(self.doors, "door", name)
 
     def door_states(self) -> list[DoorStatus]:
         """Every door's state, by name."""
         return [door.state() for _, door in sorted(self.doors.items())]
+
+    def _doors_view(self) -> DoorsView:
+        """The doors as the status shows them: the rule's door waited at and doors held, and
+        the robot's floor's doors."""
+        rule = getattr(self, "doors_rule", None)
+        waiting, held = (None, ()) if rule is None else (rule.waiting_for, rule.held)
+        return doors_view(self.doors, self._place.floor, waiting, held)
 
     def open_door(self, name: str) -> DoorStatus:
         """Hold door ``name`` open by hand until :meth:`close_door` (between ticks).

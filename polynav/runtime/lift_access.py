@@ -21,7 +21,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from polynav.errors import Conflict, InvalidRequest, NotFound
+from polynav.errors import Conflict, InvalidRequest, NotFound, look_up
 from polynav.nav.stack import StackConfig
 from polynav.robot.lift import (
     DoorRequest,
@@ -79,10 +79,7 @@ class LiftAccess(RuntimeParts):
         Raises:
             NotFound: no such car.
         """
-        found = self.lifts.get(car)
-        if found is None:
-            raise NotFound("lift", car)
-        return found
+        return look_up(self.lifts, "lift", car)
 
     def use_lift_sessions(self, sessions: LiftSessions) -> None:
         """Take lift sessions from ``sessions`` (the fleet's lease book) from now on."""

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 from polynav.geometry import Pose2D
 from polynav.localization.interface import PoseUncertainty
+from polynav.runtime.door_status import DoorsView
 from polynav.runtime.events import pose_dict
 from polynav.runtime.mapping_status import MappingStatus
 
@@ -55,6 +56,7 @@ class StatusSnapshot:
             ``failed``, ``canceled``); ``None`` when the last task was a single goal.
         mapping: the mapping session (exploration, mapped area, save job) while mapping or
             while a stop job finishes the map; ``None`` otherwise.
+        doors: the door the robot waits at, those it passes, its floor's doors' states.
     """
 
     mode: str
@@ -86,6 +88,7 @@ class StatusSnapshot:
     """A goal on another map: its legs and lift phase (``route_run.status_dict``)."""
     frame: str = "map"
     mapping: MappingStatus | None = None
+    doors: DoorsView | None = None
     load: dict[str, object] | None = None
     """The cart or cabin the robot carries (name, kind, mass), if any."""
 
@@ -123,6 +126,8 @@ class StatusSnapshot:
             "mapping": None if self.mapping is None else self.mapping.to_dict(),
             "stamp": float(self.stamp),
         }
+        if self.doors is not None:
+            out["doors"] = self.doors.to_dict()
         if self.load is not None:
             out["load"] = dict(self.load)
         if self.route is not None:

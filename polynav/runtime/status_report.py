@@ -10,6 +10,7 @@ import abc
 
 from polynav.errors import NotFound
 from polynav.geometry import Pose2D
+from polynav.runtime.door_status import DoorsView
 from polynav.runtime.goal_commands import GoalFrame
 from polynav.runtime.internals import RuntimeParts
 from polynav.runtime.mapping_status import MappingStatus
@@ -35,6 +36,10 @@ class StatusReport(RuntimeParts):
     @abc.abstractmethod
     def _route_overlay(self, snapshot: StatusSnapshot) -> StatusSnapshot:
         """The snapshot with a goal on another map's route and lift phase (lift commands)."""
+
+    @abc.abstractmethod
+    def _doors_view(self) -> DoorsView:
+        """The doors as the status shows them (door commands)."""
 
     def _build_snapshot(self, now: float) -> StatusSnapshot:
         stack = self._stack
@@ -85,6 +90,7 @@ class StatusReport(RuntimeParts):
             floor_level=self._floor_level(self._place.floor),
             frame=(GoalFrame.ODOM if self._mapless else GoalFrame.MAP).value,
             mapping=self._mapping_status(now),
+            doors=self._doors_view(),
             load=self._load_status(),
         ))
 

@@ -27,7 +27,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from polynav.errors import Conflict, NotFound, PolynavError, StorageError
+from polynav.errors import Conflict, NotFound, PolynavError, StorageError, look_up
 from polynav.runtime import events
 from polynav.runtime.busy import busy_reason
 from polynav.store.records import ScheduleRecord
@@ -246,10 +246,7 @@ class TaskSchedules:
             log.error("schedule %s not stored: %s", item.id, exc)
 
     def _find(self, schedule_id: str) -> _Schedule:
-        item = self._schedules.get(schedule_id)
-        if item is None:
-            raise NotFound("schedule", schedule_id)
-        return item
+        return look_up(self._schedules, "schedule", schedule_id)
 
     def _require_stored_task(self, task_id: str) -> None:
         task = self._engine.find(task_id)

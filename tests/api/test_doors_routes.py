@@ -79,3 +79,26 @@ def test_an_unknown_door_is_404_and_nothing_changes(http: httpx.Client) -> None:
         assert error["code"] == "not_found" and "back_door" in error["message"]
     assert http.get("/api/doors/lobby_gate/open").status_code == 405
     assert _doors(http) == before
+
+
+def test_the_status_shows_the_door_the_robot_waits_at_and_its_floors_doors(
+        http: httpx.Client, runtime: RobotRuntime) -> None:
+    """#38 item 1: doors in the status too. On floor1 the status lists the lobby gate and its
+    state; on floor2 before a fire door whose controller is silent, that door is the one waited
+    at and held (granted, asked open), closed, and the far door is only listed."""
+    runtime.advance(0.2)
+    doors = http.get("/api/status").json()["doors"]
+    assert doors == {"waiting_for": None, "passing": [], "floor": {"lobby_gate": "closed"}}
+    assert http.post("/api/doors/lobby_gate/open").status_code == 200
+    runtime.advance(0.2)
+    assert http.get("/api/status").json()["doors"]["floor"] == {"lobby_gate": "opening"}
+
+    runtime.start_navigation("floor2", point="corridor_west")
+    runtime.set_door_answering("fire_door_west", False)
+    runtime.go_to(point="corridor_east", map_name="floor2")
+    assert runtime.advance_until(lambda: runtime.status().navigation_state == "paused", 60.0)
+    runtime.advance(0.2)
+    doors = http.get("/api/status").json()["doors"]
+    west = {"name": "fire_door_west", "state": "closed"}
+    assert doors == {"waiting_for": west, "passing": [west],
+                     "floor": {"fire_door_east": "closed", "fire_door_west": "closed"}}

@@ -360,3 +360,19 @@ def test_mapping_shows_the_map_growing_and_exploration_in_the_status(
     screenshot(page, "mapping")
     page.click("#map-cancel")
     page.wait_for_function("document.getElementById('st-mode').textContent === 'free'")
+
+
+def test_the_status_panel_shows_the_door_the_robot_waits_at(
+        page: Any, console: Console) -> None:
+    """#38 item 1: a gate whose controller is silent keeps the robot before it; the status
+    panel names the gate it waits for and its state, from the status stream."""
+    console.runtime.set_door_answering("lobby_gate", False)
+    with api(console) as http:
+        assert http.post("/api/navigation/start", json={"map": "floor1"}).status_code == 200
+        assert http.post("/api/navigation/goal",
+                         json={"point": "corridor_west"}).status_code == 202
+        page.wait_for_function(
+            "document.getElementById('st-door').textContent === 'waits for lobby_gate closed'",
+            timeout=WAIT * 1000)
+        assert http.get("/api/status").json()["doors"]["waiting_for"] == {
+            "name": "lobby_gate", "state": "closed"}

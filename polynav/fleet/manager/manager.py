@@ -7,7 +7,10 @@ the fleet's :class:`~polynav.fleet.records.FleetRecords`. Each :meth:`FleetManag
 - reads every robot's ``connection`` (one subscription, ``uagv/v2/<manufacturer>/+/
   connection``): a robot saying ONLINE is added to the fleet (and asked for its state); one
   whose last will arrives (CONNECTIONBROKEN) or that says OFFLINE loses its leases (the lease
-  book's and the records') and its mission goes back in the queue, for another robot;
+  book's and the records') and its mission goes back in the queue, for another robot; back
+  ONLINE, its first state says whether it still drives that mission's order: if no other
+  robot has claimed the mission meanwhile it resumes it (same attempt; a restarted broker
+  delivers every robot's will while the robots drive on), else it is told to cancel it;
 - follows each robot's mission from its states: the order is confirmed by the first state
   naming it; the mission is done when the robot's state names the order with no node left to
   drive and no ``orderFailed``, and failed when an error refers to the order (rejected or
@@ -40,7 +43,13 @@ from typing import Any, Protocol
 from polynav.errors import ConfigError, InvalidRequest, NotFound, PolynavError
 from polynav.fleet import messages as m
 from polynav.fleet.interface import Transport
-from polynav.fleet.manager.dispatch import Candidate, DispatchConfig, Target, choose
+from polynav.fleet.manager.dispatch import (
+    Candidate,
+    DispatchConfig,
+    Target,
+    available,
+    choose,
+)
 from polynav.fleet.manager.ledger import RecordsLedger
 from polynav.fleet.master_control import MasterControl, Stop
 from polynav.fleet.records import AuditEntry, FleetRecords, Mission, MissionState
@@ -69,6 +78,13 @@ class FleetManagerConfig:
         max_attempts: a mission is claimed by robots at most this many times, then fails.
         dispatch_period: how often orders are re-sent and, after a change of the queue or a
             robot freed, the queue is dispatched.
+        max_dispatch: at most this many missions are dispatched in one tick; the rest of the
+            queue goes at the next tick (a full queue meeting a fleet of free robots, at
+            start-up, went out as a thousand orders at once, answered a second late).
+        lost_grace: a mission requeued because its robot was lost (its last will) goes to
+            another robot only this long after, unless the robot comes back without it sooner:
+            a restarted broker delivers every robot's will while the robots drive on, and
+            they reconnect (with backoff) within seconds, still doing their missions.
         queue_poll_period: how often the queue is dispatched otherwise.
         dispatch: how robots are weighed.
         events_kept: how many events the manager keeps for the API.
@@ -78,6 +94,8 @@ class FleetManagerConfig:
     max_sends: int = 5
     max_attempts: int = 3
     dispatch_period: float = 0.5
+    max_dispatch: int = 10
+    lost_grace: float = 15.0
     queue_poll_period: float = 2.0
     dispatch: DispatchConfig = field(default_factory=DispatchConfig)
     events_kept: int = 1000
@@ -87,10 +105,12 @@ class FleetManagerConfig:
             value = getattr(self, name)
             if not value > 0.0:
                 raise ConfigError(_KEY + name, f"must be > 0, got {value}")
-        for name in ("max_sends", "max_attempts", "events_kept"):
+        for name in ("max_sends", "max_attempts", "events_kept", "max_dispatch"):
             value = getattr(self, name)
             if value < 1:
                 raise ConfigError(_KEY + name, f"must be >= 1, got {value}")
+        if not self.lost_grace >= 0.0:
+            raise ConfigError(_KEY + "lost_grace", f"must be >= 0, got {self.lost_grace}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -173,7 +193,11 @@ class FleetManager:
         self._queue_changed = True
         self._link: dict[str, str] = {}
         self._assignments: dict[str, _Assignment] = {}
-        self._orphaned: set[str] = set()  # robots whose mission was requeued while away
+        # Robots lost while doing a mission (requeued): the job they were doing, kept until
+        # they come back and say in a state after their return whether they still do it.
+        self._away: dict[str, _Assignment] = {}
+        self._returned: dict[str, float] = {}  # robot -> when it said ONLINE again
+        self._held: dict[str, float] = {}  # mission -> until when it waits for its lost robot
         self._events: deque[FleetEvent] = deque(maxlen=self.config.events_kept)
         self._seq = itertools.count(1)
 
@@ -342,11 +366,10 @@ class FleetManager:
         self.records.note("robot.connection", now=now, robot=serial, state=state)
         self._emit("robot.connection", robot=serial, state=state)
         if state == m.ConnectionState.ONLINE.value:
-            if serial in self._orphaned:
-                # Its mission went to another robot while it was away: it must not finish
-                # that order too.
-                self._orphaned.discard(serial)
-                self.master.cancel_order(serial)
+            if serial in self._away:
+                # Whether it resumes its mission or is told to cancel it waits for a state
+                # sent after its return (_follow_returned); no new mission meanwhile.
+                self._returned[serial] = now
             self.master.request_state(serial)
             return
         released = self.leases.release_all(serial, now=now)
@@ -354,9 +377,11 @@ class FleetManager:
         # another manager granted it.
         revoked = [lease.resource for lease in self.records.revoke_all(serial, now=now)]
         requeued = self.records.requeue_robot(serial, now=now)
-        self._assignments.pop(serial, None)
-        if requeued:
-            self._orphaned.add(serial)
+        job = self._assignments.pop(serial, None)
+        self._returned.pop(serial, None)
+        if job is not None and job.mission_id in requeued:
+            self._away[serial] = job
+            self._held[job.mission_id] = now + self.config.lost_grace
         log.warning("robot %s lost (%s): leases %s revoked, missions %s requeued", serial,
                     state, sorted({*released, *revoked}), list(requeued))
         for mission_id in requeued:
@@ -365,28 +390,71 @@ class FleetManager:
 
     # -- missions ------------------------------------------------------------------------------
 
+    def _follow_returned(self, now: float) -> None:
+        """Robots back after their last will: one whose state since its return names the
+        order of its requeued mission takes that mission back, if no other robot has claimed
+        it (a broker restart delivers every robot's will, and the robots drive on: their
+        missions should not start again from the queue); one whose mission has gone to
+        another robot is told to cancel the order, so it is not done twice."""
+        for serial, since in list(self._returned.items()):
+            at = self.master.state_time(serial)
+            state = self.master.state(serial)
+            if state is None or at is None or at < since:
+                continue  # no state since it came back yet
+            del self._returned[serial]
+            job = self._away.pop(serial)
+            self._held.pop(job.mission_id, None)
+            self._queue_changed = True
+            if state.order_id != job.order_id:
+                continue  # not doing it (restarted?): the mission waits in the queue
+            resumed = self.records.resume_mission(job.mission_id, serial, now=now)
+            if resumed is None:
+                if _running(state):
+                    self.master.cancel_order(serial)
+                continue
+            job.confirmed = True
+            self._assignments[serial] = job
+            log.info("mission %s resumed by %s, back on the broker", job.mission_id, serial)
+            self._emit("mission.resumed", mission=job.mission_id, robot=serial,
+                       order=job.order_id)
+
     def _follow_missions(self, now: float) -> None:
-        for serial, job in list(self._assignments.items()):
+        self._follow_returned(now)
+        started: list[tuple[str, _Assignment]] = []
+        done: list[tuple[str, _Assignment]] = []
+        failed: list[tuple[str, _Assignment, str]] = []
+        for serial, job in self._assignments.items():
             state = self.master.state(serial)
             if state is None:
                 continue
             ours = state.order_id == job.order_id
             if ours and not job.confirmed:
-                job.confirmed = True
-                self.records.order_confirmed(job.order_id, 0, now=now)
-                self._emit("mission.started", mission=job.mission_id, robot=serial,
-                           order=job.order_id)
+                started.append((serial, job))
             errors = [e for e in state.errors if any(
                 r.reference_key == "orderId" and r.reference_value == job.order_id
                 for r in e.error_references)]
             if errors and (not ours or any(e.error_type == "orderFailed" for e in errors)):
-                why = f"{errors[-1].error_type}: {errors[-1].error_description}"
-                self._attempt_failed(serial, job, why, now)
+                failed.append((serial, job,
+                               f"{errors[-1].error_type}: {errors[-1].error_description}"))
             elif ours and not state.node_states:
+                done.append((serial, job))
+        if started or done:
+            # One transaction for the tick's confirmations and ends; memory follows once it
+            # is written (a failed write leaves both for the next tick).
+            ended = set(self.records.progress(
+                confirmed=[(job.order_id, 0) for _, job in started],
+                done=[job.mission_id for _, job in done], now=now))
+            for serial, job in started:
+                job.confirmed = True
+                self._emit("mission.started", mission=job.mission_id, robot=serial,
+                           order=job.order_id)
+            for serial, job in done:
                 del self._assignments[serial]
-                self.records.finish_mission(job.mission_id, now=now)
-                log.info("mission %s done by %s", job.mission_id, serial)
-                self._emit("mission.done", mission=job.mission_id, robot=serial)
+                if job.mission_id in ended:
+                    log.info("mission %s done by %s", job.mission_id, serial)
+                    self._emit("mission.done", mission=job.mission_id, robot=serial)
+        for serial, job, why in failed:
+            self._attempt_failed(serial, job, why, now)
 
     def _attempt_failed(self, serial: str, job: _Assignment, why: str, now: float) -> None:
         del self._assignments[serial]
@@ -417,7 +485,21 @@ class FleetManager:
                                         now=now, mission=order.mission)
 
     def _dispatch(self, now: float) -> None:
-        for mission in self.records.missions(MissionState.QUEUED):
+        queued = self.records.missions(MissionState.QUEUED)
+        if not queued:
+            return
+        # The robots weighed once per dispatch, not per mission, and only those free to go
+        # (1,000 robots and a queue of 50 were 50,000 candidates weighed a dispatch); each
+        # robot given a mission is taken out.
+        candidates = {c.serial: c for c in self._candidates()
+                      if available(c, self.config.dispatch)}
+        chosen: list[tuple[str, str]] = []
+        for mission in queued:
+            until = self._held.get(mission.mission_id, now)
+            if until > now:  # its lost robot may come back still doing it
+                self._next_queue_poll = min(self._next_queue_poll, until)
+                continue
+            self._held.pop(mission.mission_id, None)
             try:
                 first = self._stop(0, mission.stops[0])
             except (InvalidRequest, NotFound) as exc:
@@ -426,17 +508,32 @@ class FleetManager:
                 self.records.cancel_mission(mission.mission_id, now=now)
                 self._emit("mission.cancelled", mission=mission.mission_id, why=str(exc))
                 continue
-            serial = choose(self._candidates(), Target(first.map_name, first.pose.x,
-                                                       first.pose.y),
+            serial = choose(list(candidates.values()), Target(first.map_name, first.pose.x,
+                                                               first.pose.y),
                             levels=self.levels, config=self.config.dispatch)
             if serial is None:
-                return
-            claimed = self.records.claim_mission(serial, now=now)
-            if claimed is None:
-                return  # another manager took the queue
-            self._start(serial, claimed, now)
+                break
+            del candidates[serial]
+            chosen.append((serial, mission.mission_id))
+            if len(chosen) >= self.config.max_dispatch:
+                # The rest at the next tick, not a dispatch period later.
+                self._queue_changed = True
+                self._next_dispatch = now
+                break
+        if not chosen:
+            return
+        # One transaction for the claims and one for the orders sent: a fleet of 1,000 freed
+        # dozens of robots a dispatch, and a transaction each held the states unread.
+        claimed = self.records.claim_missions(chosen, now=now)  # another manager's: left out
+        sent = [self._start(serial, mission, now) for serial, mission in claimed]
+        self.records.orders_sent([(order_id, 0, serial, mission_id)
+                                  for order_id, serial, mission_id in filter(None, sent)],
+                                 now=now)
 
-    def _start(self, serial: str, mission: Mission, now: float) -> None:
+    def _start(self, serial: str, mission: Mission,
+               now: float) -> tuple[str, str, str] | None:
+        """Send ``mission``'s order to ``serial``; (order id, serial, mission id) to record as
+        sent, None if it could not be sent (the mission is queued again)."""
         order_id = f"{mission.mission_id}-{mission.attempts}"
         try:
             stops = [self._stop(k, stop) for k, stop in enumerate(mission.stops)]
@@ -444,14 +541,13 @@ class FleetManager:
         except PolynavError as exc:
             log.warning("mission %s not sent to %s: %s", mission.mission_id, serial, exc)
             self.records.requeue_mission(mission.mission_id, now=now)
-            return
+            return None
         self._assignments[serial] = _Assignment(mission.mission_id, order_id)
-        self.records.order_sent(order_id, 0, robot=serial, now=now,
-                                mission=mission.mission_id)
         log.info("mission %s dispatched to %s (attempt %d)", mission.mission_id, serial,
                  mission.attempts)
         self._emit("mission.dispatched", mission=mission.mission_id, robot=serial,
                    order=order_id, attempt=mission.attempts)
+        return order_id, serial, mission.mission_id
 
     def _candidates(self) -> list[Candidate]:
         out = []
@@ -461,7 +557,8 @@ class FleetManager:
             out.append(Candidate(
                 serial=serial,
                 online=link == m.ConnectionState.ONLINE.value,
-                busy=serial in self._assignments or state is None or _running(state),
+                busy=(serial in self._assignments or serial in self._returned
+                      or state is None or _running(state)),
                 in_error=state is not None and any(e.error_level == "FATAL"
                                                    for e in state.errors),
                 battery=state.battery_state.battery_charge if state is not None else 0.0,

@@ -115,10 +115,13 @@ class FleetRecords:
 
         return self._db.run(work, _RC)
 
-    def claim_mission(self, robot: str, *, now: float) -> Mission | None:
+    def claim_mission(self, robot: str, *, now: float,
+                      mission_id: str | None = None) -> Mission | None:
         """Give ``robot`` the oldest queued mission (a requeued one keeps its place by when it
-        was added), or None when none is queued. A robot does one mission at a time: while it
-        has an active one, that one is returned (so a retried claim takes no second mission).
+        was added), or None when none is queued; with ``mission_id``, that mission if it is
+        still queued (the one the robot was chosen for), else None. A robot does one mission
+        at a time: while it has an active one, that one is returned (so a retried claim takes
+        no second mission).
 
         On PostgreSQL the oldest queued row is taken ``FOR UPDATE SKIP LOCKED``: two managers
         claiming at once for two robots get two missions, neither waits for the other.
@@ -128,25 +131,76 @@ class FleetRecords:
         """
         _check_name("robot", robot)
         now = _check_time(now)
+        return self._db.run(lambda conn: self._claim_in(conn, robot, now, mission_id), _RC)
+
+    def _claim_in(self, conn: Connection, robot: str, now: float,
+                  mission_id: str | None) -> Mission | None:
+        m = s.missions.c
+        active = conn.execute(select(s.missions).where(
+            m.robot == robot, m.state == MissionState.ACTIVE.value)).first()
+        if active is not None:
+            return _mission(active)
+        queued = select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
+        if mission_id is not None:
+            queued = queued.where(m.id == mission_id)
+        oldest = conn.execute(queued.order_by(m.created, m.seq).limit(1)
+                              .with_for_update(skip_locked=True)).first()
+        if oldest is None:
+            return None
+        conn.execute(update(s.missions).where(m.id == oldest.id).values(
+            state=MissionState.ACTIVE.value, robot=robot, updated=now,
+            attempts=oldest.attempts + 1))
+        self._audit(conn, now, "mission.claimed", mission=oldest.id, robot=robot,
+                    attempt=oldest.attempts + 1)
+        return self._mission_in(conn, oldest.id)
+
+    def claim_missions(self, claims: Sequence[tuple[str, str]], *,
+                       now: float) -> tuple[tuple[str, Mission], ...]:
+        """:meth:`claim_mission` of each (robot, mission id) in ``claims``, in one transaction;
+        the (robot, mission) pairs claimed (a mission no longer queued is left out, and so is
+        a robot that has an active mission already)."""
+        for robot, mission_id in claims:
+            _check_name("robot", robot)
+            _check_name("mission_id", mission_id)
+        now = _check_time(now)
+
+        def work(conn: Connection) -> tuple[tuple[str, Mission], ...]:
+            out = []
+            for robot, mission_id in claims:
+                got = self._claim_in(conn, robot, now, mission_id)
+                if got is not None and got.mission_id == mission_id:
+                    out.append((robot, got))
+            return tuple(out)
+
+        return self._db.run(work, _RC)
+
+    def resume_mission(self, mission_id: str, robot: str, *, now: float) -> Mission | None:
+        """Give a queued mission back to ``robot``, which was doing it when it was lost and is
+        back still doing it (its state names the mission's order): active again, on the same
+        attempt (no new claim); None when the mission is no longer queued (another robot
+        claimed it, or it was cancelled) or ``robot`` has another active mission.
+
+        Raises:
+            NotFound: no such mission. InvalidRequest: an empty robot name or a bad time.
+        """
+        _check_name("robot", robot)
+        now = _check_time(now)
         m = s.missions.c
 
         def work(conn: Connection) -> Mission | None:
-            active = conn.execute(select(s.missions).where(
-                m.robot == robot, m.state == MissionState.ACTIVE.value)).first()
-            if active is not None:
-                return _mission(active)
-            oldest = conn.execute(
-                select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
-                .order_by(m.created, m.seq).limit(1)
-                .with_for_update(skip_locked=True)).first()
-            if oldest is None:
+            self._mission_in(conn, mission_id)  # NotFound
+            if conn.execute(select(m.id).where(
+                    m.robot == robot, m.state == MissionState.ACTIVE.value)).first():
                 return None
-            conn.execute(update(s.missions).where(m.id == oldest.id).values(
-                state=MissionState.ACTIVE.value, robot=robot, updated=now,
-                attempts=oldest.attempts + 1))
-            self._audit(conn, now, "mission.claimed", mission=oldest.id, robot=robot,
-                        attempt=oldest.attempts + 1)
-            return self._mission_in(conn, oldest.id)
+            # One statement decides: of two managers resuming and claiming it at once, the
+            # one whose update finds it still queued has it.
+            taken = conn.execute(update(s.missions).where(
+                m.id == mission_id, m.state == MissionState.QUEUED.value).values(
+                state=MissionState.ACTIVE.value, robot=robot, updated=now))
+            if taken.rowcount != 1:
+                return None
+            self._audit(conn, now, "mission.resumed", mission=mission_id, robot=robot)
+            return self._mission_in(conn, mission_id)
 
         return self._db.run(work, _RC)
 
@@ -201,13 +255,17 @@ class FleetRecords:
                 return mission
             if mission.state is not MissionState.ACTIVE:
                 raise Conflict(f"mission {mission_id!r} is {mission.state.value}, not active")
-            conn.execute(update(s.missions).where(s.missions.c.id == mission_id).values(
-                state=outcome.value, updated=now))
-            self._audit(conn, now, f"mission.{outcome.value}", mission=mission_id,
-                        robot=mission.robot)
+            self._finish_in(conn, mission, outcome, now)
             return self._mission_in(conn, mission_id)
 
         return self._db.run(work, _RC)
+
+    def _finish_in(self, conn: Connection, mission: Mission, outcome: MissionState,
+                   now: float) -> None:
+        conn.execute(update(s.missions).where(s.missions.c.id == mission.mission_id).values(
+            state=outcome.value, updated=now))
+        self._audit(conn, now, f"mission.{outcome.value}", mission=mission.mission_id,
+                    robot=mission.robot)
 
     def cancel_mission(self, mission_id: str, *, now: float) -> Mission:
         """Cancel a queued or active mission; returns it as it was before (an active one names
@@ -263,47 +321,96 @@ class FleetRecords:
         if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
             raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
         now = _check_time(now)
+        return self._db.run(
+            lambda conn: self._sent_in(conn, order_id, update_id, robot, mission, now), _RC)
+
+    def orders_sent(self, orders: Sequence[tuple[str, int, str, str | None]], *,
+                    now: float) -> None:
+        """:meth:`order_sent` of each (order id, update id, robot, mission) in ``orders``, in
+        one transaction."""
+        for order_id, update_id, robot, mission in orders:
+            _check_name("order_id", order_id)
+            _check_name("robot", robot)
+            if mission is not None:
+                _check_name("mission", mission)
+            if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
+                raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
+        now = _check_time(now)
+        if not orders:
+            return
+
+        def work(conn: Connection) -> None:
+            for order_id, update_id, robot, mission in orders:
+                self._sent_in(conn, order_id, update_id, robot, mission, now)
+
+        self._db.run(work, _RC)
+
+    def _sent_in(self, conn: Connection, order_id: str, update_id: int, robot: str,
+                 mission: str | None, now: float) -> Order:
         o = s.orders.c
-
-        def work(conn: Connection) -> Order:
-            key = (o.order_id == order_id) & (o.update_id == update_id)
-            row = conn.execute(select(s.orders).where(key)).first()
-            if row is None:
-                conn.execute(insert(s.orders).values(
-                    order_id=order_id, update_id=update_id, robot=robot, mission=mission,
-                    state=OrderState.SENT.value, sent_at=now, confirmed_at=None, sends=1))
-                conn.execute(update(s.orders).where(
-                    o.order_id == order_id, o.update_id < update_id,
-                    o.state == OrderState.SENT.value).values(state=OrderState.SUPERSEDED.value))
-                what = "order.sent"
-            else:
-                conn.execute(update(s.orders).where(key).values(sent_at=now,
-                                                                sends=row.sends + 1))
-                what = "order.resent"
-            self._audit(conn, now, what, order_id=order_id, update_id=update_id, robot=robot,
-                        mission=mission)
-            return _order(conn.execute(select(s.orders).where(key)).one())
-
-        return self._db.run(work, _RC)
+        key = (o.order_id == order_id) & (o.update_id == update_id)
+        row = conn.execute(select(s.orders).where(key)).first()
+        if row is None:
+            conn.execute(insert(s.orders).values(
+                order_id=order_id, update_id=update_id, robot=robot, mission=mission,
+                state=OrderState.SENT.value, sent_at=now, confirmed_at=None, sends=1))
+            conn.execute(update(s.orders).where(
+                o.order_id == order_id, o.update_id < update_id,
+                o.state == OrderState.SENT.value).values(state=OrderState.SUPERSEDED.value))
+            what = "order.sent"
+        else:
+            conn.execute(update(s.orders).where(key).values(sent_at=now,
+                                                            sends=row.sends + 1))
+            what = "order.resent"
+        self._audit(conn, now, what, order_id=order_id, update_id=update_id, robot=robot,
+                    mission=mission)
+        return _order(conn.execute(select(s.orders).where(key)).one())
 
     def order_confirmed(self, order_id: str, update_id: int, *, now: float) -> int:
         """Record that a robot's state named order ``order_id`` at update ``update_id``: that
         update, and any earlier one still waiting, is confirmed. Returns how many were."""
         _check_name("order_id", order_id)
         now = _check_time(now)
-        o = s.orders.c
+        return self._db.run(lambda conn: self._confirm_in(conn, order_id, update_id, now), _RC)
 
-        def work(conn: Connection) -> int:
-            waiting = conn.execute(select(o.update_id, o.robot).where(
-                o.order_id == order_id, o.update_id <= update_id,
-                o.state == OrderState.SENT.value)).all()
-            for row in waiting:
-                conn.execute(update(s.orders).where(
-                    o.order_id == order_id, o.update_id == row.update_id).values(
-                    state=OrderState.CONFIRMED.value, confirmed_at=now))
-                self._audit(conn, now, "order.confirmed", order_id=order_id,
-                            update_id=row.update_id, robot=row.robot)
-            return len(waiting)
+    def _confirm_in(self, conn: Connection, order_id: str, update_id: int, now: float) -> int:
+        o = s.orders.c
+        waiting = conn.execute(select(o.update_id, o.robot).where(
+            o.order_id == order_id, o.update_id <= update_id,
+            o.state == OrderState.SENT.value)).all()
+        for row in waiting:
+            conn.execute(update(s.orders).where(
+                o.order_id == order_id, o.update_id == row.update_id).values(
+                state=OrderState.CONFIRMED.value, confirmed_at=now))
+            self._audit(conn, now, "order.confirmed", order_id=order_id,
+                        update_id=row.update_id, robot=row.robot)
+        return len(waiting)
+
+    def progress(self, *, confirmed: Sequence[tuple[str, int]], done: Sequence[str],
+                 now: float) -> tuple[str, ...]:
+        """One tick's news from the robots' states in one transaction (a fleet of 1,000 made
+        one transaction each): the order updates ``confirmed`` (as :meth:`order_confirmed`)
+        and the missions ``done`` (as :meth:`finish_mission`); returns the missions of
+        ``done`` finished now or before (one cancelled meanwhile is left as it is).
+
+        Raises:
+            NotFound: a mission of ``done`` that does not exist.
+        """
+        for order_id, _ in confirmed:
+            _check_name("order_id", order_id)
+        now = _check_time(now)
+
+        def work(conn: Connection) -> tuple[str, ...]:
+            for order_id, update_id in confirmed:
+                self._confirm_in(conn, order_id, update_id, now)
+            ended = []
+            for mission_id in done:
+                mission = self._mission_in(conn, mission_id)
+                if mission.state is MissionState.ACTIVE:
+                    self._finish_in(conn, mission, MissionState.DONE, now)
+                if mission.state in (MissionState.ACTIVE, MissionState.DONE):
+                    ended.append(mission_id)
+            return tuple(ended)
 
         return self._db.run(work, _RC)
 

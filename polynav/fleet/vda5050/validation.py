@@ -2,9 +2,11 @@
 
 The schemas are the official ones, shipped verbatim in ``schemas/<version>/<topic>.schema``
 (2.0.0's factsheet is ``factsheet.json`` upstream; it is renamed here so every topic has one
-path). A validator is compiled once per (topic, version) and kept. A message that breaks the
-schema raises :class:`SchemaViolation`, which names the JSON path of the offending field and the
-schema rule it breaks, so whoever sent it can fix it.
+path). Each schema is compiled once per (topic, version) into plain Python checks
+(:mod:`polynav.fleet.vda5050.compiled`, a few µs a message instead of ``jsonschema``'s 80-170 µs
+walk); a message they refuse is checked again by ``jsonschema``, whose error is the one
+reported. A message that breaks the schema raises :class:`SchemaViolation`, which names the
+JSON path of the offending field and the schema rule it breaks, so whoever sent it can fix it.
 
 The schemas declare ``"format": "date-time"`` for timestamps; JSON Schema 2020-12 treats formats
 as annotations, and jsonschema checks ``date-time`` only with an optional extra package, so it is
@@ -29,6 +31,7 @@ from typing import Any
 import jsonschema
 
 from polynav.errors import InvalidRequest
+from polynav.fleet.vda5050 import compiled
 
 TOPICS: tuple[str, ...] = (
     "connection", "factsheet", "state", "visualization", "order", "instantActions",
@@ -84,8 +87,11 @@ def validate(topic: str, version: str, message: dict[str, Any]) -> None:
         SchemaViolation: the message breaks the schema; the first error by relevance.
         InvalidRequest: a topic or version polynav has no schema for.
     """
-    checker = _validator(*_checked(topic, version))
-    error = jsonschema.exceptions.best_match(checker.iter_errors(message))
+    key = _checked(topic, version)
+    fast = _compiled(*key)
+    if fast is not None and fast(message):
+        return
+    error = jsonschema.exceptions.best_match(_validator(*key).iter_errors(message))
     if error is None:
         return
     path = error.json_path
@@ -112,6 +118,16 @@ def _load(topic: str, version: str) -> dict[str, Any]:
     resource = importlib.resources.files(__package__) / "schemas" / version / f"{topic}.schema"
     loaded: dict[str, Any] = json.loads(resource.read_text(encoding="utf-8"))
     return loaded
+
+
+@functools.cache
+def _compiled(topic: str, version: str) -> compiled.Check | None:
+    """The schema as closures (:mod:`.compiled`), None if it uses more than they implement
+    (then jsonschema checks every message)."""
+    try:
+        return compiled.compile_schema(_load(topic, version), {"date-time": _is_date_time})
+    except compiled.NotCompilable:
+        return None
 
 
 @functools.cache

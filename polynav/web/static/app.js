@@ -234,6 +234,11 @@ export class Console {
       `${leg.car ? " " + leg.car : ""}${leg.to_floor ? "→" + leg.to_floor : ""}`).join(" · ") : "–";
     $("st-lift").textContent = route && route.lift ?
       `${route.lift.car}: ${route.lift.phase} (${route.lift.from_floor}→${route.lift.to_floor})` : "–";
+    // The door the robot waits at, else those it holds open to pass (the status' doors).
+    const d = s.doors;
+    const doorText = (door) => `${door.name} ${door.state || "?"}`;
+    $("st-door").textContent = !d ? "–" : d.waiting_for ? `waits for ${doorText(d.waiting_for)}` :
+      d.passing.length ? `passing ${d.passing.map(doorText).join(", ")}` : "–";
     const stop = s.estop.hardware || s.estop.software;
     $("st-estop").textContent = stop ? `pressed (${s.estop.hardware ? "hardware" : "software"})` : "released";
     $("estop").classList.toggle("pressed", s.estop.software);

@@ -4,8 +4,6 @@ state, zone requests), which are logged and never stop it."""
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +15,7 @@ from polynav.fleet.mqtt_transport import MqttTransport
 from polynav.store.site_store import SiteStore
 from tests.helpers.mosquitto import Mosquitto
 from tests.helpers.scripted_vehicle import Robot
+from tests.helpers.waiting import wait_for
 from tests.protocols.fleet_manager.conftest import FleetProcess
 
 
@@ -129,12 +128,3 @@ def test_malformed_messages_on_its_topics_are_logged_never_fatal(
         assert f"refused a message on {base}/{kind}" in err, err
     assert "connection message not used: serial_number: 'a/b'" in err, err
 
-
-def wait_for(check: Callable[[], Any], timeout: float, what: str) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        got = check()
-        if got:
-            return got
-        time.sleep(0.05)
-    pytest.fail(f"timed out waiting for {what}")

@@ -7,7 +7,8 @@ from __future__ import annotations
 import json
 import socket
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ from polynav.runtime.config import RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds.world import World
 from tests.helpers.mosquitto import Mosquitto
+from tests.helpers.waiting import wait_for
 from tests.protocols.fleet_manager.conftest import FleetProcess
 
 SPEED = 4.0
@@ -46,39 +48,49 @@ def building(broker: Mosquitto, world: World, store: SiteStore) -> Iterator[Buil
         built.close()
 
 
-def wait_for(check: Callable[[], Any], timeout: float, what: str) -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        got = check()
-        if got:
-            return got
-        time.sleep(0.1)
-    pytest.fail(f"timed out waiting for {what}")
-
-
 def mission(client: httpx.Client, mission_id: str) -> dict[str, Any]:
     got: dict[str, Any] = client.get(f"/api/missions/{mission_id}").json()
     return got
 
 
-def test_a_mission_posted_over_http_is_dispatched_to_the_nearest_robot_and_done(
-        broker: Mosquitto, building: Building, store: SiteStore, tmp_path: Path,
-        start_fleet: list[FleetProcess]) -> None:
+def mission_end(client: httpx.Client, mission_id: str, timeout: float) -> dict[str, Any]:
+    """Mission ``mission_id`` once done or failed."""
+    ended: dict[str, Any] = wait_for(
+        lambda: (got := mission(client, mission_id))["state"] in ("done", "failed") and got,
+        timeout, f"mission {mission_id} to end")
+    return ended
+
+
+@contextmanager
+def fleet_over_both_robots(broker: Mosquitto, building: Building, store: SiteStore,
+                           tmp_path: Path, start_fleet: list[FleetProcess]
+                           ) -> Iterator[httpx.Client]:
+    """A client of a started ``polynav fleet`` once it knows both robots' states; the process
+    must then exit 0 when stopped."""
     fleet = FleetProcess(fleet_args(broker, store, tmp_path))
     start_fleet.append(fleet)
     assert fleet.url, fleet.lines
     building.start()
-    with httpx.Client(base_url=fleet.url, timeout=10.0) as client, \
-            ws_connect(fleet.url.replace("http", "ws") + "/api/ws") as ws:
+    with httpx.Client(base_url=fleet.url, timeout=10.0) as client:
         wait_for(lambda: len([r for r in client.get("/api/robots").json()
                               if r["map"] is not None]) == 2, 15.0, "both robots' states")
+        yield client
+    status, err = fleet.stop()
+    assert status == 0, err
+
+
+def test_a_mission_posted_over_http_is_dispatched_to_the_nearest_robot_and_done(
+        broker: Mosquitto, building: Building, store: SiteStore, tmp_path: Path,
+        start_fleet: list[FleetProcess]) -> None:
+    with fleet_over_both_robots(broker, building, store, tmp_path, start_fleet) as client, \
+            ws_connect(str(client.base_url).replace("http", "ws") + "/api/ws") as ws:
         posted = client.post("/api/missions", json={
             "stops": [{"point": "front_desk", "map": "floor1"}], "mission_id": "desk"})
         assert posted.status_code == 202
         assert posted.json() == {"mission_id": "desk", "state": "queued"}
-        done = wait_for(lambda: (got := mission(client, "desk"))["state"] == "done" and got,
-                        40.0, "the mission to be done")
-        assert (done["robot"], done["attempts"]) == ("robot2", 1)  # robot2 stood nearer
+        done = mission_end(client, "desk", 40.0)
+        assert (done["state"], done["robot"], done["attempts"]) == ("done", "robot2", 1)
+        # robot2 stood nearer
         kinds = []
         deadline = time.monotonic() + 5.0
         while "mission.done" not in kinds and time.monotonic() < deadline:
@@ -92,26 +104,16 @@ def test_a_mission_posted_over_http_is_dispatched_to_the_nearest_robot_and_done(
         audit = [e["what"] for e in client.get("/api/audit").json()]
         assert {"mission.added", "mission.claimed", "order.sent", "order.confirmed",
                 "mission.done"} <= set(audit)
-    status, err = fleet.stop()
-    assert status == 0, err
 
 
 def test_a_mission_to_another_floor_goes_through_a_lift_with_its_lease_recorded(
         broker: Mosquitto, building: Building, store: SiteStore, tmp_path: Path,
         start_fleet: list[FleetProcess]) -> None:
-    fleet = FleetProcess(fleet_args(broker, store, tmp_path))
-    start_fleet.append(fleet)
-    assert fleet.url, fleet.lines
-    building.start()
-    with httpx.Client(base_url=fleet.url, timeout=10.0) as client:
-        wait_for(lambda: len([r for r in client.get("/api/robots").json()
-                              if r["map"] is not None]) == 2, 15.0, "both robots' states")
+    with fleet_over_both_robots(broker, building, store, tmp_path, start_fleet) as client:
         posted = client.post("/api/missions", json={"stops": [
             {"point": "corridor_east", "map": "floor2"}]})
         assert posted.status_code == 202
-        mission_id = posted.json()["mission_id"]
-        done = wait_for(lambda: (got := mission(client, mission_id))["state"] in (
-            "done", "failed") and got, 120.0, "the mission to end")
+        done = mission_end(client, posted.json()["mission_id"], 120.0)
         assert (done["state"], done["robot"]) == ("done", "robot1")
         robot = client.get("/api/robots/robot1").json()
         assert robot["map"] == "floor2"
@@ -119,8 +121,6 @@ def test_a_mission_to_another_floor_goes_through_a_lift_with_its_lease_recorded(
                   if e["what"] == "lease.granted" and e["detail"]["resource"].startswith(
                       "lift:")]
         assert leases and leases[0]["detail"]["holder"] == "robot1"
-    status, err = fleet.stop()
-    assert status == 0, err
 
 
 def test_an_unreachable_broker_or_database_is_one_line_and_exit_1(
@@ -154,13 +154,7 @@ def _sever(building: Building, serial: str) -> None:
 def test_a_robot_killed_mid_mission_loses_its_leases_and_another_robot_finishes_it(
         broker: Mosquitto, building: Building, store: SiteStore, tmp_path: Path,
         start_fleet: list[FleetProcess]) -> None:
-    fleet = FleetProcess(fleet_args(broker, store, tmp_path))
-    start_fleet.append(fleet)
-    assert fleet.url, fleet.lines
-    building.start()
-    with httpx.Client(base_url=fleet.url, timeout=10.0) as client:
-        wait_for(lambda: len([r for r in client.get("/api/robots").json()
-                              if r["map"] is not None]) == 2, 15.0, "both robots' states")
+    with fleet_over_both_robots(broker, building, store, tmp_path, start_fleet) as client:
         posted = client.post("/api/missions", json={"stops": [
             {"point": "office_4", "map": "floor1"}], "mission_id": "m"})
         assert posted.status_code == 202
@@ -173,13 +167,10 @@ def test_a_robot_killed_mid_mission_loses_its_leases_and_another_robot_finishes_
                  == "CONNECTIONBROKEN", 20.0, "robot1's last will")
         building.runtimes[0].cancel()  # the dead robot stops where it is
         assert all(lease["holder"] != "robot1" for lease in client.get("/api/leases").json())
-        done = wait_for(lambda: (got := mission(client, "m"))["state"] in ("done", "failed")
-                        and got, 60.0, "the mission to end")
+        done = mission_end(client, "m", 60.0)
         assert (done["state"], done["robot"], done["attempts"]) == ("done", "robot2", 2)
         audit = client.get("/api/audit").json()
         assert [e["detail"]["robot"] for e in audit if e["what"] == "mission.requeued"] == [
             "robot1"]
         assert {"robot": "robot1", "state": "CONNECTIONBROKEN"} in [
             e["detail"] for e in audit if e["what"] == "robot.connection"]
-    status, err = fleet.stop()
-    assert status == 0, err

@@ -13,11 +13,13 @@ import pytest
 
 from polynav.fleet import codec
 from polynav.fleet import messages as m
+from polynav.fleet.mqtt_transport import MqttTransport
 from polynav.geometry import Pose2D, Twist
 from polynav.house.remote_robots import RemoteRobots
 from polynav.robot.sim.scene import RobotContact
 from polynav.robot.sim.simulation import Simulation
 from polynav.worlds import load_world
+from polynav.worlds.world import WorldFloor
 from tests.protocols.fleet_mqtt.conftest import WAIT, TransportFactory
 
 RADIUS = 0.3
@@ -30,7 +32,10 @@ def _forward_range(sim: Simulation) -> float:
     return float(np.min(scan.ranges[ahead]))
 
 
-def test_a_remote_robot_is_seen_collided_with_and_forgotten(connect: TransportFactory) -> None:
+def _listening(connect: TransportFactory
+               ) -> tuple[Simulation, WorldFloor, RemoteRobots, MqttTransport, m.Headers]:
+    """robot1 simulated on the demo's first floor, hearing the other robots over the broker;
+    the transport of a robot9 to publish as, and headers to stamp its messages with."""
     world = load_world("demo")
     floor = world.floors[0]
     sim = Simulation(world, floor=floor.name, people=False, name="robot1")
@@ -39,8 +44,12 @@ def test_a_remote_robot_is_seen_collided_with_and_forgotten(connect: TransportFa
     remote = RemoteRobots(sim.scene, client, local={"robot1"},
                           floors={floor.map_name: floor.name}, epoch=epoch, radius=RADIUS)
     assert client.wait_subscribed(WAIT)
-    other = connect("test/robot9")
     headers = m.Headers(m.DEFAULT_VERSION, m.DEFAULT_MANUFACTURER, sim.scene.clock.now, epoch)
+    return sim, floor, remote, connect("test/robot9"), headers
+
+
+def test_a_remote_robot_is_seen_collided_with_and_forgotten(connect: TransportFactory) -> None:
+    sim, floor, remote, other, headers = _listening(connect)
     sim.step(0.5)
     clear = _forward_range(sim)
     assert clear > 1.5, "the test needs room ahead of the start pose"
@@ -103,17 +112,8 @@ def test_a_remote_robot_is_seen_collided_with_and_forgotten(connect: TransportFa
 
 
 def test_bad_messages_from_other_robots_are_left_out(connect: TransportFactory) -> None:
-    world = load_world("demo")
-    floor = world.floors[0]
-    sim = Simulation(world, floor=floor.name, people=False, name="robot1")
-    epoch = dt.datetime.now(dt.UTC)
-    client = connect("test/remote")
-    remote = RemoteRobots(sim.scene, client, local={"robot1"},
-                          floors={floor.map_name: floor.name}, epoch=epoch, radius=RADIUS)
-    assert client.wait_subscribed(WAIT)
-    other = connect("test/robot9")
+    sim, floor, remote, other, headers = _listening(connect)
     topic = m.topic("robot9", m.Visualization)
-    headers = m.Headers(m.DEFAULT_VERSION, m.DEFAULT_MANUFACTURER, sim.scene.clock.now, epoch)
     other.publish_raw(topic, b"{not json")
     other.publish_raw(topic, b'{"headerId": "one"}')  # breaks the schema
     unknown_map = codec.encode(m.Visualization(

@@ -393,7 +393,8 @@ def test_status_snapshot_has_the_contract_keys(runtime: RobotRuntime) -> None:
     runtime.advance(0.2)
     body = runtime.status().to_dict()
     assert set(body) == {"mode", "map", "floor", "floor_level", "pose", "velocity", "battery",
-                         "estop", "localization", "navigation", "stamp", "frame", "mapping"}
+                         "estop", "localization", "navigation", "stamp", "frame", "mapping",
+                         "doors"}
     assert body["mode"] == "free" and body["mapping"] is None  # no mapping session
     assert body["stamp"] == pytest.approx(0.2, abs=0.06)
 

@@ -78,6 +78,7 @@ class Line:
     def send(self, payload: bytes, *, split: bool = False, garbage: bytes = b"") -> None:
         """One command frame, after ``garbage``; ``split``: in two writes."""
         data = garbage + c.frame(payload)
+        before = self.link.commands  # read first: the link may run the frame before we look
         if split:
             self.port.write(data[:5])
             self.port.flush()
@@ -85,11 +86,10 @@ class Line:
             data = data[5:]
         self.port.write(data)
         self.port.flush()
-        self._settle()
+        self._settle(before)
 
-    def _settle(self) -> None:
-        """Wait (wall time) until the link has read everything written."""
-        before = self.link.commands
+    def _settle(self, before: int) -> None:
+        """Wait (wall time) until the link has run a command since it had run ``before``."""
         deadline = time.monotonic() + 5.0
         while self.link.commands == before and time.monotonic() < deadline:
             time.sleep(0.005)

@@ -33,7 +33,8 @@ def manager(transport: InProcessTransport, records: FleetRecords) -> FleetManage
     return FleetManager(transport, records, Site(), levels={"floor1": 1, "floor2": 2},
                         leases=LeaseBookConfig(max_wait=50.0),
                         config=FleetManagerConfig(resend_after=2.0, max_sends=3,
-                                                  max_attempts=2, dispatch_period=0.5))
+                                                  max_attempts=2, dispatch_period=0.5,
+                                                  lost_grace=1.0))
 
 
 def online(transport: InProcessTransport, fm: FleetManager,
@@ -133,20 +134,89 @@ def test_a_lost_robot_loses_its_leases_and_its_mission_goes_to_another(
     assert [(lease.resource, lease.holder) for lease in fm.live_leases()] == [
         ("lift:A", "r2")]
     fm.tick(1.6)
+    # The mission waits lost_grace for its robot to come back still doing it; then it goes.
+    assert r2.order_ids() == [] and fm.mission("m1").state is MissionState.QUEUED
+    fm.tick(2.5)
     assert r2.order_ids() == ["m1-2"]
     r2.state("m1-2", nodes=0)
-    fm.tick(1.8)
+    fm.tick(2.7)
     done = fm.mission("m1")
     assert (done.state, done.robot, done.attempts) == (MissionState.DONE, "r2", 2)
     whats = [e.what for e in records.audit()]
     assert "lease.released" in whats and "mission.requeued" in whats
-    # Back online, the lost robot is told to drop the order it no longer owns.
+    # Back online, the lost robot is asked for its state; still driving the order it no
+    # longer owns, it is told to drop it.
     r1.actions.drain()
     r1.connection(m.ConnectionState.ONLINE)
+    fm.tick(3.0)
+    assert action_kinds(r1) == ["stateRequest"]
+    r1.state("m1-1", nodes=1)
+    fm.tick(3.2)
+    assert action_kinds(r1) == ["cancelOrder"]
+    assert fm.mission("m1").robot == "r2"
+
+
+def action_kinds(robot: Robot) -> list[str]:
+    return [a.action_type for msg in robot.actions.drain() if isinstance(msg, m.InstantActions)
+            for a in msg.actions]
+
+
+def test_a_robot_back_still_driving_its_requeued_mission_resumes_it(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    # A restarted broker delivers every robot's will while the robots drive on.
+    fm = manager(transport, records)
+    r1, r2 = online(transport, fm, ("r1", 9.0), ("r2", 0.0))
+    fm.submit([{"point": "desk", "map": "floor1"}], mission_id="m1")
+    fm.tick(1.0)
+    assert r1.order_ids() == ["m1-1"]
+    r1.state("m1-1", nodes=1)
+    fm.tick(1.2)
+    for robot in (r1, r2):
+        robot.connection(m.ConnectionState.CONNECTIONBROKEN)
+    fm.tick(1.4)
+    assert fm.mission("m1").state is MissionState.QUEUED
+    for robot in (r1, r2):
+        robot.connection(m.ConnectionState.ONLINE)
+        robot.actions.drain()
+    fm.tick(1.6)  # back, but no state since: m1 waits for r1's word, given to no one
+    assert fm.mission("m1").state is MissionState.QUEUED
+    r2.state()
+    fm.tick(1.8)
+    assert r2.order_ids() == [] and fm.mission("m1").state is MissionState.QUEUED
+    r1.state("m1-1", nodes=1)
     fm.tick(2.0)
-    kinds = [a.action_type for msg in r1.actions.drain() if isinstance(msg, m.InstantActions)
-             for a in msg.actions]
-    assert kinds == ["cancelOrder", "stateRequest"]
+    resumed = fm.mission("m1")
+    assert (resumed.state, resumed.robot, resumed.attempts) == (MissionState.ACTIVE, "r1", 1)
+    assert "cancelOrder" not in action_kinds(r1) and r1.order_ids() == []
+    assert fm.robot("r1").mission == "m1"
+    r1.state("m1-1", nodes=0)
+    fm.tick(2.2)
+    done = fm.mission("m1")
+    assert (done.state, done.robot, done.attempts) == (MissionState.DONE, "r1", 1)
+    kinds = [e.kind for e in fm.events_after(0) if e.detail.get("mission") == "m1"]
+    assert kinds == ["mission.queued", "mission.dispatched", "mission.started",
+                     "mission.requeued", "mission.resumed", "mission.done"]
+
+
+def test_a_robot_back_without_its_order_leaves_the_mission_to_the_queue(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    fm = manager(transport, records)
+    (r1,) = online(transport, fm, ("r1", 9.0))
+    fm.submit([{"point": "desk", "map": "floor1"}], mission_id="m1")
+    fm.tick(1.0)
+    r1.state("m1-1", nodes=1)
+    fm.tick(1.2)
+    r1.connection(m.ConnectionState.CONNECTIONBROKEN)
+    fm.tick(1.4)
+    r1.connection(m.ConnectionState.ONLINE)
+    r1.order_ids()
+    fm.tick(1.6)
+    r1.state()  # restarted: no order; the mission is not held for it any longer
+    fm.tick(1.8)
+    fm.tick(2.2)
+    again = fm.mission("m1")
+    assert (again.state, again.robot, again.attempts) == (MissionState.ACTIVE, "r1", 2)
+    assert r1.order_ids() == ["m1-2"]
 
 
 def test_two_managers_on_one_database_never_grant_one_lift_twice(
@@ -244,3 +314,17 @@ def test_a_queued_mission_whose_point_left_the_site_is_cancelled_not_retried(
         POINTS.update(before)
     assert fm.mission("gone").state is MissionState.CANCELLED
     assert robot.order_ids() == ["kept-1"]
+
+
+def test_a_full_queue_goes_out_max_dispatch_missions_a_tick(
+        transport: InProcessTransport, records: FleetRecords) -> None:
+    fm = FleetManager(transport, records, Site(), levels={"floor1": 1, "floor2": 2},
+                      config=FleetManagerConfig(dispatch_period=0.5, max_dispatch=2))
+    robots = online(transport, fm, ("r1", 0.0), ("r2", 5.0), ("r3", 9.0))
+    for k in (1, 2, 3):
+        fm.submit([{"point": "desk", "map": "floor1"}], mission_id=f"m{k}")
+    fm.tick(1.0)
+    assert [m.mission_id for m in fm.missions(MissionState.ACTIVE)] == ["m1", "m2"]
+    fm.tick(1.1)  # the rest at the next tick, not a dispatch period later
+    assert len(fm.missions(MissionState.ACTIVE)) == 3
+    assert sorted(o for r in robots for o in r.order_ids()) == ["m1-1", "m2-1", "m3-1"]
