@@ -11,11 +11,10 @@ from pathlib import Path
 import httpx
 import pytest
 
-from polynav.api import ApiConfig, create_app
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
-from tests.api.server import ServerThread
+from tests.api.server import native_client
 
 
 @pytest.fixture
@@ -31,10 +30,8 @@ def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
 
 @pytest.fixture
 def http(runtime: RobotRuntime) -> Iterator[httpx.Client]:
-    thread = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
-    with httpx.Client(base_url=thread.url) as client:
+    with native_client(runtime) as client:
         yield client
-    thread.stop()
 
 
 def test_lists_the_demo_carts_and_cabin(http: httpx.Client) -> None:

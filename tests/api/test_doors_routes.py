@@ -10,11 +10,10 @@ from pathlib import Path
 import httpx
 import pytest
 
-from polynav.api import ApiConfig, create_app
 from polynav.runtime.robot_runtime import RobotRuntime, RuntimeConfig
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
-from tests.api.server import ServerThread
+from tests.api.server import native_client
 
 
 @pytest.fixture
@@ -28,10 +27,8 @@ def runtime(tmp_path: Path) -> Iterator[RobotRuntime]:
 
 @pytest.fixture
 def http(runtime: RobotRuntime) -> Iterator[httpx.Client]:
-    thread = ServerThread(create_app(runtime, ApiConfig(port=0))).start()
-    with httpx.Client(base_url=thread.url) as client:
+    with native_client(runtime) as client:
         yield client
-    thread.stop()
 
 
 def _doors(http: httpx.Client) -> dict[str, dict[str, object]]:

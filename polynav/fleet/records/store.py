@@ -314,12 +314,7 @@ class FleetRecords:
         """Record that order update (``order_id``, ``update_id``) was sent to ``robot``; sending
         it again moves its ``sent_at`` and counts the send. Earlier updates of the order not
         yet confirmed are superseded (re-sending them would be wrong)."""
-        _check_name("order_id", order_id)
-        _check_name("robot", robot)
-        if mission is not None:
-            _check_name("mission", mission)
-        if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
-            raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
+        _check_order(order_id, update_id, robot, mission)
         now = _check_time(now)
         return self._db.run(
             lambda conn: self._sent_in(conn, order_id, update_id, robot, mission, now), _RC)
@@ -329,12 +324,7 @@ class FleetRecords:
         """:meth:`order_sent` of each (order id, update id, robot, mission) in ``orders``, in
         one transaction."""
         for order_id, update_id, robot, mission in orders:
-            _check_name("order_id", order_id)
-            _check_name("robot", robot)
-            if mission is not None:
-                _check_name("mission", mission)
-            if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
-                raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
+            _check_order(order_id, update_id, robot, mission)
         now = _check_time(now)
         if not orders:
             return
@@ -642,6 +632,16 @@ def _order(row: Row[Any]) -> Order:
 def _lease(row: Row[Any]) -> Lease:
     return Lease(lease_id=row.lease_id, resource=row.resource, holder=row.holder,
                  granted_at=row.granted_at, expires_at=row.expires_at)
+
+
+def _check_order(order_id: str, update_id: int, robot: str, mission: str | None) -> None:
+    """One sent order update's fields, checked before anything is written."""
+    _check_name("order_id", order_id)
+    _check_name("robot", robot)
+    if mission is not None:
+        _check_name("mission", mission)
+    if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
+        raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
 
 
 def _check_name(field: str, value: object) -> None:
