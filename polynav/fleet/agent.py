@@ -214,6 +214,7 @@ class RobotAgent:
             self._state_dirty = True
             self.traffic.resend()
             self.lift_sessions.resend()
+            self.door_leases.resend()
         for response in self._responses.drain():
             if isinstance(response, m.ZoneResponse):
                 self.traffic.on_response(response)

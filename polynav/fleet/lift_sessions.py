@@ -25,6 +25,10 @@ log = logging.getLogger(__name__)
 RENEW_BEFORE = 20.0
 """A held session is renewed when less than this [s] is left of its lease."""
 
+REASK_AFTER = 5.0
+"""A session asked for and not answered for this long [s] is asked for again (same id): zone
+requests travel at QoS 0, and one sent while the fleet manager was off the broker is lost."""
+
 
 @dataclass(slots=True)
 class _Session:
@@ -33,6 +37,7 @@ class _Session:
     rejected: bool = False
     expiry: float = -math.inf
     renew_sent: float = -math.inf
+    heard: float = -math.inf  # when it was last asked for or answered [s]
 
 
 class FleetLiftSessions:
@@ -52,27 +57,35 @@ class FleetLiftSessions:
         self._sessions: dict[str, _Session] = {}
         self._ids = itertools.count(1)
         self.rejections = 0
+        self._now = -math.inf  # the time of the last request: answers are stamped with it
 
     def request(self, car: str, now: float) -> None:
+        """Ask for ``car`` (called each tick while it is wanted): a new ask, a renewal while
+        held, or the same ask again when no answer came within :data:`REASK_AFTER`."""
+        self._now = now
         session = self._sessions.get(car)
         if session is None or session.rejected:
-            session = _Session(f"{self.holder}-{self.kind}-{next(self._ids)}")
+            session = _Session(f"{self.holder}-{self.kind}-{next(self._ids)}", heard=now)
             self._sessions[car] = session
-            self._send(session.request_id, resource(car, self.kind), m.ZoneRequestType.ACCESS,
-                       SESSION_LEASE)
+            self._ask(car, session)
         elif session.granted and session.expiry - now < RENEW_BEFORE and (
                 now - session.renew_sent > 1.0):
             session.renew_sent = now
-            self._send(session.request_id, resource(car, self.kind),
-                       m.ZoneRequestType.ACCESS, SESSION_LEASE)
+            self._ask(car, session)
+        elif not session.granted and now - session.heard > REASK_AFTER:
+            session.heard = now
+            self._ask(car, session)
 
     def resend(self) -> None:
         """Ask again for every session asked for or held (same request ids), after the link to
         the fleet was lost with a request or its answer perhaps in it."""
         for car, session in self._sessions.items():
             if not session.rejected:
-                self._send(session.request_id, resource(car), m.ZoneRequestType.ACCESS,
-                           SESSION_LEASE)
+                self._ask(car, session)
+
+    def _ask(self, car: str, session: _Session) -> None:
+        self._send(session.request_id, resource(car, self.kind), m.ZoneRequestType.ACCESS,
+                   SESSION_LEASE)
 
     def granted(self, car: str, now: float) -> bool:
         session = self._sessions.get(car)
@@ -97,6 +110,7 @@ class FleetLiftSessions:
         if session is None or session.request_id != response.request_id:
             return
         grant = response.grant_type
+        session.heard = self._now
         if grant is m.GrantType.GRANTED:
             session.granted = True
             session.expiry = (response.lease_expiry if response.lease_expiry is not None

@@ -79,6 +79,10 @@ class TrafficConfig:
             ``lookahead`` [m]: a robot waiting near the lookahead whose resumed path came out a
             few centimetres longer gave the zone back on being granted it, and queued again at
             the back.
+        reask_after: a request not granted is asked again (same id: a waiter keeps its place)
+            when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
+            while the fleet manager was off the broker (it comes back after the robot) is lost,
+            and the robot would wait for an answer that never comes.
     """
 
     lookahead: float = 4.0
@@ -89,10 +93,12 @@ class TrafficConfig:
     leave_within: float = 1.5
     queue_spacing: float = 1.5
     keep_margin: float = 1.0
+    reask_after: float = 5.0
 
     def __post_init__(self) -> None:
         for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
-                     "check_period", "leave_within", "queue_spacing", "keep_margin"):
+                     "check_period", "leave_within", "queue_spacing", "keep_margin",
+                     "reask_after"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
@@ -111,6 +117,7 @@ class _ZoneLease:
     expiry: float = -math.inf
     renew_sent: float = -math.inf
     flow: str | None = None
+    heard: float = -math.inf  # when it was last asked for or answered [s]
 
 
 class TrafficRule:
@@ -126,6 +133,7 @@ class TrafficRule:
         self._requests = itertools.count(1)
         self._paused_for: str | None = None
         self._next_check = -math.inf
+        self._now = -math.inf  # the time of the last tick: answers are stamped with it
         self.waits = 0
         self.rejections = 0
         self.wait_time = 0.0
@@ -153,6 +161,7 @@ class TrafficRule:
         if lease is None or lease.request_id != response.request_id:
             return  # an answer to a request given up since
         grant = response.grant_type
+        lease.heard = self._now
         if grant is m.GrantType.GRANTED:
             lease.granted, lease.queued = True, False
             lease.expiry = response.lease_expiry if response.lease_expiry is not None else (
@@ -198,6 +207,7 @@ class TrafficRule:
 
     def tick(self, now: float, runtime: RobotRuntime) -> None:
         """Ask, renew, release and wait as the rule says (every ``check_period``)."""
+        self._now = now
         if now < self._next_check:
             return
         self._next_check = now + self.config.check_period
@@ -215,6 +225,10 @@ class TrafficRule:
                 lease.renew_sent = now
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
                            self.config.lease_duration)
+            elif not lease.granted and now - lease.heard > self.config.reask_after:
+                lease.heard = now
+                self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
+                           self.config.lease_duration, lease.flow)
         if self._paused_for is not None:
             waited = self._leases.get(self._paused_for)
             if self._paused_for not in needed or (waited is not None and waited.granted):
@@ -326,7 +340,7 @@ class TrafficRule:
 
     def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
-        self._leases[zone_id] = _ZoneLease(request_id, flow=flow)
+        self._leases[zone_id] = _ZoneLease(request_id, flow=flow, heard=self._now)
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
 

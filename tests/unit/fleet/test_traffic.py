@@ -270,3 +270,27 @@ def test_moving_up_in_line_is_one_wait() -> None:
     rule.tick(3.0, robot)  # type: ignore[arg-type]  # stops again, at the front
     assert rule.waiting_for == "zone:m/1"
     assert rule.waits == 1
+
+
+def test_a_request_never_answered_is_asked_again_with_the_same_id() -> None:
+    # Zone requests are QoS 0: one sent while the fleet manager was off the broker is lost, and
+    # the robot, stopped before the zone, would wait for ever.
+    sent: list[tuple[str, str, m.ZoneRequestType]] = []
+    rule = _rule(sent)
+    robot = _Robot(Pose2D(4.6, 2.0, np.pi), Path(np.array([[4.6, 2.0], [1.0, 2.0]])))
+    rule.tick(0.0, robot)  # type: ignore[arg-type]
+    rule.tick(4.0, robot)  # type: ignore[arg-type]
+    assert len(sent) == 1
+    rule.tick(5.2, robot)  # type: ignore[arg-type]
+    assert sent[1] == sent[0]
+    _queued(rule, sent)  # answered at 5.2: a waiter, the next ask 5 s after that
+    rule.tick(10.0, robot)  # type: ignore[arg-type]
+    assert len(sent) == 2
+    rule.tick(10.4, robot)  # type: ignore[arg-type]
+    assert sent[2] == sent[0]  # keeps its place: the lease book takes it as the same ask
+    rid, zone, _ = sent[0]
+    rule.on_response(m.ZoneResponse(header_id=2, serial_number="r1", request_id=rid,
+                                    zone_id=zone, grant_type=m.GrantType.GRANTED,
+                                    lease_expiry=40.0))
+    rule.tick(20.0, robot)  # type: ignore[arg-type]
+    assert len(sent) == 3  # granted: renewed before expiry only
