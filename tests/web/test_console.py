@@ -376,3 +376,35 @@ def test_the_status_panel_shows_the_door_the_robot_waits_at(
             timeout=WAIT * 1000)
         assert http.get("/api/status").json()["doors"]["waiting_for"] == {
             "name": "lobby_gate", "state": "closed"}
+
+
+LEG_COLOR = (122, 74, 28)  # a standing cart's legs on the map (view.js drawCart)
+
+
+def test_the_carts_are_drawn_where_they_stand_and_a_docked_one_is_the_load(
+        page: Any, console: Console) -> None:
+    """#38's carts on the map (their four legs, from GET /api/carts) and the robot's load in
+    the status panel once it has docked to one."""
+    with api(console) as http:
+        cart = next(c for c in http.get("/api/carts").json()["carts"] if c["name"] == "cart_1")
+        cos, sin = math.cos(cart["theta"]), math.sin(cart["theta"])
+        legs = [(cart["x"] + u * cos - v * sin, cart["y"] + u * sin + v * cos)
+                for u in (cart["length"] / 2, -cart["length"] / 2)
+                for v in (cart["width"] / 2, -cart["width"] / 2)]
+        pixel = """([x, y]) => {
+            const view = window.polynav.view, canvas = document.getElementById('map');
+            const ratio = canvas.width / canvas.getBoundingClientRect().width;
+            const s = view.toScreen(x, y);
+            return Array.from(canvas.getContext('2d').getImageData(
+                Math.round(s.x * ratio), Math.round(s.y * ratio), 1, 1).data.slice(0, 3));
+        }"""
+        wait_until(lambda: all(tuple(page.evaluate(pixel, list(leg))) == LEG_COLOR
+                               for leg in legs))
+        screenshot(page, "carts")
+        assert page.locator("#st-load").text_content() == "–"
+        assert http.post("/api/navigation/start", json={"map": "floor1"}).status_code == 200
+        assert http.post("/api/carts/dock", json={"cart": "cart_1"}).status_code == 200
+        page.wait_for_function(
+            "document.getElementById('st-load').textContent === 'cart_1 (cart, 40 kg)'",
+            timeout=4 * WAIT * 1000)
+        assert http.get("/api/status").json()["load"]["name"] == "cart_1"

@@ -239,6 +239,7 @@ export class Console {
     const doorText = (door) => `${door.name} ${door.state || "?"}`;
     $("st-door").textContent = !d ? "–" : d.waiting_for ? `waits for ${doorText(d.waiting_for)}` :
       d.passing.length ? `passing ${d.passing.map(doorText).join(", ")}` : "–";
+    $("st-load").textContent = s.load ? `${s.load.name} (${s.load.kind}, ${f(s.load.mass, 0)} kg)` : "–";
     const stop = s.estop.hardware || s.estop.software;
     $("st-estop").textContent = stop ? `pressed (${s.estop.hardware ? "hardware" : "software"})` : "released";
     $("estop").classList.toggle("pressed", s.estop.software);
@@ -275,13 +276,16 @@ export class Console {
 
   async pollFleet() {
     try {
-      const [fleet, lifts, doors] = await Promise.all([this.api.get("/api/fleet"),
-        this.api.get("/api/lifts"), this.api.get("/api/doors").catch(() => ({ doors: [] }))]);
+      const [fleet, lifts, doors, carts] = await Promise.all([this.api.get("/api/fleet"),
+        this.api.get("/api/lifts"), this.api.get("/api/doors").catch(() => ({ doors: [] })),
+        this.api.get("/api/carts").catch(() => ({ carts: [] }))]);
       this.renderFleet(fleet.robots);
       this.view.set("lifts", lifts.lifts);
       const shown = this.maps.find((m) => m.name === this.viewMap);
       this.view.set("doors", doors.doors.filter((d) => shown && (d.floor === shown.floor ||
         d.floor === shown.name)));
+      this.view.set("carts", carts.carts.filter((c) => shown && (c.floor === shown.floor ||
+        c.floor === shown.name)));
       $("lift-list").innerHTML = "";
       for (const l of lifts.lifts) {
         const li = document.createElement("li");

@@ -23,7 +23,7 @@ export class MapView {
     this.offset = { x: 0, y: 0 }; // CSS px of world (0, 0)
     this.fitted = false;
     this.layers = {
-      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [], doors: [],
+      points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [], doors: [], carts: [],
       draft: null, selected: null, footprint: { radius: 0.25 },
     };
     this.robot = null; // {x, y, theta} shown, eased toward `target`
@@ -188,6 +188,7 @@ export class MapView {
     const L = this.layers;
     for (const k of L.keepouts) this.drawKeepout(k);
     for (const d of L.doors) this.drawDoor(d);
+    for (const c of L.carts) this.drawCart(c);
     this.drawPolyline(L.path, COLORS.path, 2.5);
     ctx.fillStyle = COLORS.scan;
     for (const [x, y] of L.scan) {
@@ -286,6 +287,27 @@ export class MapView {
     ctx.stroke();
     ctx.setLineDash([]);
     this.label((x1 + x2) / 2, (y1 + y2) / 2, `${d.name} ${d.state}`, ctx.strokeStyle, 10);
+  }
+
+  drawCart(c) { // a cart or cabin: its four legs and the frame between them, named
+    const ctx = this.ctx;
+    const cos = Math.cos(c.theta), sin = Math.sin(c.theta);
+    const corner = (u, v) => this.toScreen(c.x + u * cos - v * sin, c.y + u * sin + v * cos);
+    const hl = c.length / 2, hw = c.width / 2;
+    const legs = [corner(hl, hw), corner(-hl, hw), corner(-hl, -hw), corner(hl, -hw)];
+    const color = c.carried ? COLORS.robot : "#7a4a1c";
+    this.label(c.x, c.y, `${c.name}${c.kind === "cabin" ? " (cabin)" : ""}`, color, 10);
+    ctx.beginPath();
+    legs.forEach((s, i) => (i === 0 ? ctx.moveTo(s.x, s.y) : ctx.lineTo(s.x, s.y)));
+    ctx.closePath();
+    ctx.setLineDash([3, 3]);
+    ctx.strokeStyle = color;
+    ctx.lineWidth = 1.5;
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = color;
+    const leg = Math.max(2, 0.05 * this.scale);
+    for (const s of legs) ctx.fillRect(s.x - leg, s.y - leg, 2 * leg, 2 * leg); // over the name
   }
 
   drawCar(p) { // a lift car's floor, 1.4 m square about its inside point
