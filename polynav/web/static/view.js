@@ -22,6 +22,7 @@ export class MapView {
     this.scale = 20; // CSS px per metre
     this.offset = { x: 0, y: 0 }; // CSS px of world (0, 0)
     this.fitted = false;
+    this.labels = []; // this frame's names, drawn last so that none hides another
     this.layers = {
       points: [], keepouts: [], path: [], scan: [], people: [], others: [], goal: null, lifts: [], doors: [], carts: [],
       draft: null, selected: null, footprint: { radius: 0.25 },
@@ -201,6 +202,7 @@ export class MapView {
     if (L.goal) this.drawGoal(L.goal);
     if (this.robot && this.showRobot) this.drawRobot(this.robot);
     if (L.draft) this.drawDraft(L.draft);
+    this.drawLabels();
   }
 
   drawPolyline(points, color, width, close = false) {
@@ -227,7 +229,7 @@ export class MapView {
     if (k.kind === "path") {
       this.drawPolyline(k.points, "#12a37a", 2.5);
       const [x, y] = k.points[0];
-      this.label(x, y, k.name, "#12a37a", 8);
+      this.label(x, y, k.name, "#12a37a", 8, 0);
       return;
     }
     if (k.kind === "circle") {
@@ -296,7 +298,8 @@ export class MapView {
     const hl = c.length / 2, hw = c.width / 2;
     const legs = [corner(hl, hw), corner(-hl, hw), corner(-hl, -hw), corner(hl, -hw)];
     const color = c.carried ? COLORS.robot : "#7a4a1c";
-    this.label(c.x, c.y, `${c.name}${c.kind === "cabin" ? " (cabin)" : ""}`, color, 10);
+    const below = -(this.scale * Math.max(c.length, c.width) / 2 + 12); // clear of the legs
+    this.label(c.x, c.y, `${c.name}${c.kind === "cabin" ? " (cabin)" : ""}`, color, below);
     ctx.beginPath();
     legs.forEach((s, i) => (i === 0 ? ctx.moveTo(s.x, s.y) : ctx.lineTo(s.x, s.y)));
     ctx.closePath();
@@ -307,7 +310,7 @@ export class MapView {
     ctx.setLineDash([]);
     ctx.fillStyle = color;
     const leg = Math.max(2, 0.05 * this.scale);
-    for (const s of legs) ctx.fillRect(s.x - leg, s.y - leg, 2 * leg, 2 * leg); // over the name
+    for (const s of legs) ctx.fillRect(s.x - leg, s.y - leg, 2 * leg, 2 * leg);
   }
 
   drawCar(p) { // a lift car's floor, 1.4 m square about its inside point
@@ -321,7 +324,7 @@ export class MapView {
 
   drawOther(o) {
     this.drawDisc(o.x, o.y, 0.3, COLORS.other, o.theta);
-    this.label(o.x, o.y, o.name, COLORS.other, 14);
+    this.label(o.x, o.y, o.name, COLORS.other, 14, 2);
   }
 
   drawPoint(p, selected) {
@@ -340,7 +343,7 @@ export class MapView {
     ctx.strokeStyle = ctx.fillStyle;
     ctx.lineWidth = 1.5;
     ctx.stroke();
-    this.label(p.x, p.y, p.name, "#222", 9);
+    this.label(p.x, p.y, p.name, "#222", 9, selected ? 3 : 2);
     if (p.kind === "lift-inside") { // the car there: where it is, its doors, its motion
       const car = this.layers.lifts.find((l) => p.name.startsWith(l.name));
       if (car) {
@@ -352,16 +355,29 @@ export class MapView {
     }
   }
 
-  label(x, y, text, color, dy) {
-    const ctx = this.ctx;
+  label(x, y, text, color, dy, rank = 1) { // drawn at the end of the frame (drawLabels)
     const s = this.toScreen(x, y);
+    this.labels.push({ x: s.x, y: s.y - dy, text, color, rank });
+  }
+
+  drawLabels() { // higher ranks first; a label that would overlap one drawn is left out
+    const ctx = this.ctx;
     ctx.font = "12px system-ui, sans-serif";
     ctx.textAlign = "center";
     ctx.lineWidth = 3;
-    ctx.strokeStyle = "rgba(255,255,255,0.85)";
-    ctx.strokeText(text, s.x, s.y - dy);
-    ctx.fillStyle = color;
-    ctx.fillText(text, s.x, s.y - dy);
+    const boxes = [];
+    for (const l of this.labels.sort((a, b) => b.rank - a.rank)) {
+      const half = ctx.measureText(l.text).width / 2 + 2;
+      const box = { left: l.x - half, right: l.x + half, top: l.y - 11, bottom: l.y + 3 };
+      if (boxes.some((b) => b.left < box.right && box.left < b.right && b.top < box.bottom &&
+        box.top < b.bottom)) continue;
+      boxes.push(box);
+      ctx.strokeStyle = "rgba(255,255,255,0.85)";
+      ctx.strokeText(l.text, l.x, l.y);
+      ctx.fillStyle = l.color;
+      ctx.fillText(l.text, l.x, l.y);
+    }
+    this.labels = [];
   }
 
   drawGoal(goal) {
