@@ -19,22 +19,27 @@ never tells of a change that did not happen, nor misses one that did.
 
 from __future__ import annotations
 
-import json
 import logging
-import math
 import uuid
 from collections.abc import Mapping, Sequence
 from types import TracebackType
 from typing import Any
 
-from sqlalchemy import Connection, Row, delete, insert, select, update
+from sqlalchemy import Connection, insert, select, update
 
-from polynav.errors import Conflict, InvalidRequest, NotFound
+from polynav.errors import Conflict, NotFound
 from polynav.fleet.records import schema as s
+from polynav.fleet.records.checks import (
+    check_json,
+    check_name,
+    check_order,
+    check_stops,
+    check_time,
+)
 from polynav.fleet.records.database import Isolation, RecordsConfig, RecordsDatabase
+from polynav.fleet.records.leases import LeaseRecords
+from polynav.fleet.records.rows import mission_of, order_of
 from polynav.fleet.records.values import AuditEntry, Mission, MissionState, Order, OrderState
-from polynav.leases.book import Lease
-from polynav.leases.errors import LeaseNotHeld
 
 log = logging.getLogger(__name__)
 
@@ -42,14 +47,10 @@ _SER = Isolation.SERIALIZABLE
 _RC = Isolation.READ_COMMITTED
 
 
-class FleetRecords:
+class FleetRecords(LeaseRecords):
     """The records of one site's fleet (see the module docstring). Open with :meth:`open`;
-    every method takes the site time ``now`` [s] where it changes something."""
-
-    def __init__(self, db: RecordsDatabase, name: str) -> None:
-        """Use :meth:`open`."""
-        self._db = db
-        self.name = name
+    every method takes the site time ``now`` [s] where it changes something. The leases'
+    methods are :class:`~polynav.fleet.records.leases.LeaseRecords`'."""
 
     @classmethod
     def open(cls, url: str, *, name: str = "fleet",
@@ -67,7 +68,7 @@ class FleetRecords:
                 ``config.connect_wait`` (the message names the URL without its password).
             InvalidRequest: an empty name.
         """
-        _check_name("name", name)
+        check_name("name", name)
         return cls(RecordsDatabase.open(url, config, application_name=f"polynav-{name}"), name)
 
     @property
@@ -96,17 +97,17 @@ class FleetRecords:
             InvalidRequest: no stops, a stop without a point, stops not JSON, a bad id or time.
             Conflict: ``mission_id`` is taken by a mission with other stops.
         """
-        now = _check_time(now)
-        stop_list = _check_stops(stops)
+        now = check_time(now)
+        stop_list = check_stops(stops)
         mid = uuid.uuid4().hex if mission_id is None else mission_id
-        _check_name("mission_id", mid)
+        check_name("mission_id", mid)
 
         def work(conn: Connection) -> Mission:
             row = conn.execute(select(s.missions).where(s.missions.c.id == mid)).first()
             if row is not None:
                 if list(row.stops) != stop_list:
                     raise Conflict(f"mission {mid!r} exists with other stops")
-                return _mission(row)
+                return mission_of(row)
             conn.execute(insert(s.missions).values(
                 id=mid, state=MissionState.QUEUED.value, stops=stop_list, robot=None,
                 created=now, updated=now, attempts=0))
@@ -129,8 +130,8 @@ class FleetRecords:
         Raises:
             InvalidRequest: an empty robot name or a bad time.
         """
-        _check_name("robot", robot)
-        now = _check_time(now)
+        check_name("robot", robot)
+        now = check_time(now)
         return self._db.run(lambda conn: self._claim_in(conn, robot, now, mission_id), _RC)
 
     def _claim_in(self, conn: Connection, robot: str, now: float,
@@ -139,7 +140,7 @@ class FleetRecords:
         active = conn.execute(select(s.missions).where(
             m.robot == robot, m.state == MissionState.ACTIVE.value)).first()
         if active is not None:
-            return _mission(active)
+            return mission_of(active)
         queued = select(m.id, m.attempts).where(m.state == MissionState.QUEUED.value)
         if mission_id is not None:
             queued = queued.where(m.id == mission_id)
@@ -160,9 +161,9 @@ class FleetRecords:
         the (robot, mission) pairs claimed (a mission no longer queued is left out, and so is
         a robot that has an active mission already)."""
         for robot, mission_id in claims:
-            _check_name("robot", robot)
-            _check_name("mission_id", mission_id)
-        now = _check_time(now)
+            check_name("robot", robot)
+            check_name("mission_id", mission_id)
+        now = check_time(now)
 
         def work(conn: Connection) -> tuple[tuple[str, Mission], ...]:
             out = []
@@ -183,8 +184,8 @@ class FleetRecords:
         Raises:
             NotFound: no such mission. InvalidRequest: an empty robot name or a bad time.
         """
-        _check_name("robot", robot)
-        now = _check_time(now)
+        check_name("robot", robot)
+        now = check_time(now)
         m = s.missions.c
 
         def work(conn: Connection) -> Mission | None:
@@ -211,7 +212,7 @@ class FleetRecords:
         Raises:
             NotFound: no such mission.
         """
-        now = _check_time(now)
+        now = check_time(now)
 
         def work(conn: Connection) -> bool:
             mission = self._mission_in(conn, mission_id)
@@ -225,15 +226,15 @@ class FleetRecords:
     def requeue_robot(self, robot: str, *, now: float) -> tuple[str, ...]:
         """Put ``robot``'s active mission back in the queue (its last will arrived); returns
         the ids requeued (none or one)."""
-        _check_name("robot", robot)
-        now = _check_time(now)
+        check_name("robot", robot)
+        now = check_time(now)
         m = s.missions.c
 
         def work(conn: Connection) -> tuple[str, ...]:
             rows = conn.execute(select(s.missions).where(
                 m.robot == robot, m.state == MissionState.ACTIVE.value)).all()
             for row in rows:
-                self._requeue(conn, _mission(row), now)
+                self._requeue(conn, mission_of(row), now)
             return tuple(row.id for row in rows)
 
         return self._db.run(work, _RC)
@@ -246,7 +247,7 @@ class FleetRecords:
             NotFound: no such mission.
             Conflict: it is queued, or was finished the other way.
         """
-        now = _check_time(now)
+        now = check_time(now)
         outcome = MissionState.FAILED if failed else MissionState.DONE
 
         def work(conn: Connection) -> Mission:
@@ -275,7 +276,7 @@ class FleetRecords:
             NotFound: no such mission.
             Conflict: it has already ended (done or failed).
         """
-        now = _check_time(now)
+        now = check_time(now)
 
         def work(conn: Connection) -> Mission:
             mission = self._mission_in(conn, mission_id)
@@ -305,7 +306,7 @@ class FleetRecords:
         query = select(s.missions).order_by(s.missions.c.created, s.missions.c.seq)
         if state is not None:
             query = query.where(s.missions.c.state == state.value)
-        return self._db.run(lambda conn: tuple(map(_mission, conn.execute(query))), _RC)
+        return self._db.run(lambda conn: tuple(map(mission_of, conn.execute(query))), _RC)
 
     # ------------------------------------------------------------------ orders
 
@@ -314,8 +315,8 @@ class FleetRecords:
         """Record that order update (``order_id``, ``update_id``) was sent to ``robot``; sending
         it again moves its ``sent_at`` and counts the send. Earlier updates of the order not
         yet confirmed are superseded (re-sending them would be wrong)."""
-        _check_order(order_id, update_id, robot, mission)
-        now = _check_time(now)
+        check_order(order_id, update_id, robot, mission)
+        now = check_time(now)
         return self._db.run(
             lambda conn: self._sent_in(conn, order_id, update_id, robot, mission, now), _RC)
 
@@ -324,8 +325,8 @@ class FleetRecords:
         """:meth:`order_sent` of each (order id, update id, robot, mission) in ``orders``, in
         one transaction."""
         for order_id, update_id, robot, mission in orders:
-            _check_order(order_id, update_id, robot, mission)
-        now = _check_time(now)
+            check_order(order_id, update_id, robot, mission)
+        now = check_time(now)
         if not orders:
             return
 
@@ -354,13 +355,13 @@ class FleetRecords:
             what = "order.resent"
         self._audit(conn, now, what, order_id=order_id, update_id=update_id, robot=robot,
                     mission=mission)
-        return _order(conn.execute(select(s.orders).where(key)).one())
+        return order_of(conn.execute(select(s.orders).where(key)).one())
 
     def order_confirmed(self, order_id: str, update_id: int, *, now: float) -> int:
         """Record that a robot's state named order ``order_id`` at update ``update_id``: that
         update, and any earlier one still waiting, is confirmed. Returns how many were."""
-        _check_name("order_id", order_id)
-        now = _check_time(now)
+        check_name("order_id", order_id)
+        now = check_time(now)
         return self._db.run(lambda conn: self._confirm_in(conn, order_id, update_id, now), _RC)
 
     def _confirm_in(self, conn: Connection, order_id: str, update_id: int, now: float) -> int:
@@ -387,8 +388,8 @@ class FleetRecords:
             NotFound: a mission of ``done`` that does not exist.
         """
         for order_id, _ in confirmed:
-            _check_name("order_id", order_id)
-        now = _check_time(now)
+            check_name("order_id", order_id)
+        now = check_time(now)
 
         def work(conn: Connection) -> tuple[str, ...]:
             for order_id, update_id in confirmed:
@@ -407,12 +408,12 @@ class FleetRecords:
     def unconfirmed_orders(self, older_than: float) -> tuple[Order, ...]:
         """The order updates sent before ``older_than`` [s] that no state has confirmed (nor a
         later update superseded): the ones to send again. Oldest first."""
-        older_than = _check_time(older_than)
+        older_than = check_time(older_than)
         o = s.orders.c
         query = (select(s.orders)
                  .where(o.state == OrderState.SENT.value, o.sent_at < older_than)
                  .order_by(o.sent_at, o.order_id, o.update_id))
-        return self._db.run(lambda conn: tuple(map(_order, conn.execute(query))), _RC)
+        return self._db.run(lambda conn: tuple(map(order_of, conn.execute(query))), _RC)
 
     def order(self, order_id: str, update_id: int) -> Order:
         """One order update as recorded.
@@ -427,160 +428,17 @@ class FleetRecords:
                 o.order_id == order_id, o.update_id == update_id)).first()
             if row is None:
                 raise NotFound("order", f"{order_id}/{update_id}")
-            return _order(row)
+            return order_of(row)
 
         return self._db.run(work, _RC)
-
-    # ------------------------------------------------------------------ leases
-
-    def grant_lease(self, resource: str, holder: str, *, now: float, duration: float,
-                    capacity: int = 1) -> Lease | None:
-        """Grant ``holder`` a lease on ``resource`` until ``now + duration``, or None when the
-        resource already has ``capacity`` live holders. A holder that asks while holding gets
-        its lease back unchanged (extend it with :meth:`renew`). Leases of the resource that
-        have lapsed are expired first.
-
-        Never grants more than ``capacity`` live leases, even to fleet managers racing on one
-        database: the transaction is serializable (PostgreSQL) or holds the write lock
-        (SQLite), and each lease takes one of ``capacity`` slots the database keeps unique.
-
-        Raises:
-            InvalidRequest: an empty name, a duration not > 0, a capacity below 1, a bad time.
-        """
-        _check_name("resource", resource)
-        _check_name("holder", holder)
-        now = _check_time(now)
-        duration = _check_duration(duration)
-        if isinstance(capacity, bool) or not isinstance(capacity, int) or capacity < 1:
-            raise InvalidRequest("capacity", f"must be an integer >= 1, got {capacity!r}")
-        c = s.leases.c
-
-        def work(conn: Connection) -> Lease | None:
-            rows = conn.execute(select(s.leases).where(c.resource == resource)).all()
-            live = []
-            for row in rows:
-                if row.expires_at <= now:
-                    self._drop_lease(conn, row, now, "lease.expired")
-                else:
-                    live.append(row)
-            for row in live:
-                if row.holder == holder:
-                    return _lease(row)
-            free = sorted(set(range(capacity)) - {row.slot for row in live})
-            if len(live) >= capacity or not free:
-                return None
-            inserted = conn.execute(insert(s.leases).values(
-                resource=resource, slot=free[0], capacity=capacity, holder=holder,
-                granted_at=now, expires_at=now + duration)).inserted_primary_key
-            assert inserted is not None
-            lease_id = int(inserted[0])
-            self._audit(conn, now, "lease.granted", lease_id=lease_id, resource=resource,
-                        holder=holder, slot=free[0], granted_at=now, expires_at=now + duration)
-            return Lease(lease_id=lease_id, resource=resource, holder=holder,
-                         granted_at=now, expires_at=now + duration)
-
-        return self._db.run(work, _SER)
-
-    def renew(self, resource: str, holder: str, *, now: float, duration: float) -> Lease:
-        """Extend ``holder``'s live lease on ``resource`` to ``now + duration`` (never
-        shortened); returns the renewed lease.
-
-        Raises:
-            LeaseNotHeld: the holder has no live lease (never granted, released, revoked or
-                lapsed): it has lost the resource and must ask again.
-            InvalidRequest: an empty name, a duration not > 0 or a bad time.
-        """
-        _check_name("resource", resource)
-        _check_name("holder", holder)
-        now = _check_time(now)
-        duration = _check_duration(duration)
-        c = s.leases.c
-
-        def work(conn: Connection) -> Lease:
-            row = conn.execute(select(s.leases).where(
-                c.resource == resource, c.holder == holder)).first()
-            if row is None or row.expires_at <= now:
-                raise LeaseNotHeld(resource, holder, "no live lease (never granted, released, "
-                                                     "revoked or expired)")
-            expires_at = max(row.expires_at, now + duration)
-            conn.execute(update(s.leases).where(c.lease_id == row.lease_id).values(
-                expires_at=expires_at))
-            self._audit(conn, now, "lease.renewed", lease_id=row.lease_id, resource=resource,
-                        holder=holder, expires_at=expires_at)
-            return Lease(lease_id=row.lease_id, resource=resource, holder=holder,
-                         granted_at=row.granted_at, expires_at=expires_at)
-
-        return self._db.run(work, _SER)
-
-    def release(self, resource: str, holder: str, *, now: float) -> bool:
-        """Give back ``holder``'s live lease on ``resource``; returns whether it had one
-        (releasing twice is harmless: messages may arrive more than once)."""
-        _check_name("resource", resource)
-        _check_name("holder", holder)
-        now = _check_time(now)
-        c = s.leases.c
-
-        def work(conn: Connection) -> bool:
-            row = conn.execute(select(s.leases).where(
-                c.resource == resource, c.holder == holder)).first()
-            if row is None:
-                return False
-            live: bool = row.expires_at > now
-            self._drop_lease(conn, row, now, "lease.released" if live else "lease.expired")
-            return live
-
-        return self._db.run(work, _SER)
-
-    def revoke_all(self, holder: str, *, now: float) -> tuple[Lease, ...]:
-        """Take every live lease of ``holder`` back (its last will arrived: it will not release
-        them itself); returns them, by resource."""
-        _check_name("holder", holder)
-        now = _check_time(now)
-
-        def work(conn: Connection) -> tuple[Lease, ...]:
-            rows = conn.execute(select(s.leases).where(s.leases.c.holder == holder)
-                                .order_by(s.leases.c.resource)).all()
-            revoked = []
-            for row in rows:
-                live = row.expires_at > now
-                self._drop_lease(conn, row, now, "lease.revoked" if live else "lease.expired")
-                if live:
-                    revoked.append(_lease(row))
-            return tuple(revoked)
-
-        return self._db.run(work, _SER)
-
-    def expire(self, now: float) -> tuple[Lease, ...]:
-        """Remove every lease lapsed by ``now`` (``expires_at <= now``); returns them, by
-        expiry."""
-        now = _check_time(now)
-        c = s.leases.c
-
-        def work(conn: Connection) -> tuple[Lease, ...]:
-            rows = conn.execute(select(s.leases).where(c.expires_at <= now)
-                                .order_by(c.expires_at, c.lease_id)).all()
-            for row in rows:
-                self._drop_lease(conn, row, now, "lease.expired")
-            return tuple(map(_lease, rows))
-
-        return self._db.run(work, _SER)
-
-    def live_leases(self, now: float, resource: str | None = None) -> tuple[Lease, ...]:
-        """The leases live at ``now`` (on ``resource``, or on all), by resource and grant."""
-        now = _check_time(now)
-        c = s.leases.c
-        query = select(s.leases).where(c.expires_at > now).order_by(c.resource, c.lease_id)
-        if resource is not None:
-            query = query.where(c.resource == resource)
-        return self._db.run(lambda conn: tuple(map(_lease, conn.execute(query))), _RC)
 
     # ------------------------------------------------------------------ audit
 
     def note(self, what: str, *, now: float, **detail: Any) -> None:
         """Add an entry of the fleet manager's own to the audit trail (``detail`` is JSON)."""
-        _check_name("what", what)
-        now = _check_time(now)
-        _check_json("detail", detail)
+        check_name("what", what)
+        now = check_time(now)
+        check_json("detail", detail)
         self._db.run(lambda conn: self._audit(conn, now, what, **detail), _RC)
 
     def audit(self, *, after: int = 0, limit: int | None = None) -> tuple[AuditEntry, ...]:
@@ -595,96 +453,14 @@ class FleetRecords:
 
     # ------------------------------------------------------------------ internals
 
-    def _audit(self, conn: Connection, now: float, what: str, **detail: Any) -> None:
-        conn.execute(insert(s.audit).values(at=now, actor=self.name, what=what, detail=detail))
-        log.info("%s %s %s", self.name, what, detail)
-
     def _mission_in(self, conn: Connection, mission_id: str) -> Mission:
         row = conn.execute(select(s.missions).where(s.missions.c.id == mission_id)).first()
         if row is None:
             raise NotFound("mission", mission_id)
-        return _mission(row)
+        return mission_of(row)
 
     def _requeue(self, conn: Connection, mission: Mission, now: float) -> None:
         conn.execute(update(s.missions).where(s.missions.c.id == mission.mission_id).values(
             state=MissionState.QUEUED.value, robot=None, updated=now))
         self._audit(conn, now, "mission.requeued", mission=mission.mission_id,
                     robot=mission.robot)
-
-    def _drop_lease(self, conn: Connection, row: Row[Any], now: float, what: str) -> None:
-        conn.execute(delete(s.leases).where(s.leases.c.lease_id == row.lease_id))
-        self._audit(conn, now, what, lease_id=row.lease_id, resource=row.resource,
-                    holder=row.holder, granted_at=row.granted_at, expires_at=row.expires_at)
-
-
-def _mission(row: Row[Any]) -> Mission:
-    return Mission(mission_id=row.id, state=MissionState(row.state),
-                   stops=tuple(row.stops), robot=row.robot, created=row.created,
-                   updated=row.updated, attempts=row.attempts)
-
-
-def _order(row: Row[Any]) -> Order:
-    return Order(order_id=row.order_id, update_id=row.update_id, robot=row.robot,
-                 mission=row.mission, state=OrderState(row.state), sent_at=row.sent_at,
-                 confirmed_at=row.confirmed_at, sends=row.sends)
-
-
-def _lease(row: Row[Any]) -> Lease:
-    return Lease(lease_id=row.lease_id, resource=row.resource, holder=row.holder,
-                 granted_at=row.granted_at, expires_at=row.expires_at)
-
-
-def _check_order(order_id: str, update_id: int, robot: str, mission: str | None) -> None:
-    """One sent order update's fields, checked before anything is written."""
-    _check_name("order_id", order_id)
-    _check_name("robot", robot)
-    if mission is not None:
-        _check_name("mission", mission)
-    if isinstance(update_id, bool) or not isinstance(update_id, int) or update_id < 0:
-        raise InvalidRequest("update_id", f"must be an integer >= 0, got {update_id!r}")
-
-
-def _check_name(field: str, value: object) -> None:
-    if not isinstance(value, str) or not value.strip():
-        raise InvalidRequest(field, f"must be a non-empty name, got {value!r}")
-    if len(value) > s.NAME:
-        raise InvalidRequest(field, f"longer than {s.NAME} characters")
-
-
-def _check_time(value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
-            or not math.isfinite(value):
-        raise InvalidRequest("now", f"must be a finite time in seconds, got {value!r}")
-    return float(value)
-
-
-def _check_duration(value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
-            or not math.isfinite(value) or value <= 0.0:
-        raise InvalidRequest("duration", f"must be > 0 s, got {value!r}")
-    return float(value)
-
-
-def _check_json(field: str, value: object) -> None:
-    try:
-        json.dumps(value, allow_nan=False)
-    except (TypeError, ValueError) as exc:
-        raise InvalidRequest(field, f"not JSON: {exc}") from exc
-
-
-def _check_stops(stops: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """The stops as a list of plain JSON objects, each naming its point."""
-    if isinstance(stops, (str, bytes)) or not isinstance(stops, Sequence) or not stops:
-        raise InvalidRequest("stops", "a mission needs a list of at least one stop")
-    out = []
-    for k, stop in enumerate(stops):
-        if not isinstance(stop, Mapping):
-            raise InvalidRequest(f"stops[{k}]", f"must be an object, got {stop!r}")
-        point = stop.get("point")
-        if not isinstance(point, str) or not point.strip():
-            raise InvalidRequest(f"stops[{k}].point", f"must be a non-empty name, got {point!r}")
-        out.append(dict(stop))
-    _check_json("stops", out)
-    # As the database gives it back (JSON round trip), so a repeated add compares equal.
-    loaded: list[dict[str, Any]] = json.loads(json.dumps(out))
-    return loaded
