@@ -7,7 +7,8 @@ one lookup along the exception's MRO.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Iterable, Mapping
 from typing import TypeVar
 
 _V = TypeVar("_V")
@@ -24,6 +25,16 @@ class ConfigError(PolynavError, ValueError):
         super().__init__(f"{key}: {reason}")
         self.key = key
         self.reason = reason
+
+
+def check_positive(config: object, prefix: str, names: Iterable[str]) -> None:
+    """Raise :class:`ConfigError` (key ``prefix + name``) for the first of ``config``'s
+    attributes ``names`` that is not a finite number > 0: the check every timing and distance
+    of a configuration dataclass needs in its ``__post_init__``."""
+    for name in names:
+        value = getattr(config, name)
+        if not (math.isfinite(value) and value > 0.0):
+            raise ConfigError(prefix + name, f"must be finite and > 0, got {value}")
 
 
 class InvalidRequest(PolynavError, ValueError):

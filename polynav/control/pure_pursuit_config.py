@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, check_positive
 from polynav.maps import costs
 
 _KEY = "control.pure_pursuit."
@@ -99,10 +99,7 @@ class PurePursuitConfig:
             "xy_goal_tolerance", "yaw_goal_tolerance", "goal_settle_time", "standstill_speed",
             "clearance_time", "sight_latency",
         )
-        for key in positive:
-            value = getattr(self, key)
-            if not (value > 0.0 and math.isfinite(value)):
-                raise ConfigError(_KEY + key, f"must be finite and > 0, got {value}")
+        check_positive(self, _KEY, positive)
         if self.max_lookahead < self.min_lookahead:
             raise ConfigError(_KEY + "max_lookahead", "must be >= min_lookahead")
         if not 0.0 < self.rotate_to_heading_min_angle <= math.pi:

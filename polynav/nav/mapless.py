@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, check_positive
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.odometry_frame import OdometryFrameConfig, OdometryFrameLocalizer
 from polynav.maps.map import Map, MapInfo
@@ -63,10 +63,8 @@ class MaplessConfig:
     localization: OdometryFrameConfig = field(default_factory=OdometryFrameConfig)
 
     def __post_init__(self) -> None:
-        for key in ("window", "resolution", "edge_margin", "goal_margin", "max_window"):
-            value = getattr(self, key)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"mapless.{key}", f"must be finite and > 0, got {value}")
+        check_positive(self, "mapless.", ("window", "resolution", "edge_margin", "goal_margin",
+                                          "max_window"))
         if self.window > self.max_window:
             raise ConfigError("mapless.window", f"must be <= max_window ({self.max_window:g})")
         if 2.0 * self.edge_margin >= self.window:

@@ -18,7 +18,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, check_positive
 from polynav.geometry import Pose2D
 from polynav.robot.interface import PersonDetection
 
@@ -79,13 +79,10 @@ class PeopleConfig:
     give_way_distance: float = 0.5
 
     def __post_init__(self) -> None:
-        for key in ("social_distance", "slow_speed", "approach_time", "hold_before_wait",
-                    "prediction_step", "block_radius",
-                    "block_lookahead", "patience", "wait_replan_period", "give_way_after",
-                    "give_way_distance"):
-            value = getattr(self, key)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"nav.people.{key}", f"must be finite and > 0, got {value}")
+        check_positive(self, "nav.people.", (
+            "social_distance", "slow_speed", "approach_time", "hold_before_wait",
+            "prediction_step", "block_radius", "block_lookahead", "patience",
+            "wait_replan_period", "give_way_after", "give_way_distance"))
         if not (math.isfinite(self.horizon) and self.horizon >= 0.0):
             raise ConfigError("nav.people.horizon", f"must be finite and >= 0, got {self.horizon}")
         if not 1 <= self.layer_cost <= 252:

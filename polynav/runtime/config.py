@@ -5,14 +5,13 @@ from __future__ import annotations
 import datetime as dt
 import enum
 import ipaddress
-import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
 from polynav.automation.runner import AutomationLimits
-from polynav.errors import ConfigError, InvalidRequest
+from polynav.errors import ConfigError, InvalidRequest, check_positive
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.runtime.http_callbacks import HttpCallbacks
@@ -100,10 +99,8 @@ class RuntimeConfig:
             except InvalidRequest as exc:
                 raise ConfigError("runtime.dispatch_servers", f"{entry[0]}: {exc.reason}"
                                   ) from None
-        for key in ("control_rate", "status_rate", "speed", "teleop_timeout", "max_lag"):
-            value = getattr(self, key)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(f"runtime.{key}", f"must be finite and > 0, got {value}")
+        check_positive(self, "runtime.", ("control_rate", "status_rate", "speed",
+                                          "teleop_timeout", "max_lag"))
         if self.status_rate > self.control_rate:
             raise ConfigError("runtime.status_rate", "must be <= control_rate")
 

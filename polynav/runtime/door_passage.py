@@ -39,7 +39,7 @@ from typing import ClassVar, Protocol
 import numpy as np
 import numpy.typing as npt
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, check_positive
 from polynav.geometry import Pose2D
 from polynav.maps.map import MapInfo
 from polynav.nav.attempt import FailureReason, NavigationState
@@ -80,11 +80,8 @@ class DoorConfig:
     keep_margin: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("lookahead", "stop_distance", "clearance", "open_timeout", "max_control",
-                     "keep_margin"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        check_positive(self, _KEY, ("lookahead", "stop_distance", "clearance", "open_timeout",
+                                    "max_control", "keep_margin"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
 
