@@ -27,7 +27,7 @@ drives straight out from under it; a way out that stays blocked fails the try, r
 
 On the simulator the jacking axis is linked to the world's carts on every step, whoever moves
 it (a Galileo ``jacking_move_to`` too): raised under a cart it lifts it, lowered it sets it
-down (:mod:`polynav.robot.sim.carts`). The simulator's world is where loads are known from:
+down (:mod:`polynav.robot.sim.jack_link`). The simulator's world is where loads are known from:
 a real robot's site has no carts yet, and docking there is refused with that reason.
 """
 
@@ -45,8 +45,6 @@ from polynav.geometry import Pose2D, Twist, angle_diff
 from polynav.nav.attempt import GoalOptions
 from polynav.nav.stack import StackConfig
 from polynav.robot.devices import AxisMode
-from polynav.robot.sim.carts import LIFT_HEIGHT
-from polynav.robot.sim.devices.axis import SimAxis
 from polynav.runtime.cart_events import CartAction, CartFailure, CartStep
 from polynav.runtime.cart_jobs import CartJob, Load, Phase, loaded_config
 from polynav.worlds.carts import CartKind, WorldCart, entry_pose
@@ -295,7 +293,6 @@ class CartCommands:
     # -- stepping ----------------------------------------------------------------------------
 
     def _on_step(self, now: float) -> None:
-        self._link_jack(now)
         job = self._job
         if job is None:
             return
@@ -304,22 +301,6 @@ class CartCommands:
         except Conflict as exc:  # the robot stopped navigating, an e-stop...
             self._rt._motion.halt()
             self._end(CartStep.FAILED, CartFailure.CANCELED, str(exc))
-
-    def _link_jack(self, now: float) -> None:
-        """The simulator's carts follow the jacking axis, whoever moves it."""
-        sim = self._rt._sim
-        axis = self._rt.peripherals.devices.jacking
-        if sim is None or not isinstance(axis, SimAxis):
-            return
-        axis.state(now)  # brings it to now
-        height = axis.true_position
-        held = sim.load
-        if held is None and height >= LIFT_HEIGHT:
-            payload = self._rt.profile.payload
-            under = sim.scene.carts.under(sim.name, sim.floor, sim.true_pose, CartKind.CART)
-            if under is None or payload is None or under.spec.mass > payload.max_mass:
-                return  # nothing to lift, or too heavy: the jack stalls under it
-        sim.set_jack_height(height)
 
     def _tick(self, job: CartJob, now: float) -> None:
         rt = self._rt

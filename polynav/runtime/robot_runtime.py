@@ -62,6 +62,8 @@ from polynav.robot.interface import Backend, Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
 from polynav.robot.sim.config import SimConfig
 from polynav.robot.sim.devices import simulated_devices
+from polynav.robot.sim.devices.axis import SimAxis
+from polynav.robot.sim.jack_link import JackLink
 from polynav.robot.sim.simulation import Simulation
 from polynav.runtime import events
 from polynav.runtime.auto_charge import AutoCharge
@@ -205,6 +207,9 @@ class RobotRuntime(
         devices = simulated_devices(self._clock.now(), self._robot.read_scan,
                                     seed=self.config.seed)
         self.peripherals = Peripherals(self, devices, getattr(store, "data_dir", None))
+        jack = devices.jacking
+        if self._sim is not None and isinstance(jack, SimAxis):  # stepped before the carts
+            self.add_step_listener(JackLink(self._sim, jack, self.profile.payload).follow)
         self.carts = CartCommands(self)  # carts and cabins: dock, carry, leave
         self.queries = SiteQueries(self)
         data_dir = getattr(store, "data_dir", None)
