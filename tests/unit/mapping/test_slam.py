@@ -113,7 +113,9 @@ def test_a_map_rendered_as_it_grows_is_the_map_rendered_once(run) -> None:
     _, sensor_log, _ = run
     growing, once = Slam(SlamConfig()), Slam(SlamConfig())
     renders = 0
-    for scan in sensor_log.scans[: len(sensor_log.scans) // 2]:
+    # Past the first loop closures (the graph is solved again at scans 134 and 154), then
+    # a few renders on the solved graph.
+    for scan in sensor_log.scans[:165]:
         for slam in (growing, once):
             slam.add_scan(scan.odom, scan.ranges, scan.angles, scan.stamp,
                           sensor_pose=scan.sensor_pose)
