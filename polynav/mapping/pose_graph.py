@@ -34,7 +34,8 @@ class PoseGraph:
     """Nodes and edges, kept in growable lists; :meth:`arrays` stacks them for the solver.
 
     Attributes:
-        poses: node poses (x, y, theta).
+        poses: node poses (x, y, theta); only appended to, and replaced by a new list when
+            optimised (so a holder of the list knows the poses it saw have not moved).
         edges_i, edges_j: node indices of each edge.
         measurements: each edge's ``z`` (x, y, theta).
         sigmas: each edge's standard deviations (x [m], y [m], theta [rad]).

@@ -80,6 +80,16 @@ class _Node:
     sensor: npt.NDArray[np.float64]
 
 
+@dataclass(slots=True, eq=False)
+class _Rendered:
+    """The grid :meth:`Slam.render_map` built, from the first ``nodes`` nodes at ``poses``
+    (the graph's pose list then: an optimisation replaces it)."""
+
+    poses: list[tuple[float, float, float]]
+    grid: LogOddsGrid
+    nodes: int = 0
+
+
 class _Submap:
     """A log-odds grid in its anchor node's frame, and the matchers built from it."""
 
@@ -166,6 +176,7 @@ class Slam:
         self._polish = SearchWindow(xy=c.resolution, theta=c.loop_theta_step,
                                     theta_step=0.25 * c.loop_theta_step)
         self.prior_matches = 0
+        self._rendered: _Rendered | None = None
         if prior is not None:
             if abs(prior.info.resolution - c.resolution) > 1e-9:
                 raise ValueError(f"the map to extend has {prior.info.resolution} m cells, the "
@@ -243,17 +254,28 @@ class Slam:
                 for k, d in zip(self._scan_node, self._scan_delta, strict=True)]
 
     def render_map(self) -> Map:
-        """The occupancy map of every node's scan at its current pose (100 / 0 / -1)."""
+        """The occupancy map of every node's scan at its current pose (100 / 0 / -1).
+
+        The log-odds grid is kept between calls: while the graph has not been optimised since
+        (its pose list is the same object, only appended to), only the nodes added since are
+        inserted, which gives the very grid a full render would (the same inserts in the same
+        order). An exploration renders the live map at every replan; rendering every node
+        each time cost as much as the rest of the SLAM on a whole floor."""
         c = self.config
-        if self._prior_map is not None:
-            grid = self._seeded(self._prior_map)
-        else:
-            grid = LogOddsGrid(c.resolution, hit=log_odds(c.hit_probability),
-                               miss=log_odds(c.miss_probability))
-        for k, node in enumerate(self._nodes):
-            grid.insert(self._pose(k), node.points, node.sensor)
-        return grid.to_map(occupied=log_odds(c.occupied_probability),
-                           free=log_odds(c.free_probability))
+        rendered = self._rendered
+        if rendered is None or rendered.poses is not self.graph.poses:
+            if self._prior_map is not None:
+                grid = self._seeded(self._prior_map)
+            else:
+                grid = LogOddsGrid(c.resolution, hit=log_odds(c.hit_probability),
+                                   miss=log_odds(c.miss_probability))
+            rendered = self._rendered = _Rendered(self.graph.poses, grid)
+        for k in range(rendered.nodes, len(self._nodes)):
+            node = self._nodes[k]
+            rendered.grid.insert(self._pose(k), node.points, node.sensor)
+        rendered.nodes = len(self._nodes)
+        return rendered.grid.to_map(occupied=log_odds(c.occupied_probability),
+                                    free=log_odds(c.free_probability))
 
     # -- internals ------------------------------------------------------------------------------
 

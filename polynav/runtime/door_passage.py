@@ -351,6 +351,10 @@ class DoorPassage:
             return []
         points = path.points
         k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
+        # The legs are measured once for every door (at the longest reach any door gets).
+        way = _way_ahead(points, k, pose, self.config.lookahead + self.config.keep_margin)
+        if way is None:
+            return []
         found: list[tuple[str, float]] = []
         for name, door in doors.items():
             spec = door.state().spec
@@ -358,7 +362,7 @@ class DoorPassage:
             # re-plan a few centimetres longer does not give it back and ask again.
             reach = self.config.lookahead + (self.config.keep_margin if name in self._using
                                              else 0.0)
-            distance = _crossing(points, k, spec, reach, pose)
+            distance = _crossing_on(way, spec, reach)
             if distance is not None:
                 found.append((name, distance))
         found.sort(key=lambda item: item[1])
@@ -375,23 +379,40 @@ class DoorPassage:
         stack.costmap.set_passable(mask)
 
 
-def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahead: float,
-              pose: Pose2D) -> float | None:
-    """Distance [m] along the path from the robot (at the path's point ``k``) to where it
-    first crosses ``door``'s segment, if within ``lookahead``.
+@dataclass(frozen=True, slots=True)
+class _Way:
+    """The legs of a path ahead of the robot: their start points ``a``, end points ``b``,
+    lengths, and the distance [m] from the robot to each leg's start."""
 
-    Measured from the path's point nearest the robot: the leg back to the robot may cross a
-    door just passed, which is behind it, not ahead."""
+    a: npt.NDArray[np.float64]
+    b: npt.NDArray[np.float64]
+    legs: npt.NDArray[np.float64]
+    before: npt.NDArray[np.float64]
+
+
+def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
+               reach: float) -> _Way | None:
+    """The legs from the path's point ``k`` (the one nearest the robot) that start within
+    ``reach`` of the robot along the path; ``None`` when there is none."""
     start = math.hypot(points[k, 0] - pose.x, points[k, 1] - pose.y)
     way = points[k:]
     if way.shape[0] < 2:
         return None
     legs = np.hypot(*np.diff(way, axis=0).T)
     before = start + np.concatenate(([0.0], np.cumsum(legs)[:-1]))  # at each leg's start
-    n = int(np.searchsorted(before, lookahead, side="right"))
+    n = int(np.searchsorted(before, reach, side="right"))
     if n == 0:
         return None
-    a, b = way[:n], way[1:n + 1]
+    return _Way(way[:n], way[1:n + 1], legs[:n], before[:n])
+
+
+def _crossing_on(way: _Way, door: WorldDoor, lookahead: float) -> float | None:
+    """Distance [m] along ``way`` to where it first crosses ``door``'s segment, if within
+    ``lookahead`` (at most the reach ``way`` was cut at)."""
+    n = int(np.searchsorted(way.before, lookahead, side="right"))
+    if n == 0:
+        return None
+    a, b = way.a[:n], way.b[:n]
     r = b - a
     sx, sy = door.x2 - door.x1, door.y2 - door.y1
     denom = r[:, 0] * sy - r[:, 1] * sx
@@ -404,8 +425,19 @@ def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahea
     if hits.shape[0] == 0:
         return None
     i = int(hits[0])
-    distance = float(before[i] + legs[i] * t[i])
+    distance = float(way.before[i] + way.legs[i] * t[i])
     return distance if distance <= lookahead else None
+
+
+def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahead: float,
+              pose: Pose2D) -> float | None:
+    """Distance [m] along the path from the robot (at the path's point ``k``) to where it
+    first crosses ``door``'s segment, if within ``lookahead``.
+
+    Measured from the path's point nearest the robot: the leg back to the robot may cross a
+    door just passed, which is behind it, not ahead."""
+    way = _way_ahead(points, k, pose, lookahead)
+    return None if way is None else _crossing_on(way, door, lookahead)
 
 
 def passable_mask(doors: list[WorldDoor], info: MapInfo) -> npt.NDArray[np.bool_]:

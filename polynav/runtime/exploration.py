@@ -84,11 +84,16 @@ def frontiers(grid: Map, passable: np.ndarray, min_cells: int) -> list[np.ndarra
     near_unknown = ndimage.binary_dilation(unknown, structure=np.ones((3, 3), dtype=bool))
     cells = (data == FREE) & near_unknown & passable
     labels, count = ndimage.label(cells, structure=np.ones((3, 3), dtype=bool))
-    out = []
-    for k in range(1, count + 1):
-        iy, ix = np.nonzero(labels == k)
-        if ix.size >= min_cells:
-            out.append(np.column_stack((ix, iy)))
+    # Every cluster's cells in one pass (a stable sort by label keeps each cluster's cells in
+    # row-major order, as ``np.nonzero(labels == k)`` would give them, at one pass per label).
+    flat = np.flatnonzero(labels)
+    ids = labels.ravel()[flat]
+    order = np.argsort(ids, kind="stable")
+    iy, ix = np.divmod(flat[order], data.shape[1])
+    bounds = np.searchsorted(ids[order], np.arange(1, count + 2))
+    out = [np.column_stack((ix[a:b], iy[a:b]))
+           for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True)
+           if b - a >= min_cells]
     out.sort(key=lambda c: -c.shape[0])
     return out
 

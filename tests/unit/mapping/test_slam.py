@@ -104,3 +104,31 @@ def test_a_row_of_identical_rooms_does_not_fool_the_loop_search(data_dir: Path) 
     assert slam.loop_closures > 0
     everything, loops = _errors(rec, sensor_log, _poses(slam.trajectory()))
     assert everything < 0.01 and loops < 0.02
+
+
+def test_a_map_rendered_as_it_grows_is_the_map_rendered_once(run) -> None:
+    """The live map is rendered at each replan of an exploration, only the new nodes inserted
+    while the graph stays as it was: it must be the very map one render of the same nodes
+    gives, loop closures (which move earlier nodes) included."""
+    _, sensor_log, _ = run
+    growing, once = Slam(SlamConfig()), Slam(SlamConfig())
+    renders = 0
+    # Past the first loop closures (the graph is solved again at scans 134 and 154), then
+    # a few renders on the solved graph.
+    for scan in sensor_log.scans[:165]:
+        for slam in (growing, once):
+            slam.add_scan(scan.odom, scan.ranges, scan.angles, scan.stamp,
+                          sensor_pose=scan.sensor_pose)
+        if growing.node_count % 3 == 0:
+            growing.render_map()
+            renders += 1
+    assert growing.loop_closures > 0 and renders > 20
+
+    def same() -> bool:
+        a, b = growing.render_map(), once.render_map()
+        return a.info == b.info and np.array_equal(a.data, b.data)
+
+    assert same()
+    growing.finish()
+    once.finish()
+    assert same()
