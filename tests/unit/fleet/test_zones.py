@@ -128,7 +128,7 @@ def _corridor_with_two_doors() -> Map:
 def test_the_flow_names_every_turn_of_the_way_through() -> None:
     # Up the west door and east along the corridor to its end, against up the east door and
     # west to the corridor's end: equal ends (north in, ...), yet opposite along the corridor.
-    zones = find_zones("m", _corridor_with_two_doors())
+    zones = find_zones("m", _corridor_with_two_doors(), ZoneConfig(segment_length=20.0))
     zone = zones.zone_at(5.0, 4.5)
     assert zone != 0 and zones.zone_at(2.0, 3.95) == zone == zones.zone_at(8.0, 3.95)
     east = Path(np.array([[2.0, 2.0], [2.0, 4.5], [9.9, 4.5]]))
