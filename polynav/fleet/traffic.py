@@ -200,6 +200,8 @@ class TrafficRule:
         grant = response.grant_type
         lease.heard = self._now
         if grant is m.GrantType.GRANTED:
+            if not lease.granted:
+                self._next_check = -math.inf  # the next zone of its passage is asked at once
             lease.granted, lease.queued = True, False
             lease.expiry = response.lease_expiry if response.lease_expiry is not None else (
                 math.inf)
@@ -422,6 +424,12 @@ class TrafficRule:
             if current and not skip and inside is None:
                 # It stands in a zone its path does not start in (a sample off): that one.
                 inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
+        if inside is not None and self._missing(inside) is None:
+            self._entered |= set(inside.zones)
+        if inside is not None and ahead is not None and not self._driving(inside):
+            # Waiting in one passage, it holds nothing of the next (docs/fleet.md: why no
+            # deadlock).
+            ahead = None
         needed: dict[str, str | None] = {}
         for passage in (inside, ahead):
             if passage is None:
