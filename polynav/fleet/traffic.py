@@ -132,14 +132,13 @@ class _Run:
     entry: float
     entries: tuple[float, ...]
     ordered: tuple[str, ...]  # in ascending zone number: the order they are asked for in
-    number: dict[str, int]
 
     @classmethod
     def of(cls, zmap: ZoneMap, run: ZoneRun) -> _Run:
         zones = tuple(zmap.zone_id(n) for n in run.segments)
         number = dict(zip(zones, run.segments, strict=True))
         return cls(zones, run.segments, run.entry, run.entries,
-                   tuple(sorted(zones, key=number.__getitem__)), number)
+                   tuple(sorted(zones, key=number.__getitem__)))
 
 
 @dataclass(frozen=True, slots=True)
@@ -322,11 +321,13 @@ class TrafficRule:
         missing = self._missing(run)
         if missing is None:
             return
+        after = False
         for zone_id in run.ordered:
             if zone_id == missing:
+                after = True
                 if zone_id not in self._leases:
                     self._request(zone_id, plan.needed[zone_id])
-            elif run.number[zone_id] > run.number[missing] and zone_id in self._leases:
+            elif after and zone_id in self._leases:
                 # Asked or held out of order (the path changed): give it back for now.
                 lease = self._leases.pop(zone_id)
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
