@@ -2,11 +2,12 @@
 
 The rule, as one robot keeps it (docs/fleet.md has it for operators):
 
-1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first traffic
-   zone (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet (a VDA 5050
-   zone request, with the way it goes through: robots going the same way may share the zone,
-   :mod:`polynav.fleet.zones`); so is the zone it stands in.
-2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
+1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first passage
+   (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet, and so is the one
+   it stands in: each zone (segment) of the passage its path crosses, by a VDA 5050 zone
+   request with the way it goes through (robots going the same way may share a zone), one at
+   a time in ascending zone number, the next once the one before is granted.
+2. If the passage ahead is not all granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot told it is not next in line stops
    ``queue_spacing`` further back for each robot ahead of it (unless it stands in a zone
    there), and moves up as those ahead go in, so the waiters do not crowd the mouth of the zone
@@ -27,9 +28,11 @@ another (:class:`~polynav.runtime.events.TrafficBusy`, when the fleet queues it)
 front of it, from the first stop until it goes in or no longer needs it
 (:class:`~polynav.runtime.events.TrafficWaitStarted`, ``TrafficWaitEnded``).
 
-Since a robot never waits for a zone while it stands in another (zones closer than a stop
-distance are merged into one), no two robots can each hold what the other waits for: the
-classic hold-and-wait deadlock cannot form.
+A robot waiting holds only segments of the passage it waits for, numbered below the one it
+waits for (it never stops for a passage while it stands in another: passages are further apart
+than a stop distance); one that holds all of its way waits for no lease. So every chain of
+waits climbs the zone numbers and cannot close into a cycle: the hold-and-wait deadlock
+cannot form (docs/fleet.md, "Why no deadlock").
 """
 
 from __future__ import annotations

@@ -11,9 +11,13 @@ the free run through it, along the map's rows or along its columns, is shorter t
 ``narrow_width``: a doorway in a wall is narrow across the wall and not along it; a corridor
 wide enough for two robots is not narrow at all. Runs too short for one robot (``2 × radius``)
 are no passage and are left out. Each connected group of narrow cells, grown by ``approach``
-(the room a robot coming out of the passage needs before it can pass a waiting one), is a zone;
-zones closer than ``merge_gap`` are one zone, so a robot never needs two leases at once to pass
-a door and the narrow bit right behind it.
+(the room a robot coming out of the passage needs before it can pass a waiting one), is a
+passage; passages closer than ``merge_gap`` are one, so a robot never stops for a door while it
+stands in the narrow bit right before it. A passage longer than ``segment_length`` (a corridor
+with its doors and side passages) is cut into segments, each a zone leased on its own: robots
+in different stretches of a corridor go at once. A robot asks for every segment of the
+passage on its way (a :class:`ZoneRun`), in ascending zone number, before it goes in
+(:mod:`polynav.fleet.traffic`).
 
 Robots that never head opposite ways in a zone never meet head-on in it, so they may share
 it: the *flow* of a path through a zone is the compass sectors of its heading along the way,
