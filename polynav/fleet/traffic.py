@@ -345,17 +345,17 @@ class TrafficRule:
         return next((z for z in run.ordered if not self._granted(z)), None)
 
     def _target(self, plan: _Plan) -> tuple[str | None, float]:
-        """The zone the robot would wait for, and how far ahead its passage starts [m]: the
-        first missing zone of the passage it stands in (unless it drives through it on its
-        leases), else of the next passage ahead."""
+        """The zone the robot would wait for, and how far ahead its passage starts [m] (0: it
+        stands in it): the first missing zone of the passage it stands in (unless it drives
+        through it on its leases), else of the next passage ahead."""
         for run in (plan.inside, plan.ahead):
             if run is None or self._driving(run):
                 continue
             missing = self._missing(run)
             if missing is not None:
-                # Standing in it: where it stands, or before the next zone of it it lacks.
-                return missing, run.entries[run.zones.index(missing)] if run.entry == 0.0 else (
-                    run.entry)
+                # Standing in it: it waits where it stands once told it is queued, and goes on
+                # while the answers are on their way (each segment is asked for in turn).
+                return missing, run.entry
         return None, math.inf
 
     def _tell(self, runtime: RobotRuntime, needed: dict[str, str | None],
