@@ -161,6 +161,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         traffic = [a.traffic for a in building.agents]
         waits = sum(t.waits for t in traffic)
         collisions = sum(len(r.simulation.collisions) for r in building.runtimes)
+        if args.verbose:
+            for serial, r in zip(building.serials, building.runtimes, strict=True):
+                for c in r.simulation.collisions:
+                    print(f"t={c.stamp:8.1f}s {serial} touched a {c.obstacle} at "
+                          f"({c.pose.x:.2f}, {c.pose.y:.2f}) on {r.map_name}", flush=True)
         lift_waits = [w for r in building.runtimes for w in r.lift_waits]
         building.stop()
     return {
