@@ -165,7 +165,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             for serial, r in zip(building.serials, building.runtimes, strict=True):
                 for c in r.simulation.collisions:
                     print(f"t={c.stamp:8.1f}s {serial} touched a {c.obstacle} at "
-                          f"({c.pose.x:.2f}, {c.pose.y:.2f}) on {r.map_name}", flush=True)
+                          f"({c.pose.x:.2f}, {c.pose.y:.2f}) (on {r.map_name} at the end)",
+                          flush=True)
         lift_waits = [w for r in building.runtimes for w in r.lift_waits]
         building.stop()
     return {
