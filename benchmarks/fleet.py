@@ -82,6 +82,22 @@ def _stood_on(building: Building, where: dict[tuple[str, str], tuple[float, floa
     return stood
 
 
+def _how_it_stands(building: Building, serial: str, goal_map: str,
+                   goal: tuple[float, float] | None) -> str:
+    """Where a robot whose mission timed out stands and what it waits for: the trace of a
+    timeout (a queue for a zone, a walker in a doorway, a goal it cannot reach)."""
+    agent = building.agent(serial)
+    runtime = agent.runtime
+    pose = runtime.status().pose
+    stack = runtime.navigation_stack
+    state = stack.navigator.state.value if stack is not None else "no stack"
+    away = (f", {math.hypot(goal[0] - pose.x, goal[1] - pose.y):.1f} m from its goal"
+            if goal is not None and runtime.map_name == goal_map else "")
+    held = ",".join(agent.traffic.held) or "nothing"
+    return (f"{runtime.map_name} ({pose.x:.1f}, {pose.y:.1f}){away}, {state}, waiting for "
+            f"{agent.traffic.waiting_for or 'nothing'}, holding {held}")
+
+
 def run(args: argparse.Namespace) -> dict[str, Any]:
     world = load_world(args.world)
     with tempfile.TemporaryDirectory() as tmp, SiteStore.open(
@@ -123,7 +139,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                 outcome = building.outcome(serial, order_id)
                 if outcome is None and building.now() - t0 > args.mission_timeout:
                     deadlocks += 1
-                    outcome = "failed: no end within the mission timeout"
+                    stance = _how_it_stands(building, serial, bound[serial][0],
+                                            where.get(bound[serial]))
+                    outcome = f"failed: no end within the mission timeout ({stance})"
                     building.master.cancel_order(serial)
                 if outcome is None:
                     continue
@@ -143,6 +161,12 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         traffic = [a.traffic for a in building.agents]
         waits = sum(t.waits for t in traffic)
         collisions = sum(len(r.simulation.collisions) for r in building.runtimes)
+        if args.verbose:
+            for serial, r in zip(building.serials, building.runtimes, strict=True):
+                for c in r.simulation.collisions:
+                    print(f"t={c.stamp:8.1f}s {serial} touched a {c.obstacle} at "
+                          f"({c.pose.x:.2f}, {c.pose.y:.2f}) (on {r.map_name} at the end)",
+                          flush=True)
         lift_waits = [w for r in building.runtimes for w in r.lift_waits]
         building.stop()
     return {

@@ -2,11 +2,12 @@
 
 The rule, as one robot keeps it (docs/fleet.md has it for operators):
 
-1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first traffic
-   zone (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet (a VDA 5050
-   zone request, with the way it goes through: robots going the same way may share the zone,
-   :mod:`polynav.fleet.zones`); so is the zone it stands in.
-2. If the zone ahead is not granted by the time the robot is ``stop_distance`` from it, the
+1. While a goal runs, the robot looks ``lookahead`` metres along its path. The first passage
+   (:mod:`polynav.fleet.zones`) it would enter is asked for from the fleet, and so is the one
+   it stands in: each zone (segment) of the passage its path crosses, by a VDA 5050 zone
+   request with the way it goes through (robots going the same way may share a zone), one at
+   a time in ascending zone number, the next once the one before is granted.
+2. If the passage ahead is not all granted by the time the robot is ``stop_distance`` from it, the
    robot stops there (its goal is paused) and waits; a robot told it is not next in line stops
    ``queue_spacing`` further back for each robot ahead of it (unless it stands in a zone
    there), and moves up as those ahead go in, so the waiters do not crowd the mouth of the zone
@@ -27,9 +28,11 @@ another (:class:`~polynav.runtime.events.TrafficBusy`, when the fleet queues it)
 front of it, from the first stop until it goes in or no longer needs it
 (:class:`~polynav.runtime.events.TrafficWaitStarted`, ``TrafficWaitEnded``).
 
-Since a robot never waits for a zone while it stands in another (zones closer than a stop
-distance are merged into one), no two robots can each hold what the other waits for: the
-classic hold-and-wait deadlock cannot form.
+A robot waiting holds only segments of the passage it waits for, numbered below the one it
+waits for (it never stops for a passage while it stands in another: passages are further apart
+than a stop distance); one that holds all of its way waits for no lease. So every chain of
+waits climbs the zone numbers and cannot close into a cycle: the hold-and-wait deadlock
+cannot form (docs/fleet.md, "Why no deadlock").
 """
 
 from __future__ import annotations
@@ -37,12 +40,12 @@ from __future__ import annotations
 import itertools
 import logging
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
 from polynav.errors import ConfigError, PolynavError
 from polynav.fleet import messages as m
-from polynav.fleet.zones import ZoneMap
+from polynav.fleet.zones import ZoneMap, ZoneRun
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
 from polynav.runtime import events
@@ -120,6 +123,39 @@ class _ZoneLease:
     heard: float = -math.inf  # when it was last asked for or answered [s]
 
 
+_NONE = _ZoneLease("")
+
+
+@dataclass(frozen=True, slots=True)
+class _Run:
+    """A passage on the robot's path (:class:`~polynav.fleet.zones.ZoneRun`) by zone ids."""
+
+    zones: tuple[str, ...]  # in path order
+    numbers: tuple[int, ...]
+    entry: float
+    entries: tuple[float, ...]
+    ordered: tuple[str, ...]  # in ascending zone number: the order they are asked for in
+
+    @classmethod
+    def of(cls, zmap: ZoneMap, run: ZoneRun) -> _Run:
+        zones = tuple(zmap.zone_id(n) for n in run.segments)
+        number = dict(zip(zones, run.segments, strict=True))
+        return cls(zones, run.segments, run.entry, run.entries,
+                   tuple(sorted(zones, key=number.__getitem__)))
+
+
+@dataclass(frozen=True, slots=True)
+class _Plan:
+    """What the robot needs this tick: the zones with their flows (None: asked already or no
+    clear way), the passage it stands in and the next one ahead, and whether it stands in
+    any zone (even one it is leaving)."""
+
+    needed: dict[str, str | None] = field(default_factory=dict)
+    inside: _Run | None = None
+    ahead: _Run | None = None
+    in_zone: bool = False
+
+
 class TrafficRule:
     """One robot's side of the traffic rule (see the module docstring)."""
 
@@ -144,6 +180,9 @@ class TrafficRule:
         # zones told busy (queued) while the robot still needs them.
         self._congested: str | None = None
         self._told_busy: set[str] = set()
+        # The zones of the passage it got all of and drives through (it stops for none of
+        # them again).
+        self._entered: set[str] = set()
 
     @property
     def waiting_for(self) -> str | None:
@@ -163,6 +202,8 @@ class TrafficRule:
         grant = response.grant_type
         lease.heard = self._now
         if grant is m.GrantType.GRANTED:
+            if not lease.granted:
+                self._next_check = -math.inf  # the next zone of its passage is asked at once
             lease.granted, lease.queued = True, False
             lease.expiry = response.lease_expiry if response.lease_expiry is not None else (
                 math.inf)
@@ -211,11 +252,12 @@ class TrafficRule:
         if now < self._next_check:
             return
         self._next_check = now + self.config.check_period
-        needed, current, ahead, in_zone = self._needed(runtime)
-        self._tell(runtime, needed)
-        for zone_id, flow in needed.items():
-            if zone_id not in self._leases:
-                self._request(zone_id, flow)
+        plan = self._needed(runtime)
+        needed = plan.needed
+        self._entered &= set(needed)
+        for run in (plan.inside, plan.ahead):
+            if run is not None:
+                self._ask(run, plan)
         for zone_id, lease in list(self._leases.items()):
             if zone_id not in needed:
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
@@ -229,35 +271,38 @@ class TrafficRule:
                 lease.heard = now
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
                            self.config.lease_duration, lease.flow)
+        for run in (plan.inside, plan.ahead):
+            if run is not None and self._missing(run) is None:
+                self._entered |= set(run.zones)  # all of it ours: it drives through
+        target, distance = self._target(plan)
+        self._tell(runtime, needed, target)
         if self._paused_for is not None:
-            waited = self._leases.get(self._paused_for)
-            if self._paused_for not in needed or (waited is not None and waited.granted):
+            if target is None:
                 log.info("%s: %s granted, going on", self.holder, self._paused_for)
                 self.resume_goal(runtime)
-            elif (ahead is not None and ahead[0] == self._paused_for and ahead[1] > (
-                    self._stop_distance(ahead[0], in_zone) + self.config.queue_spacing / 2)):
-                log.info("%s: moving up in line for %s", self.holder, ahead[0])
+            elif distance > 0.0 and distance > self._stop_distance(target, plan.in_zone) + (
+                    self.config.queue_spacing / 2):
+                log.info("%s: moving up in line for %s", self.holder, target)
                 self._resume(runtime)
-                self._moving_up_for = ahead[0]
+                self._moving_up_for = target
+            else:
+                self._paused_for = target  # the wait goes on, for the next segment maybe
             return
         if self._moving_up_for is not None and (self._moving_up_for not in needed
                                                 or self._granted(self._moving_up_for)):
             self._moving_up_for = None
         blocking = None
-        inside = self._leases.get(current) if current is not None else None
-        if current is not None and inside is not None and inside.queued:
-            blocking = current, 0.0  # it starts in a zone another robot holds: it waits there
-        elif (ahead is not None and ahead[1] <= self._stop_distance(ahead[0], in_zone)
-              and not self._granted(ahead[0])):
-            blocking = ahead
+        if target is not None:
+            if distance == 0.0 and self._leases.get(target, _NONE).queued:
+                blocking = target, 0.0  # it starts in a passage another robot holds: it waits
+            elif 0.0 < distance <= self._stop_distance(target, plan.in_zone):
+                blocking = target, distance
         stack = runtime.navigation_stack
         if (blocking is not None and stack is not None
                 and stack.navigator.state is NavigationState.RUNNING):
             runtime.pause()
             self._paused_for = blocking[0]
-            if self._congested != blocking[0]:
-                if self._congested is not None:
-                    self._end_wait(runtime, granted=False)
+            if self._congested is None:
                 self._congested = blocking[0]
                 runtime.publish(events.TrafficWaitStarted(*_when(runtime), blocking[0]))
             self._wait_started = now
@@ -266,7 +311,55 @@ class TrafficRule:
             self._moving_up_for = None
             log.info("%s: waiting for %s (%.2f m ahead)", self.holder, blocking[0], blocking[1])
 
-    def _tell(self, runtime: RobotRuntime, needed: dict[str, str | None]) -> None:
+    def _ask(self, run: _Run, plan: _Plan) -> None:
+        """Ask for the zones of ``run``: all that are missing when the robot drives through it
+        already; otherwise one at a time, in ascending zone order, the next only once those
+        before it are granted, and none held or asked beyond the first missing one (the
+        global order that keeps waiters from waiting on each other, docs/fleet.md)."""
+        if self._driving(run):
+            for zone_id in run.zones:
+                if zone_id not in self._leases:
+                    self._request(zone_id, plan.needed[zone_id])
+            return
+        missing = self._missing(run)
+        if missing is None:
+            return
+        after = False
+        for zone_id in run.ordered:
+            if zone_id == missing:
+                after = True
+                if zone_id not in self._leases:
+                    self._request(zone_id, plan.needed[zone_id])
+            elif after and zone_id in self._leases:
+                # Asked or held out of order (the path changed): give it back for now.
+                lease = self._leases.pop(zone_id)
+                self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
+
+    def _driving(self, run: _Run) -> bool:
+        """Whether the robot drives through ``run`` on leases it got for all of it."""
+        return run.entry == 0.0 and run.zones[0] in self._entered and self._granted(
+            run.zones[0])
+
+    def _missing(self, run: _Run) -> str | None:
+        """The lowest-numbered zone of ``run`` not granted, None when all are."""
+        return next((z for z in run.ordered if not self._granted(z)), None)
+
+    def _target(self, plan: _Plan) -> tuple[str | None, float]:
+        """The zone the robot would wait for, and how far ahead its passage starts [m] (0: it
+        stands in it): the first missing zone of the passage it stands in (unless it drives
+        through it on its leases), else of the next passage ahead."""
+        for run in (plan.inside, plan.ahead):
+            if run is None or self._driving(run):
+                continue
+            missing = self._missing(run)
+            if missing is not None:
+                # Standing in it: it waits where it stands once told it is queued, and goes on
+                # while the answers are on their way (each segment is asked for in turn).
+                return missing, run.entry
+        return None, math.inf
+
+    def _tell(self, runtime: RobotRuntime, needed: dict[str, str | None],
+              target: str | None) -> None:
         """Tell a passage newly found held by another (queued), and the end of a wait whose
         zone the robot got or no longer needs (one it moved up in line for included)."""
         for zone_id, lease in self._leases.items():
@@ -275,8 +368,7 @@ class TrafficRule:
                 runtime.publish(events.TrafficBusy(*_when(runtime), zone_id))
         self._told_busy &= {z for z in needed if not self._granted(z)}
         zone = self._congested
-        if zone is not None and self._paused_for is None and (
-                zone not in needed or self._granted(zone)):
+        if zone is not None and self._paused_for is None and target is None:
             self._end_wait(runtime, granted=self._granted(zone))
 
     def _end_wait(self, runtime: RobotRuntime, *, granted: bool) -> None:
@@ -298,45 +390,58 @@ class TrafficRule:
         lease = self._leases.get(zone_id)
         return lease is not None and lease.granted
 
-    def _needed(self, runtime: RobotRuntime
-                ) -> tuple[dict[str, str | None], str | None, tuple[str, float] | None, bool]:
-        """The zones the robot needs now (with the way it goes through those it has not asked
-        for yet), the zone it stands in, the zone ahead with its distance, and whether it
-        stands in any zone (even one it is leaving)."""
+    def _needed(self, runtime: RobotRuntime) -> _Plan:
+        """The passages the robot needs now: the one it stands in and the next one ahead,
+        with the way it goes through each zone of them it has not asked for yet."""
         stack = runtime.navigation_stack
         name = runtime.map_name
         zmap = self._zones.get(name) if name is not None else None
         if stack is None or zmap is None:
-            return {}, None, None, False
+            return _Plan()
         navigator = stack.navigator
         if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
-            return {}, None, None, False
+            return _Plan()
         pose = runtime.status().pose
         path: Path | None = navigator.path
-        numbers: dict[str, int] = {}
         current = zmap.zone_at(pose.x, pose.y)
-        inside = zmap.zone_id(current) if current else None
-        if (inside is not None and path is not None and not self._granted(inside)
+        skip = 0
+        if (current and path is not None and not self._granted(zmap.zone_id(current))
                 and zmap.leaves(path, pose.x, pose.y, current, within=self.config.leave_within)):
-            inside = None  # on its way out
-        if inside is not None:
-            numbers[inside] = current
-        ahead = None
-        if path is not None:
-            config = self.config
-            found = zmap.zone_ahead(path, pose.x, pose.y,
-                                    lookahead=config.lookahead + config.keep_margin, skip=current)
-            if found is not None:
-                zone_id = zmap.zone_id(found[0])
-                if found[1] <= config.lookahead or zone_id in self._leases:
-                    ahead = (zone_id, found[1])
-                    numbers[zone_id] = found[0]
-        needed = {
-            zone_id: None if zone_id in self._leases or path is None
-            else zmap.flow(path, pose.x, pose.y, number)
-            for zone_id, number in numbers.items()
-        }
-        return needed, inside, ahead, current != 0
+            skip = zmap.group(current)  # on its way out
+        inside: _Run | None = None
+        ahead: _Run | None = None
+        config = self.config
+        if path is None:
+            if current and not skip:
+                inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
+        else:
+            for run in zmap.runs(path, pose.x, pose.y, reach=config.lookahead + config.keep_margin,
+                                 skip_group=skip):
+                found = _Run.of(zmap, run)
+                if current and not skip and inside is None and ahead is None and (
+                        run.entry == 0.0):
+                    inside = found
+                    continue
+                if run.entry <= config.lookahead or any(z in self._leases for z in found.zones):
+                    ahead = found
+                break
+            if current and not skip and inside is None:
+                # It stands in a zone its path does not start in (a sample off): that one.
+                inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
+        if inside is not None and self._missing(inside) is None:
+            self._entered |= set(inside.zones)
+        if inside is not None and ahead is not None and not self._driving(inside):
+            # Waiting in one passage, it holds nothing of the next (docs/fleet.md: why no
+            # deadlock).
+            ahead = None
+        needed: dict[str, str | None] = {}
+        for passage in (inside, ahead):
+            if passage is None:
+                continue
+            for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
+                needed[zone_id] = None if zone_id in self._leases or path is None else (
+                    zmap.flow(path, pose.x, pose.y, number))
+        return _Plan(needed, inside, ahead, current != 0)
 
     def _request(self, zone_id: str, flow: str | None) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

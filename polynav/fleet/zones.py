@@ -11,9 +11,13 @@ the free run through it, along the map's rows or along its columns, is shorter t
 ``narrow_width``: a doorway in a wall is narrow across the wall and not along it; a corridor
 wide enough for two robots is not narrow at all. Runs too short for one robot (``2 × radius``)
 are no passage and are left out. Each connected group of narrow cells, grown by ``approach``
-(the room a robot coming out of the passage needs before it can pass a waiting one), is a zone;
-zones closer than ``merge_gap`` are one zone, so a robot never needs two leases at once to pass
-a door and the narrow bit right behind it.
+(the room a robot coming out of the passage needs before it can pass a waiting one), is a
+passage; passages closer than ``merge_gap`` are one, so a robot never stops for a door while it
+stands in the narrow bit right before it. A passage longer than ``segment_length`` (a corridor
+with its doors and side passages) is cut into segments, each a zone leased on its own: robots
+in different stretches of a corridor go at once. A robot asks for every segment of the
+passage on its way (a :class:`ZoneRun`), in ascending zone number, before it goes in
+(:mod:`polynav.fleet.traffic`).
 
 Robots that never head opposite ways in a zone never meet head-on in it, so they may share
 it: the *flow* of a path through a zone is the compass sectors of its heading along the way,
@@ -64,25 +68,52 @@ class ZoneConfig:
         narrow_width: a free run shorter than this [m] is a passage for one robot only.
         approach: a zone reaches this far [m] beyond its narrow cells.
         merge_gap: zones whose regions come closer than this [m] are one zone.
+        segment_length: a zone longer than this [m] is cut into segments no longer than it,
+            each leased on its own (a corridor with its doors and side passages).
     """
 
     robot_radius: float = 0.25
     narrow_width: float = 2.1
     approach: float = 0.7
     merge_gap: float = 1.5
+    segment_length: float = 8.0
 
     def __post_init__(self) -> None:
-        for name in ("robot_radius", "narrow_width", "approach", "merge_gap"):
+        for name in ("robot_radius", "narrow_width", "approach", "merge_gap", "segment_length"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
         if self.narrow_width <= 2.0 * self.robot_radius:
             raise ConfigError(_KEY + "narrow_width", "must be wider than one robot")
+        if self.segment_length < 2.0 * self.merge_gap:
+            raise ConfigError(_KEY + "segment_length",
+                              f"must be at least twice merge_gap ({2.0 * self.merge_gap})")
+
+
+@dataclass(frozen=True, slots=True)
+class ZoneRun:
+    """One stretch of a path through one zone group (a passage and the segments it was cut
+    into): the segments in the order the path enters them.
+
+    Attributes:
+        group: the group's number.
+        entry: how far along the path it starts [m]; 0 when the robot stands in it.
+        segments: the segment numbers, each once, in the order the path enters them.
+        entries: how far along the path each of them starts [m].
+    """
+
+    group: int
+    entry: float
+    segments: tuple[int, ...]
+    entries: tuple[float, ...]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
 class ZoneMap:
     """The zones of one map: ``labels[iy, ix]`` is the zone number there (0: none).
+
+    A zone is one lease: a short passage, or a segment of a long one (a corridor, with the
+    doors and side passages along it); ``group_of[n]`` is the passage zone ``n`` is part of.
 
     Attributes:
         map_name: the map the zones belong to.
@@ -90,6 +121,9 @@ class ZoneMap:
         labels: zone number per cell, 0 outside every zone.
         count: how many zones there are (numbers 1..count).
         core: the narrow cells themselves, before the zones grew round them.
+        group_of: the group (passage) number of each zone, indexed by zone number (0: none).
+        rejoin: a path out of a group for less than this [m] is still on the same run
+            through it (a doorway's landing between a side passage and the room's door).
     """
 
     map_name: str
@@ -97,6 +131,55 @@ class ZoneMap:
     labels: npt.NDArray[np.int32]
     count: int
     core: npt.NDArray[np.bool_]
+    group_of: npt.NDArray[np.int32] | None = None
+    rejoin: float = 1.5
+
+    def group(self, number: int) -> int:
+        """The group (passage) zone ``number`` is part of; 0 for 0."""
+        if self.group_of is None:
+            return number
+        return int(self.group_of[number])
+
+    def runs(self, path: Path, x: float, y: float, *, reach: float,
+             skip_group: int = 0) -> list[ZoneRun]:
+        """The runs of ``path``, from the point nearest to (x, y), through zone groups other
+        than ``skip_group`` that start within ``reach`` [m] along it, in path order.
+
+        A run goes on through the group's segments while the path stays in the group, or out
+        of it for less than ``rejoin``; it ends at another group or a longer way out.
+        """
+        s, _, labels, _ = self._samples(path, x, y, math.inf)
+        groups = self._groups(labels)
+        step = 0.5 * self.grid.info.resolution
+        gap_samples = max(1, int(math.ceil(self.rejoin / step)))
+        out: list[ZoneRun] = []
+        k, n = 0, labels.shape[0]
+        while k < n:
+            g = int(groups[k])
+            if g == 0 or g == skip_group:
+                k += 1
+                continue
+            if s[k] > reach:
+                break
+            entry, seen, last = float(s[k]), [int(labels[k])], k
+            entries = [entry]
+            j = k + 1
+            while j < n:
+                gj = int(groups[j])
+                if gj == g:
+                    if int(labels[j]) not in seen:
+                        seen.append(int(labels[j]))
+                        entries.append(float(s[j]))
+                    last = j
+                elif gj != 0 or j - last > gap_samples:
+                    break
+                j += 1
+            out.append(ZoneRun(g, entry, tuple(seen), tuple(entries)))
+            k = last + 1
+        return out
+
+    def _groups(self, labels: npt.NDArray[np.int32]) -> npt.NDArray[np.int32]:
+        return labels if self.group_of is None else self.group_of[labels]
 
     def zone_id(self, number: int) -> str:
         """The lease book's name of zone ``number``: ``zone:<map>/<number>``."""
@@ -127,9 +210,11 @@ class ZoneMap:
     def leaves(self, path: Path, x: float, y: float, zone: int, *, within: float) -> bool:
         """Whether ``path``, from the point nearest to (x, y), is out of zone ``zone`` within
         ``within`` [m] along it without touching the zone's narrow core: a robot at the zone's
-        edge heading away from the passage, not through it."""
+        edge heading away from the passage, not through it. Out of the zone's group, that is:
+        into the next segment of a long passage is not out."""
         _, _, labels, core = self._samples(path, x, y, within)
-        out = np.flatnonzero(labels != zone)
+        groups = self._groups(labels)
+        out = np.flatnonzero(groups != self.group(zone))
         return out.shape[0] > 0 and not bool(np.any(core[:out[0]]))
 
     def flow(self, path: Path, x: float, y: float, zone: int) -> str | None:
@@ -239,8 +324,84 @@ def find_zones(map_name: str, grid: Map, config: ZoneConfig | None = None) -> Zo
     region = ndimage.binary_dilation(narrow, structure=square, iterations=grow, mask=free)
     labels = np.where(region, groups, 0).astype(np.int32)
     labels, count = _renumber(labels)
-    log.info("map %s: %d traffic zones", map_name, count)
-    return ZoneMap(map_name=map_name, grid=grid, labels=labels, count=count, core=narrow)
+    segments, group_of = _segments(labels, count, max(2, int(round(config.segment_length / res))),
+                                   min_cells=max(1, int(round(1.0 / (res * res)))))
+    log.info("map %s: %d traffic zones in %d passages", map_name, group_of.shape[0] - 1, count)
+    return ZoneMap(map_name=map_name, grid=grid, labels=segments,
+                   count=int(group_of.shape[0] - 1), core=narrow, group_of=group_of,
+                   rejoin=config.merge_gap)
+
+
+def _segments(labels: npt.NDArray[np.int32], count: int, longest: int, *, min_cells: int,
+              ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+    """Cut each passage of ``labels`` (1..count) longer than ``longest`` cells into segments:
+    the segment numbers per cell, and the passage of each segment (index 0: none).
+
+    A passage is cut in two across its longer side, at the narrowest cross-section near its
+    middle (in a corridor, between two side openings rather than through one), each side's
+    connected parts cut again until none is longer than ``longest``; a part smaller than
+    ``min_cells`` (a corner clipped by a cut) joins the segment it touches most.
+    """
+    out = np.zeros_like(labels)
+    group_of = [0]
+    square = np.ones((3, 3), dtype=bool)
+    for number, box in enumerate(ndimage.find_objects(labels, max_label=count), start=1):
+        if box is None:
+            continue
+        mask = labels[box] == number
+        pieces = _cut(mask, longest)
+        local = np.zeros(mask.shape, dtype=np.int32)
+        for i, piece in enumerate(pieces, start=1):
+            local[piece] = i
+        _absorb_slivers(local, len(pieces), min_cells, square)
+        used = [int(v) for v in np.unique(local) if v != 0]
+        for v in used:
+            group_of.append(number)
+            out[box][local == v] = len(group_of) - 1
+    return out, np.array(group_of, dtype=np.int32)
+
+
+def _cut(mask: npt.NDArray[np.bool_], longest: int) -> list[npt.NDArray[np.bool_]]:
+    """``mask`` in connected parts none longer than ``longest`` cells (see :func:`_segments`)."""
+    ys, xs = np.nonzero(mask)
+    if ys.shape[0] == 0:
+        return []
+    spans = (int(ys.max() - ys.min()) + 1, int(xs.max() - xs.min()) + 1)
+    if max(spans) <= longest:
+        return [mask]
+    axis = 1 if spans[1] >= spans[0] else 0  # cut across the longer side
+    lo = int(xs.min() if axis == 1 else ys.min())
+    length = spans[axis]
+    profile = mask.sum(axis=1 - axis)[lo:lo + length]
+    middle = length // 2
+    window = np.arange(max(1, middle - length // 4), min(length - 1, middle + length // 4) + 1)
+    # The narrowest cross-section, nearest the middle among equals.
+    best = window[np.lexsort((np.abs(window - middle), profile[window]))[0]]
+    cut = lo + int(best)
+    index = np.arange(mask.shape[axis])
+    before = (index < cut)[None, :] if axis == 1 else (index < cut)[:, None]
+    parts: list[npt.NDArray[np.bool_]] = []
+    for side in (mask & before, mask & ~before):
+        pieces, n = ndimage.label(side, structure=np.ones((3, 3), dtype=bool))
+        for k in range(1, n + 1):
+            parts.extend(_cut(pieces == k, longest))
+    return parts
+
+
+def _absorb_slivers(local: npt.NDArray[np.int32], n: int, min_cells: int,
+                    square: npt.NDArray[np.bool_]) -> None:
+    """Give each segment of ``local`` (1..n) smaller than ``min_cells`` to the neighbouring
+    segment it shares the longest border with (in place)."""
+    for v in range(1, n + 1):
+        piece = local == v
+        size = int(piece.sum())
+        if size == 0 or size >= min_cells:
+            continue
+        rim = ndimage.binary_dilation(piece, structure=square) & ~piece
+        neighbours = local[rim]
+        neighbours = neighbours[(neighbours != 0) & (neighbours != v)]
+        if neighbours.shape[0]:
+            local[piece] = int(np.bincount(neighbours).argmax())
 
 
 def _run_lengths(free: npt.NDArray[np.bool_]) -> npt.NDArray[np.float64]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,11 +11,12 @@ from polynav.fleet import messages as m
 from polynav.fleet.traffic import TrafficConfig, TrafficRule
 from polynav.fleet.zones import find_zones
 from polynav.geometry import Pose2D
+from polynav.leases.book import LeaseBook, LeaseEventKind
 from polynav.maps.map import Map
 from polynav.nav.attempt import NavigationState
 from polynav.planning.path import Path
 from polynav.runtime import events
-from tests.unit.fleet.test_zones import _two_rooms
+from tests.unit.fleet.test_zones import _long_corridor, _two_rooms
 
 
 @dataclass
@@ -222,10 +224,13 @@ def test_a_robot_back_in_line_never_waits_inside_the_zone_it_comes_out_of() -> N
     robot = _Robot(Pose2D(3.6, 2.0, 0.0), Path(np.array([[2.0, 2.0], [9.5, 2.0]])))
     navigator = robot.navigation_stack.navigator
     rule.tick(0.0, robot)  # type: ignore[arg-type]  # in door 1's zone, door 2 2.7 m ahead
+    # Not yet holding the zone it stands in, it asks for nothing of the next passage.
+    assert [zone for _, zone, _ in sent] == ["zone:m/1"]
+    rule.on_response(m.ZoneResponse(1, "r1", sent[0][0], "zone:m/1",
+                                    m.GrantType.GRANTED, 30.0))
+    rule.tick(0.05, robot)  # type: ignore[arg-type]  # a grant: the next check is at once
     ids = {zone: rid for rid, zone, _ in sent}
     assert set(ids) == {"zone:m/1", "zone:m/2"}
-    rule.on_response(m.ZoneResponse(1, "r1", ids["zone:m/1"], "zone:m/1",
-                                    m.GrantType.GRANTED, 30.0))
     rule.on_response(m.ZoneResponse(2, "r1", ids["zone:m/2"], "zone:m/2",
                                     m.GrantType.QUEUED, queue_position=1))
     robot.pose = Pose2D(4.5, 2.0, 0.0)  # through door 1, 1.9 m from door 2
@@ -294,3 +299,120 @@ def test_a_request_never_answered_is_asked_again_with_the_same_id() -> None:
                                     lease_expiry=40.0))
     rule.tick(20.0, robot)  # type: ignore[arg-type]
     assert len(sent) == 3  # granted: renewed before expiry only
+
+
+class _Fleet:
+    """The fleet's side of the zone requests for a few rules, on a real lease book: answers
+    go out after each round of ticks, as over a transport."""
+
+    def __init__(self) -> None:
+        self.book = LeaseBook()
+        self.rules: dict[str, TrafficRule] = {}
+        self.now = 0.0
+        self._ids: dict[tuple[str, str], str] = {}
+        self._outbox: list[tuple[str, m.ZoneResponse]] = []
+        self._told: dict[tuple[str, str], int] = {}
+
+    def sender(self, holder: str) -> Callable[..., None]:
+        def send(rid: str, zone: str, kind: m.ZoneRequestType, duration: float,
+                 flow: str | None = None) -> None:
+            if kind is m.ZoneRequestType.RELEASE:
+                self.book.release(zone, holder, now=self.now)
+                self._ids.pop((zone, holder), None)
+                self._told.pop((zone, holder), None)
+                return
+            self._ids[(zone, holder)] = rid
+            if self.book.lease(zone, holder) is None:
+                self.book.request(zone, holder, now=self.now, duration=duration, flow=flow)
+            else:
+                lease = self.book.renew(zone, holder, now=self.now, duration=duration)
+                self._answer(holder, zone, m.GrantType.GRANTED, lease.expires_at)
+        return send
+
+    def _answer(self, holder: str, zone: str, grant: m.GrantType, expiry: float | None = None,
+                place: int | None = None) -> None:
+        rid = self._ids.get((zone, holder))
+        if rid is not None:
+            self._outbox.append((holder, m.ZoneResponse(1, holder, rid, zone, grant, expiry,
+                                                        place)))
+
+    def deliver(self) -> None:
+        self.book.tick(self.now)
+        for event in self.book.take_events():
+            if event.kind is LeaseEventKind.GRANTED and event.lease is not None:
+                self._answer(event.holder, event.resource, m.GrantType.GRANTED,
+                             event.lease.expires_at)
+        for zone, queue in self.book.queues().items():
+            for place, waiter in enumerate(queue):
+                if self._told.get((zone, waiter.holder)) != place:
+                    self._told[(zone, waiter.holder)] = place
+                    self._answer(waiter.holder, zone, m.GrantType.QUEUED, place=place)
+        out, self._outbox = self._outbox, []
+        for holder, response in out:
+            self.rules[holder].on_response(response)
+
+
+def _advance(robot: _Robot, distance: float) -> None:
+    """Move ``robot`` ``distance`` [m] on along its path (it drives through other robots: the
+    rule, not the bodies, is under test)."""
+    points = robot.path.points
+    x, y = robot.pose.x, robot.pose.y
+    for a, b in zip(points[:-1], points[1:], strict=True):
+        d = b - a
+        t = float(np.clip(np.dot([x, y] - a, d) / np.dot(d, d), 0.0, 1.0))
+        if np.hypot(*(a + t * d - [x, y])) < 1e-6 and t < 1.0:
+            left = float(np.hypot(*d)) * (1.0 - t)
+            if distance < left:
+                p = a + t * d + d / np.hypot(*d) * distance
+                robot.pose = Pose2D(float(p[0]), float(p[1]), 0.0)
+                return
+            distance -= left
+            x, y = float(b[0]), float(b[1])
+    robot.pose = Pose2D(float(points[-1][0]), float(points[-1][1]), 0.0)
+    robot.navigation_stack.navigator.state = NavigationState.SUCCEEDED
+
+
+def test_robots_on_a_long_corridor_get_through_and_use_its_segments_at_once() -> None:
+    # Four robots start together: two the whole corridor's length, opposite ways, and two
+    # short ways at its ends, against the long one that comes their way. Asking in path
+    # order, the two long ones could each hold the end segment the other waits for; in
+    # ascending zone order no one waits on a robot that waits on it.
+    zones = {"m": find_zones("m", _long_corridor())}
+    zmap = zones["m"]
+    ways = {
+        "east": [(2.0, 2.0), (2.0, 4.5), (22.0, 4.5), (22.0, 2.0)],
+        "short_east": [(6.0, 2.3), (6.0, 4.5), (2.0, 4.5), (2.0, 2.3)],
+        "west": [(22.0, 2.0), (22.0, 4.5), (2.0, 4.5), (2.0, 2.0)],
+        "short_west": [(18.0, 2.3), (18.0, 4.5), (22.0, 4.5), (22.0, 2.3)],
+    }  # asking in this order: "short_east" is in line for the west end before "west"
+    fleet = _Fleet()
+    robots = {}
+    for name, way in ways.items():
+        robots[name] = _Robot(Pose2D(*way[0], 0.0), Path(np.array(way)))
+        fleet.rules[name] = TrafficRule(name, zones, TrafficConfig(), fleet.sender(name))
+    both_ends_busy = False
+    while fleet.now < 300.0 and not all(
+            r.navigation_stack.navigator.state is NavigationState.SUCCEEDED
+            for r in robots.values()):
+        for name, robot in robots.items():
+            fleet.rules[name].tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        for name, robot in robots.items():
+            if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
+                _advance(robot, 0.1)
+                zone = zmap.zone_at(robot.pose.x, robot.pose.y)
+                if zone and robot.navigation_stack.navigator.state is NavigationState.RUNNING:
+                    assert zmap.zone_id(zone) in fleet.rules[name].held, (name, robot.pose)
+        inside = {n for n, r in robots.items()
+                  if r.navigation_stack.navigator.state is NavigationState.RUNNING
+                  and zmap.zone_at(r.pose.x, 4.5) and 4.0 < r.pose.y < 5.0}
+        both_ends_busy |= bool(inside & {"east", "short_west"}) and bool(
+            inside & {"west", "short_east"})
+        fleet.now = round(fleet.now + 0.1, 1)
+    assert all(r.navigation_stack.navigator.state is NavigationState.SUCCEEDED
+               for r in robots.values()), {n: r.pose for n, r in robots.items()}
+    # Robots going opposite ways were in the corridor at once (on segments apart): with one
+    # zone for the corridor, one way would have had to drain before the other went in.
+    assert both_ends_busy
+    assert fleet.book.resources() == () or all(
+        not fleet.book.leases(z) for z in fleet.book.resources())

@@ -128,7 +128,7 @@ def _corridor_with_two_doors() -> Map:
 def test_the_flow_names_every_turn_of_the_way_through() -> None:
     # Up the west door and east along the corridor to its end, against up the east door and
     # west to the corridor's end: equal ends (north in, ...), yet opposite along the corridor.
-    zones = find_zones("m", _corridor_with_two_doors())
+    zones = find_zones("m", _corridor_with_two_doors(), ZoneConfig(segment_length=20.0))
     zone = zones.zone_at(5.0, 4.5)
     assert zone != 0 and zones.zone_at(2.0, 3.95) == zone == zones.zone_at(8.0, 3.95)
     east = Path(np.array([[2.0, 2.0], [2.0, 4.5], [9.9, 4.5]]))
@@ -138,3 +138,60 @@ def test_the_flow_names_every_turn_of_the_way_through() -> None:
     # Up one door, along and down the other: the middle leg is named.
     across = Path(np.array([[2.0, 2.0], [2.0, 4.5], [8.0, 4.5], [8.0, 2.0]]))
     assert zones.flow(across, 2.0, 2.0, zone) == "NES"
+
+
+def _long_corridor() -> Map:
+    """A corridor 1 m wide (y 4..5) along x 0..24 above one long room (y 0.1..3.9), joined by
+    1 m doors centred on x 2, 6, 18 and 22."""
+    w, h = int(24.0 / RES), int(5.2 / RES)
+    occ = np.ones((h, w), dtype=bool)
+    occ[int(4.0 / RES):int(5.0 / RES), :] = False
+    occ[int(0.1 / RES):int(3.9 / RES), int(0.1 / RES):int(23.9 / RES)] = False
+    for x in (2.0, 6.0, 18.0, 22.0):
+        occ[int(3.9 / RES):int(4.0 / RES), int((x - 0.5) / RES):int((x + 0.5) / RES)] = False
+    return Map.from_occupied(occ, resolution=RES)
+
+
+def test_a_long_passage_is_cut_into_segments_of_one_group() -> None:
+    zones = find_zones("m", _long_corridor())
+    along = [zones.zone_at(x, 4.5) for x in np.arange(0.3, 23.8, 0.1)]
+    segments = sorted(set(along))
+    assert 0 not in segments and len(segments) >= 3
+    assert len({zones.group(n) for n in segments}) == 1  # one passage
+    for n in segments:  # each at most segment_length long, in one piece along the corridor
+        xs = [x for x, z in zip(np.arange(0.3, 23.8, 0.1), along, strict=True) if z == n]
+        assert max(xs) - min(xs) <= 8.0
+        assert len(xs) == round((max(xs) - min(xs)) / 0.1) + 1
+    # Cut at the narrowest cross-sections: no door is split between two segments.
+    for x in (2.0, 6.0, 18.0, 22.0):
+        assert len({zones.zone_at(x + dx, y) for dx in (-0.3, 0.0, 0.3)
+                    for y in (3.6, 3.95, 4.5)}) == 1
+    # The whole corridor is one zone when segments may be as long as it.
+    assert find_zones("m", _long_corridor(), ZoneConfig(segment_length=30.0)).count == 1
+
+
+def test_a_run_lists_the_segments_of_a_passage_in_path_order() -> None:
+    zones = find_zones("m", _long_corridor())
+    east = Path(np.array([[2.0, 2.0], [2.0, 4.5], [22.0, 4.5], [22.0, 2.0]]))
+    runs = zones.runs(east, 2.0, 2.0, reach=5.0)
+    assert len(runs) == 1
+    run = runs[0]
+    assert run.segments[0] == zones.zone_at(2.0, 3.5)
+    assert run.segments[-1] == zones.zone_at(22.0, 3.5)
+    assert set(run.segments) == {zones.zone_at(x, 4.5) for x in np.arange(2.0, 22.0, 0.1)}
+    assert run.entries == tuple(sorted(run.entries)) and run.entries[0] == run.entry
+    assert 0.5 < run.entry < 1.5  # the door's zone reaches 0.7 m into the room
+    assert zones.runs(east, 2.0, 2.0, reach=0.4) == []
+    # From inside: the run starts where the robot stands.
+    inside = zones.runs(east, 10.0, 4.5, reach=5.0)[0]
+    assert inside.entry == 0.0 and inside.segments[0] == zones.zone_at(10.0, 4.5)
+    # Out into the room and back in through the next door 4 m on: two runs.
+    dip = Path(np.array([[2.0, 2.0], [2.0, 4.5], [2.0, 2.0], [6.0, 2.0], [6.0, 4.5]]))
+    assert len(zones.runs(dip, 2.0, 2.0, reach=30.0)) == 2
+    assert len(zones.runs(dip, 2.0, 2.0, reach=0.5)) == 0
+
+
+def test_bad_segment_length_names_the_key() -> None:
+    with pytest.raises(ConfigError) as err:
+        ZoneConfig(segment_length=2.0)
+    assert err.value.key == "fleet.zones.segment_length"
