@@ -43,7 +43,7 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
-from polynav.errors import ConfigError, PolynavError
+from polynav.errors import ConfigError, PolynavError, check_positive
 from polynav.fleet import messages as m
 from polynav.fleet.zones import ZoneMap, ZoneRun
 from polynav.nav.attempt import NavigationState
@@ -99,12 +99,9 @@ class TrafficConfig:
     reask_after: float = 5.0
 
     def __post_init__(self) -> None:
-        for name in ("lookahead", "stop_distance", "lease_duration", "renew_before",
-                     "check_period", "leave_within", "queue_spacing", "keep_margin",
-                     "reask_after"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        check_positive(self, _KEY, ("lookahead", "stop_distance", "lease_duration",
+                                    "renew_before", "check_period", "leave_within",
+                                    "queue_spacing", "keep_margin", "reask_after"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
         if self.renew_before >= self.lease_duration:

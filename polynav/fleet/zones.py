@@ -47,7 +47,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import ndimage
 
-from polynav.errors import ConfigError
+from polynav.errors import ConfigError, check_positive
 from polynav.maps.map import Map
 from polynav.planning.path import Path
 
@@ -79,10 +79,8 @@ class ZoneConfig:
     segment_length: float = 8.0
 
     def __post_init__(self) -> None:
-        for name in ("robot_radius", "narrow_width", "approach", "merge_gap", "segment_length"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0.0):
-                raise ConfigError(_KEY + name, f"must be finite and > 0, got {value}")
+        check_positive(self, _KEY, ("robot_radius", "narrow_width", "approach", "merge_gap",
+                                    "segment_length"))
         if self.narrow_width <= 2.0 * self.robot_radius:
             raise ConfigError(_KEY + "narrow_width", "must be wider than one robot")
         if self.segment_length < 2.0 * self.merge_gap:
