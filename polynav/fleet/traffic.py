@@ -408,23 +408,20 @@ class TrafficRule:
         inside: _Run | None = None
         ahead: _Run | None = None
         config = self.config
-        if path is None:
-            if current and not skip:
-                inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
-        else:
-            for run in zmap.runs(path, pose.x, pose.y, reach=config.lookahead + config.keep_margin,
-                                 skip_group=skip):
-                found = _Run.of(zmap, run)
-                if current and not skip and inside is None and ahead is None and (
-                        run.entry == 0.0):
-                    inside = found
-                    continue
-                if run.entry <= config.lookahead or any(z in self._leases for z in found.zones):
-                    ahead = found
-                break
-            if current and not skip and inside is None:
-                # It stands in a zone its path does not start in (a sample off): that one.
-                inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
+        runs = [] if path is None else zmap.runs(
+            path, pose.x, pose.y, reach=config.lookahead + config.keep_margin, skip_group=skip)
+        for run in runs:
+            found = _Run.of(zmap, run)
+            if current and not skip and inside is None and ahead is None and run.entry == 0.0:
+                inside = found
+                continue
+            if run.entry <= config.lookahead or any(z in self._leases for z in found.zones):
+                ahead = found
+            break
+        if current and not skip and inside is None:
+            # It stands in a zone its path does not start in (a sample off), or has no path:
+            # that zone alone.
+            inside = _Run.of(zmap, ZoneRun(zmap.group(current), 0.0, (current,), (0.0,)))
         if inside is not None and self._missing(inside) is None:
             self._entered |= set(inside.zones)
         if inside is not None and ahead is not None and not self._driving(inside):
