@@ -33,6 +33,7 @@ requests travel at QoS 0, and one sent while the fleet manager was off the broke
 @dataclass(slots=True)
 class _Session:
     request_id: str
+    flow: str | None = None  # the way through, sent with every ask of this session
     granted: bool = False
     rejected: bool = False
     expiry: float = -math.inf
@@ -59,13 +60,15 @@ class FleetLiftSessions:
         self.rejections = 0
         self._now = -math.inf  # the time of the last request: answers are stamped with it
 
-    def request(self, car: str, now: float) -> None:
+    def request(self, car: str, now: float, flow: str | None = None) -> None:
         """Ask for ``car`` (called each tick while it is wanted): a new ask, a renewal while
-        held, or the same ask again when no answer came within :data:`REASK_AFTER`."""
+        held, or the same ask again when no answer came within :data:`REASK_AFTER`. ``flow``
+        (the way through a door) is the new ask's; renewals and re-asks keep it."""
         self._now = now
         session = self._sessions.get(car)
         if session is None or session.rejected:
-            session = _Session(f"{self.holder}-{self.kind}-{next(self._ids)}", heard=now)
+            session = _Session(f"{self.holder}-{self.kind}-{next(self._ids)}", flow=flow,
+                               heard=now)
             self._sessions[car] = session
             self._ask(car, session)
         elif session.granted and session.expiry - now < RENEW_BEFORE and (
@@ -85,7 +88,7 @@ class FleetLiftSessions:
 
     def _ask(self, car: str, session: _Session) -> None:
         self._send(session.request_id, resource(car, self.kind), m.ZoneRequestType.ACCESS,
-                   SESSION_LEASE)
+                   SESSION_LEASE, session.flow)
 
     def granted(self, car: str, now: float) -> bool:
         session = self._sessions.get(car)

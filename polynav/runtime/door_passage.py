@@ -5,8 +5,13 @@ after the navigation stack. The rule, as one robot keeps it:
 
 1. While a goal runs, the robot looks ``lookahead`` metres along its planned path. A door of
    its floor whose leaf the path crosses there is asked for: the lease on ``door:<name>``
-   (a lone robot's own lease book; in a building the fleet's, through VDA 5050 zone requests,
-   so robots coming from both sides go through one at a time). Granted, the robot opens it
+   (a lone robot's own lease book; in a building the fleet's, through VDA 5050 zone requests),
+   named with the way it crosses the leaf
+   (:meth:`~polynav.worlds.world.WorldDoor.crossing_flow`): robots going one way share it and
+   go through together, and one coming the other way waits until they are through. (Held by
+   one robot at a time, a robot held up on its way to the door by a walker kept it from two
+   robots that had passed it and stood before the leaf, and they kept the corridor from it:
+   floor 2's fire door, bench fleet seed 0.) Granted, the robot opens it
    (:meth:`~polynav.robot.door.Door.open`): it *controls* the door (Yunji ``01030``).
 2. If the door is not granted and open by the time the robot is ``stop_distance`` from the
    leaf, the robot stops there (its goal is paused) and waits; once it is, it goes on.
@@ -146,6 +151,7 @@ class _Use:
     """A door the robot needs now: asked for at ``asked``, controlled since ``opened``."""
 
     asked: float
+    flow: str  # the way the robot crosses (its lease is shared with robots going that way)
     opened: float | None = None
 
 
@@ -238,18 +244,19 @@ class DoorPassage:
             if name not in needed:
                 self._let_go(name, now, forced=False)
         for name in sorted(needed):
-            self._control(name, doors[name], now)
+            self._control(name, doors[name], pose, now)
         self._wait_or_go(ahead, doors, now)
 
     # -- a door's lease and controller ----------------------------------------------------
 
-    def _control(self, name: str, door: Door, now: float) -> None:
+    def _control(self, name: str, door: Door, pose: Pose2D, now: float) -> None:
         use = self._using.get(name)
         if use is None:
-            use = self._using[name] = _Use(asked=now)
-            log.info("%s: asks for door %s", self._robot.robot_id, name)
+            flow = door.state().spec.crossing_flow(pose.x, pose.y)
+            use = self._using[name] = _Use(asked=now, flow=flow)
+            log.info("%s: asks for door %s going %s", self._robot.robot_id, name, flow)
         leases = self.leases
-        leases.request(name, now)  # asks again after a rejection, keeping its place
+        leases.request(name, now, use.flow)  # asks again after a rejection, keeping its place
         if not leases.granted(name, now):
             return
         if use.opened is None:

@@ -30,8 +30,10 @@ def resource(car: str, kind: str = "lift") -> str:
 class LiftSessions(Protocol):
     """Asking for, holding and giving back cars' sessions, for one robot."""
 
-    def request(self, car: str, now: float) -> None:
-        """Ask for ``car``'s session (again: nothing new); renews it while held."""
+    def request(self, car: str, now: float, flow: str | None = None) -> None:
+        """Ask for ``car``'s session (again: nothing new); renews it while held. ``flow``: the
+        way the robot goes through (a door crossed one way), shared with others going that
+        way; the first ask's is kept."""
         ...
 
     def granted(self, car: str, now: float) -> bool:
@@ -58,12 +60,13 @@ class LocalLiftSessions:
         self.kind = kind
         self._book = book or LeaseBook(LeaseBookConfig())
 
-    def request(self, car: str, now: float) -> None:
+    def request(self, car: str, now: float, flow: str | None = None) -> None:
         name = resource(car, self.kind)
         lease = self._book.lease(name, self.holder)
         if lease is None:
             if self._book.position(name, self.holder) is None:
-                self._book.request(name, self.holder, now=now, duration=SESSION_LEASE)
+                self._book.request(name, self.holder, now=now, duration=SESSION_LEASE,
+                                   flow=flow)
         elif lease.expires_at - now < SESSION_LEASE / 2:
             self._book.renew(name, self.holder, now=now, duration=SESSION_LEASE)
 

@@ -269,6 +269,19 @@ class WorldDoor:
         t = min(1.0, max(0.0, t))
         return math.hypot(x - (self.x1 + t * ex), y - (self.y1 + t * ey))
 
+    def crossing_flow(self, x: float, y: float) -> str:
+        """The compass sector (``E``, ``N``, ``W``, ``S``) a robot at (x, y) crosses the leaf
+        heading: away from its side. A lease named with it is shared with robots crossing the
+        same way (:mod:`polynav.leases.book`): robots following one another through a door go
+        together, and the other way waits until they are through. The two ways through a leaf
+        always fall in opposite sectors, whatever its angle."""
+        ex, ey = self.x2 - self.x1, self.y2 - self.y1
+        cx, cy = self.centre
+        # The leaf's normal on the far side from (x, y).
+        side = ex * (y - cy) - ey * (x - cx)
+        nx, ny = (ey, -ex) if side >= 0.0 else (-ey, ex)
+        return "ENWS"[round(math.atan2(ny, nx) / (math.pi / 2.0)) % 4]
+
 
 @dataclass(frozen=True, slots=True, eq=False)
 class WorldFloor:

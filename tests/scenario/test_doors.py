@@ -143,3 +143,33 @@ def test_two_robots_through_one_door_from_both_sides_one_at_a_time(
     paused = [sum(isinstance(e, events.NavigationPaused) for e in got) for got in seen]
     assert sorted(p > 0 for p in paused) == [False, True]
     assert building.master.zone_requests > 0
+
+
+def test_two_robots_going_one_way_share_the_door_and_go_through_together(
+        world: World, store: SiteStore) -> None:
+    # One behind the other, both west through the east fire door: the second does not wait
+    # for the first to be through and let go (a lease per way, not per robot).
+    ahead = Point("ahead", "floor2", Pose2D(31.0, 12.0, math.pi), PointKind.GENERAL)
+    behind = Point("behind", "floor2", Pose2D(32.6, 12.0, math.pi), PointKind.GENERAL)
+    store.add_point(Point("far_west", "floor2", Pose2D(22.5, 12.0, math.pi)))
+    store.add_point(Point("near_west", "floor2", Pose2D(24.5, 12.0, math.pi)))
+    building = Building(store, world, robots=2, starts=[ahead, behind],
+                        config=RuntimeConfig(people=False))
+    subs = [rt.bus.subscribe(10_000) for rt in building.runtimes]
+    building.send("robot1", "far_west", "floor2")
+    building.send("robot2", "near_west", "floor2")
+    holders: list[tuple[str, ...]] = []
+
+    def watch() -> bool:
+        holders.append(building.runtimes[0].door(EAST).state().holders)
+        return all(agent.outcome is not None for agent in building.agents)
+
+    assert building.advance_until(watch, 120.0)
+    assert [agent.outcome for agent in building.agents] == ["succeeded", "succeeded"]
+    assert [c for rt in building.runtimes for c in rt.simulation.collisions] == []
+    assert max(len(h) for h in holders) == 2
+    assert holders[-1] == ()
+    # Neither stopped for the door.
+    assert [sum(isinstance(e, events.NavigationPaused) for e in _door_events(sub))
+            for sub in subs] == [0, 0]
+    assert building.runtimes[0].door(EAST).state().state is DoorState.CLOSED

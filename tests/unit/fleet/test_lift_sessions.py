@@ -45,3 +45,17 @@ def test_door_leases_are_asked_again_as_doors_after_a_lost_link() -> None:
     doors.resend()
     assert [z for _, z, _ in sent] == ["door:lobby_gate", "door:lobby_gate"]
     assert sent[1][0] == sent[0][0]
+
+
+def test_a_door_is_asked_with_the_way_through_and_every_ask_again_keeps_it() -> None:
+    flows: list[str | None] = []
+
+    def send(rid: str, zone: str, request: m.ZoneRequestType, _duration: float,
+             flow: str | None = None) -> None:
+        flows.append(flow)
+
+    doors = FleetLiftSessions("r1", send, kind="door")
+    doors.request("fire_door_east", 0.0, "W")
+    doors.request("fire_door_east", REASK_AFTER + 0.1, "E")  # the way of the first ask stays
+    doors.resend()
+    assert flows == ["W", "W", "W"]

@@ -102,3 +102,21 @@ def test_the_demo_has_two_fire_doors_on_floor_2_and_a_gate_in_the_lobby() -> Non
             ex, ey = info.world_to_cell(x, y)
             near = occupied[max(ey - 2, 0):ey + 3, max(ex - 2, 0):ex + 3]
             assert near.any(), (door.name, x, y)
+
+
+@pytest.mark.parametrize("theta", [0.0, 0.3, math.pi / 4, 1.2, math.pi / 2, 2.5, -0.7, math.pi])
+def test_a_door_is_crossed_in_opposite_sectors_from_its_two_sides(theta: float) -> None:
+    door = WorldDoor.across("d", "ground", 5.0, 5.0, theta, 1.2)
+    ahead = (5.0 + 0.8 * math.cos(theta), 5.0 + 0.8 * math.sin(theta))
+    behind = (5.0 - 0.8 * math.cos(theta), 5.0 - 0.8 * math.sin(theta))
+    going, coming = door.crossing_flow(*behind), door.crossing_flow(*ahead)
+    assert {going, coming} in ({"E", "W"}, {"N", "S"})
+    # The sector is the one the crossing heading falls in (away from ties at 45 degrees).
+    if abs(abs(math.remainder(theta, math.pi / 2)) - math.pi / 4) > 1e-6:
+        assert going == "ENWS"[round(theta / (math.pi / 2)) % 4]
+
+
+def test_the_demo_fire_door_is_crossed_west_from_the_east() -> None:
+    door = load_world("demo").door("fire_door_east")
+    assert door.crossing_flow(31.0, 12.0) == "W"
+    assert door.crossing_flow(25.0, 11.5) == "E"
