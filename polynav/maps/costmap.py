@@ -255,6 +255,20 @@ class Costmap:
         self._inflation.update_costs(scratch, cell)
         return int(scratch[iy, ix])
 
+    def map_costs(self) -> CostSnapshot:
+        """The costs of the whole grid from the map and keepouts alone, inflated: what the
+        planner would see with nothing standing about. Whether a way the planner finds closed
+        is closed by the building (for good) or by something that may move on (another robot
+        at a corridor's mouth, a trolley). Composed afresh on each call: for the odd question."""
+        info = self._info
+        whole = win.full(info.width, info.height)
+        grid = np.full((info.height, info.width), self._default, dtype=np.uint8)
+        self._static.update_costs(grid, whole)
+        self._keepout.update_costs(grid, whole)
+        self._inflation.update_costs(grid, whole)
+        grid.flags.writeable = False
+        return CostSnapshot(info, grid)
+
     def update_scan(self, pose: Pose2D, scan: LaserScan) -> None:
         """Mark and clear ``scan`` taken at robot ``pose``, then recompose the changed window.
 

@@ -22,7 +22,9 @@ users). Three moments are decided here:
   have been closed, every way they leave has been tried: they are opened again and the robot
   retries, counted by place and time, so that something that has moved on (another robot, a
   trolley) does not end the goal, and one that stays ends it ``stuck`` with the passages named.
-  Without closures a plan that finds no way fails ``no path`` / ``goal occupied``.
+  Without closures, a way the map has but something seen closes (another robot at a
+  corridor's mouth) is retried the same way; a plan that finds no way on the map itself fails
+  ``no path`` / ``goal occupied`` at once.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from polynav.planning.errors import (
     StartOccupied,
     failure_cause,
 )
+from polynav.planning.interface import GlobalPlanner
 from polynav.planning.path import Path
 
 if TYPE_CHECKING:
@@ -67,6 +70,7 @@ class PlanFailures:
     config: NavigatorConfig
     _costmap: Costmap
     _controller: Controller
+    _planner: GlobalPlanner
     _wait: PeopleWait
     _goal_wait: GoalWait
     _clear: ClearCostmap
@@ -139,6 +143,17 @@ class PlanFailures:
         log.info("the route ahead was closed at (%.2f, %.2f), %.2f m on: steering round it",
                  place[0], place[1], touch.ahead)
         self._follow_plan(path, pose, now)
+        return True
+
+    def _way_on_the_map(self, pose: Pose2D) -> bool:
+        """Whether the map and keepouts alone (with the closed passages) leave a way to the
+        target: a plan on :meth:`~polynav.maps.costmap.Costmap.map_costs`."""
+        grid = self._passages.planning_grid(self._costmap.map_costs(), pose)
+        try:
+            self._planner.plan(grid, pose, self._target,
+                               goal_tolerance=self._require().options.near_tolerance)
+        except PlanningError:
+            return False
         return True
 
     def _on_blocked(self, pose: Pose2D, now: float) -> None:
@@ -218,5 +233,13 @@ class PlanFailures:
             # so the goal fails stuck, naming them, once the place's retries are spent.
             self._passages.reopen_all()
             self._retry("no way left but closed passages", pose, now)
+        elif (isinstance(exc, NoPath) and self._require().options.max_retries is None
+              and self._way_on_the_map(pose)):
+            # The building has a way: what closes it stands in it now (another robot passing a
+            # room's door, a trolley) and may move on. Retry, counted by place and time, so
+            # that a robot a corridor was closed to for a moment does not give its goal up in
+            # under a second (bench fleet seed 2), and one closed for good ends ``stuck``. A
+            # caller with its own retry limit (a lift leg) hears the failure at once.
+            self._retry("no way past what stands in it", pose, now)
         else:
             self._fail(reason, str(exc) or reason.value, now)

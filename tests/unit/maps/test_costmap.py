@@ -223,6 +223,20 @@ def test_map_cost_leaves_out_the_lidar_marks_but_keeps_walls_keepouts_and_inflat
         assert costmap.map_cost_at(x, y) == wide[iy, ix]
 
 
+def test_map_costs_are_the_whole_grid_from_the_map_and_keepouts_without_the_lidar_marks() -> None:
+    # The navigator's question when no way is found: does the building have one?
+    occupied = np.zeros((41, 41), dtype=bool)
+    occupied[:, 0] = True
+    costmap = Costmap.from_map(Map.from_occupied(occupied, resolution=0.05), CostmapConfig())
+    costmap.set_keepouts([CircleZone(x=1.525, y=1.525, radius=0.1)])
+    costmap.update_scan(Pose2D(0.525, 1.025, 0.0), scan({0.0: 0.5}))
+    alone = costmap.map_costs()
+    assert costmap.cost_at(1.025, 1.025) == LETHAL and alone.cost_at(1.025, 1.025) == FREE
+    np.testing.assert_array_equal(alone.costs, full_recomposition_without_lidar(costmap))
+    assert not alone.costs.flags.writeable
+    assert costmap.cost_at(1.025, 1.025) == LETHAL  # the live costs are left as they were
+
+
 def full_recomposition_without_lidar(costmap: Costmap) -> npt.NDArray[np.uint8]:
     info = costmap.info
     master = np.full((info.height, info.width), FREE, dtype=np.uint8)

@@ -17,7 +17,7 @@ from polynav.errors import ConfigError
 from polynav.geometry import Pose2D, Twist
 from polynav.localization.interface import LocalizationEstimate, LocalizationState
 from polynav.maps import costs
-from polynav.maps.costmap import CostmapConfig
+from polynav.maps.costmap import CostmapConfig, CostSnapshot
 from polynav.maps.map import MapInfo
 from polynav.nav import events
 from polynav.nav.attempt import FailureReason, GoalOptions, NavigationState
@@ -53,6 +53,9 @@ class FakeCostmap:
 
     def map_cost_at(self, x: float, y: float) -> int:
         return costs.LETHAL if self.goal_in_wall else costs.FREE
+
+    def map_costs(self) -> CostSnapshot:
+        return CostSnapshot(self.info, self.costs)
 
 
 @dataclass
@@ -150,14 +153,15 @@ def test_arrival_ends_succeeded_with_distance_travelled() -> None:
 
 
 def test_no_path_clears_the_costmap_once_then_fails() -> None:
-    planner = ScriptedPlanner([NoPath("walled in"), NoPath("walled in")])
+    # The third plan is on the map alone: walled in there too, so the failure is final.
+    planner = ScriptedPlanner([NoPath("walled in")] * 3)
     h = Harness(planner, ScriptedController())
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.run(0.5)
     attempt = h.nav.attempt
     assert attempt is not None and attempt.state is NavigationState.FAILED
     assert attempt.reason is FailureReason.NO_PATH
-    assert h.costmap.cleared == 1 and planner.calls == 2
+    assert h.costmap.cleared == 1 and planner.calls == 3
     assert h.kinds() == [
         "NavigationStarted", "PlanFailed", "NavigationRetry", "PlanFailed", "NavigationFailed"
     ]
@@ -183,6 +187,59 @@ def test_goal_occupied_and_outside_map_reasons() -> None:
     h2.nav.start(Pose2D(500.0, 0.0, 0.0), h2.now)
     h2.run(0.2)
     assert h2.nav.attempt is not None and h2.nav.attempt.reason is FailureReason.NO_PATH
+
+
+def test_a_way_the_map_has_but_something_closes_is_retried_and_taken_once_open() -> None:
+    # Closed twice on the live costmap (cleared between), open on the map alone: a robot at
+    # the corridor's mouth, say. Retried, not failed; the way opens on the next plan.
+    planner = ScriptedPlanner([NoPath("closed"), NoPath("closed")])
+    h = Harness(planner, ScriptedController(
+        [ControlStatus.TRACKING] * 200 + [ControlStatus.ARRIVED]))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(20.0, move=True)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.SUCCEEDED
+    assert "NavigationFailed" not in h.kinds()
+    retries = [e for e in h.log if isinstance(e, events.NavigationRetry)]
+    assert [e.cause for e in retries] == ["no path", "no way past what stands in it"]
+
+
+def test_a_way_closed_by_something_that_stays_ends_stuck_after_the_retry_budget() -> None:
+    planner = ClosedOnLiveCostmap()
+    h = Harness(planner, ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(60.0, move=True)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.STUCK
+    assert "no way past what stands in it" in attempt.message
+    assert attempt.ended_at is not None and attempt.ended_at >= h.nav.config.retry_min_time
+
+
+def test_a_caller_with_its_own_retry_limit_hears_no_path_at_once() -> None:
+    planner = ClosedOnLiveCostmap()
+    h = Harness(planner, ScriptedController())
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now, GoalOptions(max_retries=1))
+    h.run(1.0)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.reason is FailureReason.NO_PATH
+    assert planner.on_map == 0
+
+
+@dataclass
+class ClosedOnLiveCostmap:
+    """No way on the live costmap, a straight one on the map alone (another robot in it)."""
+
+    calls: int = 0
+    on_map: int = 0
+
+    def plan(self, costmap: object, start: Pose2D, goal: Pose2D, *,
+             goal_tolerance: float | None = None) -> Path:
+        self.calls += 1
+        if isinstance(costmap, FakeCostmap):
+            raise NoPath("a robot in the way")
+        self.on_map += 1
+        return Path(np.array([[start.x, start.y], [goal.x, goal.y]]))
 
 
 def test_goal_held_by_something_off_the_map_is_waited_for_then_reached() -> None:
