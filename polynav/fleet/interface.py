@@ -23,6 +23,11 @@ class Inbox(Protocol):
         used (not JSON, breaking its schema) as a :class:`~polynav.fleet.messages.Rejected`."""
         ...
 
+    def drain_topics(self) -> list[tuple[str, Received]]:
+        """As :meth:`drain`, each message with the topic it arrived on: the reader of a
+        wildcard subscription (``uagv/v2/<manufacturer>/+/state``) learns its sender there."""
+        ...
+
 
 class Transport(Protocol):
     """Publish messages to topics; subscribe to topics."""

@@ -13,6 +13,15 @@ each robot only through messages on a :class:`~polynav.fleet.interface.Transport
 - it keeps the last **state** of each robot, which ``GET /api/fleet`` shows; a message from a
   robot that breaks its schema is logged and not used.
 
+It listens with one wildcard subscription per kind (``uagv/v2/<manufacturer>/+/state`` and
+``.../+/zoneRequest``), made once at construction: the subscriptions do not grow with the
+fleet (a thousand robots are two filters, not two thousand topics), and a robot not known at
+start is heard. The sender is the topic's serial number; a message whose own
+manufacturer or serial number disagrees with its topic is dropped (logged once per topic and
+kind: a misconfigured robot must not speak for another, nor flood the log). A robot first
+heard by its state or a zone request is adopted (as the fleet manager adopts one announced by
+its ``connection``, docs/decisions.md); :meth:`MasterControl.take_adopted` says which.
+
 Its messages carry VDA 5050 headers of ``version`` from ``manufacturer`` (one fleet of one
 manufacturer's vehicles), stamped on the site's clock.
 
@@ -47,8 +56,6 @@ class Stop:
 
 @dataclass(slots=True)
 class _Robot:
-    states: Inbox
-    zone_requests: Inbox
     state: m.State | None = None
     state_at: float | None = None
     order_count: int = 0
@@ -85,19 +92,32 @@ class MasterControl:
         # each time it changes.
         self._told_places: dict[tuple[str, str], tuple[str, int]] = {}
         self.zone_requests = 0
+        self.mismatched = 0  # messages dropped: their header disagreed with their topic
+        self._mismatch_said: set[tuple[str, str]] = set()
+        self._adopted: list[str] = []
+        self._states: Inbox = transport.subscribe(self._topic("+", m.State))
+        self._zone_requests: Inbox = transport.subscribe(self._topic("+", m.ZoneRequest))
 
     def add_robot(self, serial_number: str) -> None:
-        """Listen to a robot's state and zone requests.
+        """Take a robot into the fleet (its state and zone requests are heard through the
+        wildcard subscriptions whether or not it is added; see the module docstring).
 
         Raises:
             InvalidRequest: an empty or already known serial number.
         """
         if not serial_number or serial_number in self._robots:
             raise InvalidRequest("serial_number", f"{serial_number!r} is empty or known")
-        self._robots[serial_number] = _Robot(
-            states=self.transport.subscribe(self._topic(serial_number, m.State)),
-            zone_requests=self.transport.subscribe(self._topic(serial_number, m.ZoneRequest)),
-        )
+        self._robots[serial_number] = _Robot()
+
+    def knows(self, serial_number: str) -> bool:
+        """Whether ``serial_number`` is in the fleet (added, or adopted when first heard)."""
+        return serial_number in self._robots
+
+    def take_adopted(self) -> list[str]:
+        """The robots adopted since the last call, first heard by a state or a zone request
+        rather than added, in the order they were heard."""
+        adopted, self._adopted = self._adopted, []
+        return adopted
 
     def set_online(self, serial_number: str, online: bool) -> None:
         """Whether the robot's connection is up; an offline robot's zone requests are
@@ -204,25 +224,30 @@ class MasterControl:
     def tick(self, now: float) -> None:
         """Read states and zone requests, answer them, and tell robots what the lease book did."""
         self._now = now
-        for serial, robot in self._robots.items():
-            for state in robot.states.drain():
-                if isinstance(state, m.State):
-                    robot.state, robot.state_at = state, now
-                else:
-                    log.warning("a state of %s not used: %s", serial, state)
-        for serial, robot in self._robots.items():
-            for request in robot.zone_requests.drain():
-                if isinstance(request, m.ZoneRequest) and robot.offline:
-                    # Sent before its connection was lost, read after: the leases it had are
-                    # revoked, and it gets none while away.
-                    log.warning("zone request %s of %s refused: it is offline",
-                                request.request_id, serial)
-                    self._respond(serial, request.request_id, request.zone_id,
-                                  m.GrantType.REJECTED, None)
-                elif isinstance(request, m.ZoneRequest):
-                    self._answer(serial, request, now)
-                else:
-                    log.warning("a zone request of %s not used: %s", serial, request)
+        for topic, state in self._states.drain_topics():
+            serial = self._sender(topic, state)
+            if serial is None:
+                continue
+            if isinstance(state, m.State):
+                robot = self._robots[serial]
+                robot.state, robot.state_at = state, now
+            else:
+                log.warning("a state of %s not used: %s", serial, state)
+        for topic, request in self._zone_requests.drain_topics():
+            serial = self._sender(topic, request)
+            if serial is None:
+                continue
+            if not isinstance(request, m.ZoneRequest):
+                log.warning("a zone request of %s not used: %s", serial, request)
+            elif self._robots[serial].offline:
+                # Sent before its connection was lost, read after: the leases it had are
+                # revoked, and it gets none while away.
+                log.warning("zone request %s of %s refused: it is offline",
+                            request.request_id, serial)
+                self._respond(serial, request.request_id, request.zone_id,
+                              m.GrantType.REJECTED, None)
+            else:
+                self._answer(serial, request, now)
         self.leases.tick(now)
         self.answer_lease_changes()
 
@@ -309,6 +334,42 @@ class MasterControl:
         self.transport.publish(
             self._topic(serial, m.ZoneResponse),
             m.ZoneResponse(next(self._headers), serial, request_id, zone, grant, expiry, place))
+
+    def _sender(self, topic: str, message: m.Received) -> str | None:
+        """The robot that sent ``message`` on ``topic``: the topic's serial number, adopted if
+        new (a :class:`~polynav.fleet.messages.Rejected` adopts no one: its caller logs it);
+        None (dropped, logged once per topic and kind) if the topic is not a vehicle's of this
+        manufacturer or the message's header names another vehicle."""
+        levels = topic.split("/")
+        serial = levels[3] if len(levels) == 5 else ""
+        kind = levels[-1]
+        if (not serial or levels[:3] != [m.INTERFACE, m.MAJOR, self.manufacturer]
+                or "+" in serial or "#" in serial):
+            self._mismatch(topic, kind, f"not a vehicle topic of {self.manufacturer}")
+            return None
+        said: tuple[str, str] | None = None
+        if isinstance(message, m.State):
+            said = (message.header.manufacturer, message.header.serial_number)
+        elif isinstance(message, m.ZoneRequest):
+            said = (self.manufacturer, message.serial_number)
+        if said is not None and said != (self.manufacturer, serial):
+            self._mismatch(topic, kind, f"its header is of {said[0]}/{said[1]}")
+            return None
+        if serial not in self._robots and not isinstance(message, m.Rejected):
+            self._robots[serial] = _Robot()
+            self._adopted.append(serial)
+            log.info("robot %s adopted: first heard by its %s", serial, kind)
+        return serial
+
+    def _mismatch(self, topic: str, kind: str, why: str) -> None:
+        self.mismatched += 1
+        key = (topic, kind)
+        if key in self._mismatch_said:
+            log.debug("a %s on %s dropped: %s", kind, topic, why)
+            return
+        self._mismatch_said.add(key)
+        log.warning("a %s on %s dropped: %s (further ones on this topic are dropped "
+                    "silently)", kind, topic, why)
 
     def _topic(self, serial_number: str, kind: type) -> str:
         return m.topic(serial_number, kind, self.manufacturer)

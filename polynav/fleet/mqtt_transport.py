@@ -140,11 +140,16 @@ class _Queue(Generic[T]):
         self.topic_filter = topic_filter
         self.max_message = max_message
         self.dropped = 0
-        self._items: deque[T] = deque()
+        self._items: deque[tuple[str, T]] = deque()
         self._arrived = threading.Condition()
 
     def drain(self) -> list[T]:
         """What arrived since the last drain, oldest first."""
+        return [item for _, item in self.drain_topics()]
+
+    def drain_topics(self) -> list[tuple[str, T]]:
+        """What arrived since the last drain, oldest first, each with the topic it came on
+        (a wildcard subscription's reader learns the sender from it)."""
         with self._arrived:
             items = list(self._items)
             self._items.clear()
@@ -164,12 +169,12 @@ class _Queue(Generic[T]):
             self.dropped += 1
             log.warning("dropped a message on %s: %s", message.topic, str(exc)[:300])
             return False
-        self._put(item)
+        self._put(message.topic, item)
         return True
 
-    def _put(self, item: T) -> None:
+    def _put(self, topic: str, item: T) -> None:
         with self._arrived:
-            self._items.append(item)
+            self._items.append((topic, item))
             self._arrived.notify_all()
 
     def read(self, message: paho.MQTTMessage) -> T:
@@ -196,7 +201,7 @@ class MessageInbox(_Queue[Received]):
             self.dropped += 1
             reason = item.reason if len(item.reason) <= 300 else item.reason[:300] + "..."
             log.warning("refused a message on %s: %s", message.topic, reason)
-        self._put(item)
+        self._put(message.topic, item)
         return not isinstance(item, Rejected)
 
     def read(self, message: paho.MQTTMessage) -> Received:

@@ -44,11 +44,15 @@ class LocalInbox:
 
     def __init__(self, client: _Pump) -> None:
         self._client = client
-        self.items: list[m.Received] = []
+        self.items: list[tuple[str, m.Received]] = []
 
     def drain(self) -> list[m.Received]:
         """The messages since the last drain, oldest first (reads the connection first, unless
         the client is pumped by its owner)."""
+        return [item for _, item in self.drain_topics()]
+
+    def drain_topics(self) -> list[tuple[str, m.Received]]:
+        """As :meth:`drain`, each message with the topic it arrived on."""
         if self._client.auto_pump:
             self._client.pump()
         items, self.items = self.items, []
@@ -128,10 +132,10 @@ class SharedClient:
                 if self._observer is not None:
                     self._observer(serial or "", kind, item, now)
                 if inbox is not None:
-                    inbox.items.append(item)
+                    inbox.items.append((message.topic, item))
                     self._touched.add(serial or "")
                 if every is not None:
-                    every.items.append(item)
+                    every.items.append((message.topic, item))
 
     def take_touched(self) -> set[str]:
         """The serial numbers that messages were handed to since the last call: a process of

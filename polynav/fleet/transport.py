@@ -25,20 +25,25 @@ class QueueInbox:
 
     def __init__(self, kind: str) -> None:
         self._kind = kind
-        self._queue: deque[bytes] = deque()
+        self._queue: deque[tuple[str, bytes]] = deque()
 
-    def put(self, data: bytes) -> None:
-        self._queue.append(data)
+    def put(self, topic: str, data: bytes) -> None:
+        self._queue.append((topic, data))
 
     def drain(self) -> list[Received]:
         """The messages since the last drain, oldest first; one that cannot be used (not JSON,
         breaking its schema) as a :class:`~polynav.fleet.messages.Rejected`."""
+        return [item for _, item in self.drain_topics()]
+
+    def drain_topics(self) -> list[tuple[str, Received]]:
+        """As :meth:`drain`, each message with the topic it was published on."""
         out = []
         while self._queue:
-            item = codec.read(self._kind, self._queue.popleft())
+            topic, data = self._queue.popleft()
+            item = codec.read(self._kind, data)
             if isinstance(item, Rejected):
-                log.warning("refused a %s message: %s", self._kind, item.reason)
-            out.append(item)
+                log.warning("refused a %s message on %s: %s", self._kind, topic, item.reason)
+            out.append((topic, item))
         return out
 
 
@@ -92,7 +97,7 @@ class InProcessTransport:
                             if _matches(pattern, levels)]
             self.published += 1
         for inbox in inboxes:
-            inbox.put(data)
+            inbox.put(topic, data)
 
 
 def _matches(pattern: tuple[str, ...], levels: list[str]) -> bool:

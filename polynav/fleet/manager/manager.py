@@ -5,7 +5,9 @@ MasterControl`, which it holds (orders, instant actions and zone answers go thro
 the fleet's :class:`~polynav.fleet.records.FleetRecords`. Each :meth:`FleetManager.tick`:
 
 - reads every robot's ``connection`` (one subscription, ``uagv/v2/<manufacturer>/+/
-  connection``): a robot saying ONLINE is added to the fleet (and asked for its state); one
+  connection``; the master control's states and zone requests are one wildcard subscription
+  each too, so the subscriptions do not grow with the fleet): a robot saying ONLINE, or first
+  heard by its state or a zone request, is added to the fleet (and asked for its state); one
   whose last will arrives (CONNECTIONBROKEN) or that says OFFLINE loses its leases (the lease
   book's and the records') and its mission goes back in the queue, for another robot; back
   ONLINE, its first state says whether it still drives that mission's order: if no other
@@ -124,7 +126,8 @@ class FleetManager:
         _check_serial(serial)
         with self._lock:
             if serial not in self._link:
-                self.master.add_robot(serial)
+                if not self.master.knows(serial):
+                    self.master.add_robot(serial)
                 self._link[serial] = m.ConnectionState.ONLINE.value
 
     def robots(self) -> list[RobotView]:
@@ -222,7 +225,8 @@ class FleetManager:
             # States and zone requests first: what a lost robot sent before its will came is
             # read before the will revokes its leases (not granted again after).
             self.master.tick(now)
-            if self._read_connections(now):
+            adopted = self._adopt(now)
+            if self._read_connections(now) or adopted:
                 self.master.answer_lease_changes()
             try:
                 self._follow_missions(now)
@@ -267,9 +271,24 @@ class FleetManager:
                 log.error("fleet manager: connection of %s to %s: %s", serial, state, exc)
         return changed
 
+    def _adopt(self, now: float) -> bool:
+        """Take into the fleet the robots the master control first heard by a state or a zone
+        request (before their ``connection``, or with none of their own): a robot that speaks
+        is ONLINE, as if it had said so; whether any was."""
+        adopted = False
+        for serial in self.master.take_adopted():
+            if serial in self._link:
+                continue
+            adopted = True
+            try:
+                self._connection_changed(serial, m.ConnectionState.ONLINE.value, None, now)
+            except PolynavError as exc:
+                log.error("fleet manager: adopting %s: %s", serial, exc)
+        return adopted
+
     def _connection_changed(self, serial: str, state: str, before: str | None,
                             now: float) -> None:
-        if serial not in self._link:
+        if not self.master.knows(serial):
             self.master.add_robot(serial)
         self._link[serial] = state
         self.master.set_online(serial, state == m.ConnectionState.ONLINE.value)
