@@ -185,3 +185,32 @@ def test_a_state_whose_header_disagrees_with_its_topic_is_dropped_with_one_log_l
     honest.state()
     assert ticker.until(lambda: (s := manager.robot("r1").state) is not None
                         and s.agv_position is not None and s.agv_position.x == 2.0)
+
+
+class OtherMaker(Robot):
+    """A robot whose headers name another manufacturer than its topics'."""
+
+    def _header(self) -> m.Header:
+        header = super()._header()
+        return m.Header(header.header_id, header.timestamp, header.version, "acme",
+                        header.serial_number)
+
+
+def test_a_state_of_another_manufacturer_on_our_topic_adopts_no_one(
+        clients: Callable[[str], MqttTransport], records: FleetRecords,
+        caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.WARNING, logger="polynav.fleet.master_control")
+    mqtt = clients("test/fleet")
+    manager = FleetManager(mqtt, records, Site())
+    assert mqtt.wait_subscribed(WAIT)
+    side = clients("test/robots")
+    stranger, honest = OtherMaker(side, "s1", 3.0), Robot(side, "r1", 1.0)
+    assert side.wait_subscribed(WAIT)
+    stranger.state()
+    stranger.state()
+    honest.state()
+    ticker = Ticker(manager)
+    assert ticker.until(lambda: _heard(manager, "r1") and manager.master.mismatched == 2)
+    assert [r.serial for r in manager.robots()] == ["r1"]
+    lines = [r.getMessage() for r in caplog.records if "dropped" in r.getMessage()]
+    assert len(lines) == 1 and "acme/s1" in lines[0], lines
