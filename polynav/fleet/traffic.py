@@ -82,6 +82,12 @@ class TrafficConfig:
             ``lookahead`` [m]: a robot waiting near the lookahead whose resumed path came out a
             few centimetres longer gave the zone back on being granted it, and queued again at
             the back.
+        release_grace: a zone held while the goal runs is given back only once the path has not
+            needed it for this long [s]. A path changes for a moment (a re-plan round a walker,
+            none between two plans): a robot going west through floor 1's corridor gave back
+            the far segments for one check, a robot waiting for them took them at once, and
+            the first, standing in the corridor, waited behind it for the rest of its mission
+            (bench fleet seeds 0 and 3).
         reask_after: a request not granted is asked again (same id: a waiter keeps its place)
             when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
             while the fleet manager was off the broker (it comes back after the robot) is lost,
@@ -96,12 +102,14 @@ class TrafficConfig:
     leave_within: float = 1.5
     queue_spacing: float = 1.5
     keep_margin: float = 1.0
+    release_grace: float = 2.0
     reask_after: float = 5.0
 
     def __post_init__(self) -> None:
         check_positive(self, _KEY, ("lookahead", "stop_distance", "lease_duration",
                                     "renew_before", "check_period", "leave_within",
-                                    "queue_spacing", "keep_margin", "reask_after"))
+                                    "queue_spacing", "keep_margin", "release_grace",
+                                    "reask_after"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
         if self.renew_before >= self.lease_duration:
@@ -118,6 +126,8 @@ class _ZoneLease:
     renew_sent: float = -math.inf
     flow: str | None = None
     heard: float = -math.inf  # when it was last asked for or answered [s]
+    needed: float = -math.inf  # when the path last needed it [s]
+    passage: int = 0  # the zone group it belongs to
 
 
 _NONE = _ZoneLease("")
@@ -129,6 +139,7 @@ class _Run:
 
     zones: tuple[str, ...]  # in path order
     numbers: tuple[int, ...]
+    group: int
     entry: float
     entries: tuple[float, ...]
     ordered: tuple[str, ...]  # in ascending zone number: the order they are asked for in
@@ -137,7 +148,7 @@ class _Run:
     def of(cls, zmap: ZoneMap, run: ZoneRun) -> _Run:
         zones = tuple(zmap.zone_id(n) for n in run.segments)
         number = dict(zip(zones, run.segments, strict=True))
-        return cls(zones, run.segments, run.entry, run.entries,
+        return cls(zones, run.segments, run.group, run.entry, run.entries,
                    tuple(sorted(zones, key=number.__getitem__)))
 
 
@@ -151,6 +162,12 @@ class _Plan:
     inside: _Run | None = None
     ahead: _Run | None = None
     in_zone: bool = False
+    active: bool = False  # a goal runs (or stands paused): its path may be between plans
+
+    @property
+    def passages(self) -> set[int]:
+        """The zone groups of the passages it needs."""
+        return {run.group for run in (self.inside, self.ahead) if run is not None}
 
 
 class TrafficRule:
@@ -257,9 +274,16 @@ class TrafficRule:
                 self._ask(run, plan)
         for zone_id, lease in list(self._leases.items()):
             if zone_id not in needed:
-                self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
-                del self._leases[zone_id]
-            elif lease.granted and lease.expiry - now < self.config.renew_before and (
+                if not (plan.active and lease.granted and lease.passage in plan.passages
+                        and now - lease.needed < self.config.release_grace):
+                    self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
+                    del self._leases[zone_id]
+                # else kept a moment: a segment of a passage it still needs, which the path
+                # may come back to (release_grace); another passage's goes at once, or it
+                # would hold one while it waits for the next (docs/fleet.md: why no deadlock)
+                continue
+            lease.needed = now
+            if lease.granted and lease.expiry - now < self.config.renew_before and (
                     now - lease.renew_sent > self.config.check_period * 5):
                 lease.renew_sent = now
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
@@ -316,7 +340,7 @@ class TrafficRule:
         if self._driving(run):
             for zone_id in run.zones:
                 if zone_id not in self._leases:
-                    self._request(zone_id, plan.needed[zone_id])
+                    self._request(zone_id, plan.needed[zone_id], run.group)
             return
         missing = self._missing(run)
         if missing is None:
@@ -326,7 +350,7 @@ class TrafficRule:
             if zone_id == missing:
                 after = True
                 if zone_id not in self._leases:
-                    self._request(zone_id, plan.needed[zone_id])
+                    self._request(zone_id, plan.needed[zone_id], run.group)
             elif after and zone_id in self._leases:
                 # Asked or held out of order (the path changed): give it back for now.
                 lease = self._leases.pop(zone_id)
@@ -435,11 +459,12 @@ class TrafficRule:
             for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
-        return _Plan(needed, inside, ahead, current != 0)
+        return _Plan(needed, inside, ahead, current != 0, active=True)
 
-    def _request(self, zone_id: str, flow: str | None) -> None:
+    def _request(self, zone_id: str, flow: str | None, passage: int) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
-        self._leases[zone_id] = _ZoneLease(request_id, flow=flow, heard=self._now)
+        self._leases[zone_id] = _ZoneLease(request_id, flow=flow, heard=self._now,
+                                           passage=passage)
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
 

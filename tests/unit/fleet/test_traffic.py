@@ -416,3 +416,39 @@ def test_robots_on_a_long_corridor_get_through_and_use_its_segments_at_once() ->
     assert both_ends_busy
     assert fleet.book.resources() == () or all(
         not fleet.book.leases(z) for z in fleet.book.resources())
+
+
+def test_segments_ahead_are_kept_while_the_path_is_away_a_moment_not_longer() -> None:
+    # Between two plans (no path) the robot needs only the segment it stands in; giving the
+    # rest back at once let a waiter take them, and the robot, standing in the corridor,
+    # waited behind it (bench fleet seeds 0 and 3). Kept for release_grace, then given back.
+    zones = {"m": find_zones("m", _long_corridor())}
+    fleet = _Fleet()
+    robot = _Robot(Pose2D(3.0, 4.5, 0.0), Path(np.array([(3.0, 4.5), (22.0, 4.5), (22.0, 2.0)])))
+    config = TrafficConfig(release_grace=2.0)
+    rule = fleet.rules["r1"] = TrafficRule("r1", zones, config, fleet.sender("r1"))
+    for _ in range(20):
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        fleet.now = round(fleet.now + 0.2, 1)
+    held = rule.held
+    assert len(held) >= 3 and all(fleet.book.lease(z, "r1") is not None for z in held)
+    robot.navigation_stack.navigator.path = None  # type: ignore[assignment]
+    here = zones["m"].zone_id(zones["m"].zone_at(3.0, 4.5))
+    start = fleet.now
+    while fleet.now - start < config.release_grace - 0.3:
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        assert rule.held == held
+        fleet.now = round(fleet.now + 0.2, 1)
+    robot.navigation_stack.navigator.path = robot.path  # the next plan: the same way
+    rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+    assert rule.held == held
+    robot.navigation_stack.navigator.path = None  # type: ignore[assignment]
+    start = fleet.now
+    while fleet.now - start < config.release_grace + 0.5:
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        fleet.now = round(fleet.now + 0.2, 1)
+    assert rule.held == (here,)
+    assert [z for z in held if fleet.book.lease(z, "r1") is not None] == [here]
