@@ -36,7 +36,9 @@ moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated rob
 :mod:`~polynav.runtime.step_hooks` (timers and step listeners) and
 :mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
 parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
-:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves), over the shared
+:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves) and
+:mod:`~polynav.runtime.control_tick` (one physics step's work and the checks that publish
+events), over the shared
 :mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes and settings.
 """
 
@@ -53,7 +55,6 @@ from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
 from polynav.errors import Conflict
 from polynav.geometry import Pose2D, Twist
-from polynav.localization.interface import LocalizationState
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
 from polynav.nav import events as nav_events
@@ -70,6 +71,7 @@ from polynav.runtime.auto_charge import AutoCharge
 from polynav.runtime.automation_tasks import AutomationTasks
 from polynav.runtime.cart_commands import CartCommands
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
+from polynav.runtime.control_tick import ControlTick
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
 from polynav.runtime.direct_motion import DirectMotion
@@ -108,12 +110,10 @@ log = logging.getLogger(__name__)
 
 T = TypeVar("T")
 
-_EPS = 1e-9
-
 
 class RobotRuntime(
     NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
-    MappingCommands, MaplessCommands, StatusReport,
+    MappingCommands, MaplessCommands, StatusReport, ControlTick,
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
@@ -462,96 +462,6 @@ class RobotRuntime(
         self.tick()
         self._backend.step()
         self.stepped()
-
-    def tick(self) -> None:
-        """Everything of one physics step but the physics: timers, the dead-man and, when due,
-        a control tick. Robots sharing one simulated world are each ticked, then the world is
-        stepped once (:mod:`polynav.house.building`); call it between steps only."""
-        now = self.now()
-        self._hooks.run_due(now)
-        self._motion.brake_if_expired(now)  # the dead-man
-        if now >= self._next_control - _EPS:
-            self._control(now)
-            self._next_control += self._control_period
-            if self._next_control <= now:
-                self._next_control = now + self._control_period
-
-    def _control(self, now: float) -> None:
-        estop = self._check_estop(now)
-        stack = self._stack
-        if stack is not None:
-            if self._settings_dirty and not self._goal_active():
-                stack = self._rebuild_stack()
-            stack.software_estop = self._software_estop
-            stack.tick(now)
-            self._attempts.follow(stack.navigator.attempt)
-            self._route_tick(now)
-            stack = self._stack  # a lift ride switches maps: a new stack
-        self._hold_tick(now)
-        self._no_entry.tick(now, stack, self._attempts.attempt_id)
-        self.doors_rule.tick(now)
-        explored = self._map_tick(now, estop)
-        override = self._motion.override(now, estop, self._free_ahead)
-        commanded = Twist()
-        if override is not None:
-            self._robot.drive(override)
-            commanded = override
-        elif explored is not None:
-            self._robot.drive(explored)
-            commanded = explored
-        elif stack is None:
-            self._robot.drive(Twist())
-        else:
-            commanded = stack.command
-        self._check_localization(now)
-        if stack is not None and self._grid is not None:  # LOST is published, then searched
-            lost = stack.estimate.state is LocalizationState.LOST
-            self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
-        self._check_battery(now)
-        self._auto_charge.tick(now)
-        self.tasks.tick(now)
-        self.device.tick(now, commanded)
-        self.peripherals.tick(now)
-        self._refresh()
-
-    def _map_tick(self, now: float, estop: bool) -> Twist | None:
-        """Feed the mapping session; the exploration's velocity while it explores."""
-        session = self._mapping
-        if session is None:
-            return None
-        odometry, scan = self._robot.read_odometry(), self._robot.read_scan()
-        session.tick(odometry, scan)
-        exploration = self._exploration
-        if exploration is None or exploration.done:
-            return None
-        twist = exploration.tick(now, session.live_map, session.pose, odometry.twist, scan,
-                                 estop)
-        if exploration.done:
-            self._publish(events.ExplorationFinished(now, exploration.targets))
-        return twist
-
-    # -- state checks that publish events ----------------------------------------------------
-
-    def _check_estop(self, now: float) -> bool:
-        event = self._estop.update(now, self._robot.estop_pressed(), self._software_estop)
-        if event is not None:
-            self._publish(event)
-        return self._estop.active
-
-    def _check_localization(self, now: float) -> None:
-        if self._stack is None:
-            state, quality = LocalizationState.UNINITIALIZED.value, 0.0
-        else:
-            estimate = self._stack.estimate
-            state, quality = estimate.state.value, estimate.quality
-        event = self._localization.update(now, state, quality)
-        if event is not None:
-            self._publish(event)
-
-    def _check_battery(self, now: float) -> None:
-        battery = self._robot.read_battery()
-        for event in self._battery.update(now, battery, self._settings.low_battery_percent):
-            self._publish(event)
 
     # -- navigation internals ----------------------------------------------------------------
 
