@@ -35,11 +35,12 @@ low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (te
 moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated robot),
 :mod:`~polynav.runtime.step_hooks` (timers and step listeners) and
 :mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
-parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
-:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves) and
+parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel),
+:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves),
 :mod:`~polynav.runtime.control_tick` (one physics step's work and the checks that publish
-events), over the shared
-:mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes and settings.
+events) and :mod:`~polynav.runtime.settings_commands` (reading and changing settings), over
+the shared :mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes
+and settings.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from __future__ import annotations
 import datetime as dt
 import logging
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from pathlib import Path
 from typing import TypeVar
 
@@ -97,6 +98,7 @@ from polynav.runtime.patrols import Patrols
 from polynav.runtime.placement import Placement, ReportedPlacement, SimulatedPlacement
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
+from polynav.runtime.settings_commands import SettingsCommands
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
@@ -112,7 +114,7 @@ T = TypeVar("T")
 
 
 class RobotRuntime(
-    NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
+    SettingsCommands, NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
     MappingCommands, MaplessCommands, StatusReport, ControlTick,
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
@@ -338,14 +340,6 @@ class RobotRuntime(
         """The snapshot of the last refresh (O(1), no lock)."""
         return self._snapshot
 
-    def settings(self) -> RobotSettings:
-        return self._settings
-
-    def stack_config(self) -> StackConfig:
-        """The navigation stack's configuration under the current settings (the planner and
-        costmap a query should use to answer as the robot would plan)."""
-        return self._settings.stack_config(self._base_stack_config)
-
     @property
     def navigation_stack(self) -> NavigationStack | None:
         """The navigation stack while NAVIGATING (costmap, navigator, estimate), else ``None``.
@@ -368,34 +362,6 @@ class RobotRuntime(
         """Run ``fn`` on the loop, between steps, ``delay`` seconds of the runtime's clock from
         now (for services: a power-off 10 s after its notice). Call it between ticks."""
         self._hooks.schedule(self.now() + max(0.0, delay), fn)
-
-    # -- commands ------------------------------------------------------------------------------
-
-    def update_settings(self, changes: Mapping[str, object]) -> RobotSettings:
-        """Validate, persist and apply ``changes``; returns the new settings.
-
-        Speed limits for teleop apply at once; the navigation stack takes the new values
-        between goals (a running goal finishes with the old ones).
-
-        Raises:
-            InvalidRequest: unknown name, wrong type or out of range (``field`` names it).
-            BeyondProfile: a speed above the robot profile's limits, a planning footprint
-                below its body.
-        """
-        with self._settings_lock:
-            new = self._settings.apply(changes, self.profile)
-            stored = new.to_dict()
-            self.store.update_settings({key: stored[key] for key in changes})
-
-            def run() -> None:
-                self._settings = new
-                self._settings_dirty = True
-                if self._stack is not None and not self._goal_active():
-                    self._rebuild_stack()
-
-            self._call(run)
-        log.info("settings updated: %s", dict(changes))
-        return new
 
     # -- running -------------------------------------------------------------------------------
 
