@@ -38,7 +38,8 @@ moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated rob
 parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel),
 :mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves),
 :mod:`~polynav.runtime.control_tick` (one physics step's work and the checks that publish
-events) and :mod:`~polynav.runtime.settings_commands` (reading and changing settings), over
+events), :mod:`~polynav.runtime.settings_commands` (reading and changing settings) and
+:mod:`~polynav.runtime.loop_commands` (running the loop, calls between ticks, timers), over
 the shared :mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes
 and settings.
 """
@@ -48,9 +49,7 @@ from __future__ import annotations
 import datetime as dt
 import logging
 import threading
-from collections.abc import Callable
 from pathlib import Path
-from typing import TypeVar
 
 from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
@@ -85,6 +84,7 @@ from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.runtime.lift_commands import LiftCommands
 from polynav.runtime.lift_sessions import LocalLiftSessions
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.loop_commands import LoopCommands
 from polynav.runtime.map_exchange import MapExchange
 from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
@@ -110,12 +110,10 @@ from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
 
-T = TypeVar("T")
-
 
 class RobotRuntime(
     SettingsCommands, NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
-    MappingCommands, MaplessCommands, StatusReport, ControlTick,
+    MappingCommands, MaplessCommands, StatusReport, ControlTick, LoopCommands,
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
@@ -349,85 +347,9 @@ class RobotRuntime(
         """
         return self._stack
 
-    def run_between_ticks(self, fn: Callable[[], T]) -> T:
-        """Run ``fn`` between ticks (on the loop thread when it runs) and return its result:
-        for services and queries that read or change several parts consistently."""
-        return self._call(fn)
-
     def publish(self, event: events.RuntimeEvent) -> None:
         """Publish ``event`` on the runtime's bus (for the runtime's own services)."""
         self._publish(event)
-
-    def schedule(self, delay: float, fn: Callable[[], None]) -> None:
-        """Run ``fn`` on the loop, between steps, ``delay`` seconds of the runtime's clock from
-        now (for services: a power-off 10 s after its notice). Call it between ticks."""
-        self._hooks.schedule(self.now() + max(0.0, delay), fn)
-
-    # -- running -------------------------------------------------------------------------------
-
-    def advance(self, seconds: float) -> None:
-        """Run the loop for ``seconds`` of simulated time, as fast as the machine goes.
-
-        Raises:
-            Conflict: the loop thread is running (:meth:`start`).
-        """
-        self.advance_until(lambda: False, timeout=seconds)
-
-    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
-        """Run the loop until ``done()`` holds (checked every physics step) or ``timeout``
-        simulated seconds pass.
-
-        Returns:
-            Whether ``done()`` held.
-
-        Raises:
-            Conflict: the loop thread is running.
-        """
-        return self._loop.advance_until(done, timeout)
-
-    def start(self) -> None:
-        """Run the loop on a daemon thread, simulated time paced at ``speed`` × wall time."""
-        self._loop.start()
-        log.info("runtime started at %gx real time", self.config.speed)
-
-    def stop(self) -> None:
-        """Stop the loop thread and wait for it; queued commands still run. Idempotent."""
-        self.automations.close()
-        if self._loop.stop():
-            log.info("runtime stopped at t=%.2f", self.now())
-
-    @property
-    def running(self) -> bool:
-        return self._loop.running
-
-    def _call(self, fn: Callable[[], T]) -> T:
-        """Run a command between ticks: on the loop thread when it runs, else here.
-
-        Raises:
-            Conflict: the robot is powered off.
-        """
-        if not self.powered:
-            raise Conflict("the robot is powered off")
-        return self._loop.call(fn)
-
-    # -- the loop ------------------------------------------------------------------------------
-
-    def add_step_listener(self, listener: Callable[[float], None]) -> Callable[[], None]:
-        """Call ``listener(now)`` on the loop after every physics step, when the backend's
-        readings are new: for servers that stream sensors at their own rates on the runtime's
-        clock (a scan at 15 Hz of simulated time). It must be quick and must not block: copy what
-        it needs and hand it to its own thread. Returns the function that removes it."""
-        return self._hooks.add_listener(listener)
-
-    def stepped(self) -> None:
-        """Tell the step listeners a physics step happened (the fleet's shared world calls it
-        for each robot after stepping the world once)."""
-        self._hooks.stepped(self.now())
-
-    def _step(self) -> None:
-        self.tick()
-        self._backend.step()
-        self.stepped()
 
     # -- navigation internals ----------------------------------------------------------------
 
