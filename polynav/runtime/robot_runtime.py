@@ -57,7 +57,6 @@ from polynav.errors import Conflict
 from polynav.geometry import Pose2D, Twist
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
-from polynav.nav import events as nav_events
 from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
 from polynav.robot.interface import Backend, Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
@@ -92,7 +91,7 @@ from polynav.runtime.mapping_jobs import MappingJobs
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_commands import NavigationCommands
-from polynav.runtime.navigation_events import AttemptBook, translate
+from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.no_entry import NoEntrySigns
 from polynav.runtime.patrols import Patrols
 from polynav.runtime.placement import Placement, ReportedPlacement, SimulatedPlacement
@@ -353,16 +352,6 @@ class RobotRuntime(
 
     # -- navigation internals ----------------------------------------------------------------
 
-    def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
-        run = self._route
-        if run is not None:  # a leg of a goal on another map: reported as the route's
-            for runtime_event in translate(event, run.attempt_id, None):
-                if not isinstance(runtime_event, _LEG_ENDS):
-                    self._publish(runtime_event)
-            return
-        for runtime_event in self._attempts.record(event):
-            self._publish(runtime_event)
-
     def _set_mode(self, mode: Mode) -> None:
         old = self._mode
         if old is mode:
@@ -391,11 +380,6 @@ class RobotRuntime(
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.tasks.note(event)
         self.bus.publish(event)
-
-
-_LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,
-             events.NavigationCanceled)
-"""A route's legs start and end inside its one attempt: those events are the route's own."""
 
 
 def _first_floor(store: SiteData) -> str:
