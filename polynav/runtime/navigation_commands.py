@@ -1,6 +1,6 @@
 """Navigation commands of the runtime: start and stop navigation on a map, the initial pose,
-relocalization, and the navigation stack's life (built for a map, rebuilt for new settings,
-dropped at the end).
+relocalization, the navigation stack's life (built for a map, rebuilt for new settings,
+dropped at the end), and its navigator's events published as the runtime's.
 
 Part of :class:`~polynav.runtime.robot_runtime.RobotRuntime` (see
 :mod:`~polynav.runtime.internals`). Starting or stopping navigation from outside a task takes
@@ -11,22 +11,30 @@ from __future__ import annotations
 
 import logging
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.geometry import Pose2D, Twist
 from polynav.mapping.relocalization import Relocalization
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
+from polynav.nav import events as nav_events
 from polynav.nav.stack import NavigationStack
 from polynav.runtime import events
 from polynav.runtime.config import Mode
 from polynav.runtime.internals import RuntimeParts
+from polynav.runtime.navigation_events import translate
 from polynav.runtime.placement import initial_point
+
+if TYPE_CHECKING:
+    from polynav.runtime.route_run import RouteRun
 
 log = logging.getLogger(__name__)
 
 
 class NavigationCommands(RuntimeParts):
+    _route: RouteRun | None  # a goal on another map (lift commands)
+
     def start_navigation(
         self, map_name: str, *, point: str | None = None, pose: Pose2D | None = None
     ) -> None:
@@ -227,3 +235,20 @@ class NavigationCommands(RuntimeParts):
         self._stack.initialize(pose, now)
         self._publish(events.PoseInitialized(now, pose))
         self._check_localization(now)
+
+    # -- navigator events ----------------------------------------------------------------------
+
+    def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
+        run = self._route
+        if run is not None:  # a leg of a goal on another map: reported as the route's
+            for runtime_event in translate(event, run.attempt_id, None):
+                if not isinstance(runtime_event, _LEG_ENDS):
+                    self._publish(runtime_event)
+            return
+        for runtime_event in self._attempts.record(event):
+            self._publish(runtime_event)
+
+
+_LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,
+             events.NavigationCanceled)
+"""A route's legs start and end inside its one attempt: those events are the route's own."""

@@ -35,9 +35,13 @@ low battery and localization changes), :mod:`~polynav.runtime.direct_motion` (te
 moves), :mod:`~polynav.runtime.placement` (floors, and placing the simulated robot),
 :mod:`~polynav.runtime.step_hooks` (timers and step listeners) and
 :mod:`~polynav.runtime.relocalization` (finding a lost robot). The class itself is written in
-parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel) and
-:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves), over the shared
-:mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes and settings.
+parts by subject: :mod:`~polynav.runtime.goal_commands` (goals, patrols, pause, cancel),
+:mod:`~polynav.runtime.motion_commands` (teleop, e-stop, local moves),
+:mod:`~polynav.runtime.control_tick` (one physics step's work and the checks that publish
+events), :mod:`~polynav.runtime.settings_commands` (reading and changing settings) and
+:mod:`~polynav.runtime.loop_commands` (running the loop, calls between ticks, timers), over
+the shared :mod:`~polynav.runtime.internals`; :mod:`~polynav.runtime.config` holds its modes
+and settings.
 """
 
 from __future__ import annotations
@@ -45,18 +49,14 @@ from __future__ import annotations
 import datetime as dt
 import logging
 import threading
-from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import TypeVar
 
 from polynav.automation.runner import AutomationRunner
 from polynav.clock import Clock
 from polynav.errors import Conflict
 from polynav.geometry import Pose2D, Twist
-from polynav.localization.interface import LocalizationState
 from polynav.maps.keepout import Keepout
 from polynav.maps.map import Map
-from polynav.nav import events as nav_events
 from polynav.nav.stack import NavigationStack, StackConfig, stack_config_for
 from polynav.robot.interface import Backend, Robot
 from polynav.robot.profile import DEFAULT_PROFILE, RobotProfile, load_profile
@@ -70,6 +70,7 @@ from polynav.runtime.auto_charge import AutoCharge
 from polynav.runtime.automation_tasks import AutomationTasks
 from polynav.runtime.cart_commands import CartCommands
 from polynav.runtime.config import Mode, RuntimeConfig, SiteData
+from polynav.runtime.control_tick import ControlTick
 from polynav.runtime.device import Device
 from polynav.runtime.device_commands import Peripherals
 from polynav.runtime.direct_motion import DirectMotion
@@ -82,6 +83,7 @@ from polynav.runtime.http_callbacks import HttpCallbacks
 from polynav.runtime.lift_commands import LiftCommands
 from polynav.runtime.lift_sessions import LocalLiftSessions
 from polynav.runtime.loop import CommandLoop
+from polynav.runtime.loop_commands import LoopCommands
 from polynav.runtime.map_exchange import MapExchange
 from polynav.runtime.mapless_commands import MaplessCommands
 from polynav.runtime.mapping_commands import MappingCommands
@@ -89,12 +91,13 @@ from polynav.runtime.mapping_jobs import MappingJobs
 from polynav.runtime.mapping_session import MappingSession
 from polynav.runtime.motion_commands import MotionCommands
 from polynav.runtime.navigation_commands import NavigationCommands
-from polynav.runtime.navigation_events import AttemptBook, translate
+from polynav.runtime.navigation_events import AttemptBook
 from polynav.runtime.no_entry import NoEntrySigns
 from polynav.runtime.patrols import Patrols
 from polynav.runtime.placement import Placement, ReportedPlacement, SimulatedPlacement
 from polynav.runtime.relocalization import LostRecovery
 from polynav.runtime.settings import RobotSettings
+from polynav.runtime.settings_commands import SettingsCommands
 from polynav.runtime.site_queries import SiteQueries
 from polynav.runtime.status import StatusSnapshot
 from polynav.runtime.status_report import StatusReport
@@ -106,14 +109,10 @@ from polynav.worlds.world import World
 
 log = logging.getLogger(__name__)
 
-T = TypeVar("T")
-
-_EPS = 1e-9
-
 
 class RobotRuntime(
-    NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
-    MappingCommands, MaplessCommands, StatusReport,
+    SettingsCommands, NavigationCommands, GoalCommands, LiftCommands, DoorCommands, MotionCommands,
+    MappingCommands, MaplessCommands, StatusReport, ControlTick, LoopCommands,
 ):
     """One robot: backend, navigation stack, commands, events and status on one clock.
 
@@ -338,14 +337,6 @@ class RobotRuntime(
         """The snapshot of the last refresh (O(1), no lock)."""
         return self._snapshot
 
-    def settings(self) -> RobotSettings:
-        return self._settings
-
-    def stack_config(self) -> StackConfig:
-        """The navigation stack's configuration under the current settings (the planner and
-        costmap a query should use to answer as the robot would plan)."""
-        return self._settings.stack_config(self._base_stack_config)
-
     @property
     def navigation_stack(self) -> NavigationStack | None:
         """The navigation stack while NAVIGATING (costmap, navigator, estimate), else ``None``.
@@ -355,215 +346,11 @@ class RobotRuntime(
         """
         return self._stack
 
-    def run_between_ticks(self, fn: Callable[[], T]) -> T:
-        """Run ``fn`` between ticks (on the loop thread when it runs) and return its result:
-        for services and queries that read or change several parts consistently."""
-        return self._call(fn)
-
     def publish(self, event: events.RuntimeEvent) -> None:
         """Publish ``event`` on the runtime's bus (for the runtime's own services)."""
         self._publish(event)
 
-    def schedule(self, delay: float, fn: Callable[[], None]) -> None:
-        """Run ``fn`` on the loop, between steps, ``delay`` seconds of the runtime's clock from
-        now (for services: a power-off 10 s after its notice). Call it between ticks."""
-        self._hooks.schedule(self.now() + max(0.0, delay), fn)
-
-    # -- commands ------------------------------------------------------------------------------
-
-    def update_settings(self, changes: Mapping[str, object]) -> RobotSettings:
-        """Validate, persist and apply ``changes``; returns the new settings.
-
-        Speed limits for teleop apply at once; the navigation stack takes the new values
-        between goals (a running goal finishes with the old ones).
-
-        Raises:
-            InvalidRequest: unknown name, wrong type or out of range (``field`` names it).
-            BeyondProfile: a speed above the robot profile's limits, a planning footprint
-                below its body.
-        """
-        with self._settings_lock:
-            new = self._settings.apply(changes, self.profile)
-            stored = new.to_dict()
-            self.store.update_settings({key: stored[key] for key in changes})
-
-            def run() -> None:
-                self._settings = new
-                self._settings_dirty = True
-                if self._stack is not None and not self._goal_active():
-                    self._rebuild_stack()
-
-            self._call(run)
-        log.info("settings updated: %s", dict(changes))
-        return new
-
-    # -- running -------------------------------------------------------------------------------
-
-    def advance(self, seconds: float) -> None:
-        """Run the loop for ``seconds`` of simulated time, as fast as the machine goes.
-
-        Raises:
-            Conflict: the loop thread is running (:meth:`start`).
-        """
-        self.advance_until(lambda: False, timeout=seconds)
-
-    def advance_until(self, done: Callable[[], bool], timeout: float) -> bool:
-        """Run the loop until ``done()`` holds (checked every physics step) or ``timeout``
-        simulated seconds pass.
-
-        Returns:
-            Whether ``done()`` held.
-
-        Raises:
-            Conflict: the loop thread is running.
-        """
-        return self._loop.advance_until(done, timeout)
-
-    def start(self) -> None:
-        """Run the loop on a daemon thread, simulated time paced at ``speed`` × wall time."""
-        self._loop.start()
-        log.info("runtime started at %gx real time", self.config.speed)
-
-    def stop(self) -> None:
-        """Stop the loop thread and wait for it; queued commands still run. Idempotent."""
-        self.automations.close()
-        if self._loop.stop():
-            log.info("runtime stopped at t=%.2f", self.now())
-
-    @property
-    def running(self) -> bool:
-        return self._loop.running
-
-    def _call(self, fn: Callable[[], T]) -> T:
-        """Run a command between ticks: on the loop thread when it runs, else here.
-
-        Raises:
-            Conflict: the robot is powered off.
-        """
-        if not self.powered:
-            raise Conflict("the robot is powered off")
-        return self._loop.call(fn)
-
-    # -- the loop ------------------------------------------------------------------------------
-
-    def add_step_listener(self, listener: Callable[[float], None]) -> Callable[[], None]:
-        """Call ``listener(now)`` on the loop after every physics step, when the backend's
-        readings are new: for servers that stream sensors at their own rates on the runtime's
-        clock (a scan at 15 Hz of simulated time). It must be quick and must not block: copy what
-        it needs and hand it to its own thread. Returns the function that removes it."""
-        return self._hooks.add_listener(listener)
-
-    def stepped(self) -> None:
-        """Tell the step listeners a physics step happened (the fleet's shared world calls it
-        for each robot after stepping the world once)."""
-        self._hooks.stepped(self.now())
-
-    def _step(self) -> None:
-        self.tick()
-        self._backend.step()
-        self.stepped()
-
-    def tick(self) -> None:
-        """Everything of one physics step but the physics: timers, the dead-man and, when due,
-        a control tick. Robots sharing one simulated world are each ticked, then the world is
-        stepped once (:mod:`polynav.house.building`); call it between steps only."""
-        now = self.now()
-        self._hooks.run_due(now)
-        self._motion.brake_if_expired(now)  # the dead-man
-        if now >= self._next_control - _EPS:
-            self._control(now)
-            self._next_control += self._control_period
-            if self._next_control <= now:
-                self._next_control = now + self._control_period
-
-    def _control(self, now: float) -> None:
-        estop = self._check_estop(now)
-        stack = self._stack
-        if stack is not None:
-            if self._settings_dirty and not self._goal_active():
-                stack = self._rebuild_stack()
-            stack.software_estop = self._software_estop
-            stack.tick(now)
-            self._attempts.follow(stack.navigator.attempt)
-            self._route_tick(now)
-            stack = self._stack  # a lift ride switches maps: a new stack
-        self._hold_tick(now)
-        self._no_entry.tick(now, stack, self._attempts.attempt_id)
-        self.doors_rule.tick(now)
-        explored = self._map_tick(now, estop)
-        override = self._motion.override(now, estop, self._free_ahead)
-        commanded = Twist()
-        if override is not None:
-            self._robot.drive(override)
-            commanded = override
-        elif explored is not None:
-            self._robot.drive(explored)
-            commanded = explored
-        elif stack is None:
-            self._robot.drive(Twist())
-        else:
-            commanded = stack.command
-        self._check_localization(now)
-        if stack is not None and self._grid is not None:  # LOST is published, then searched
-            lost = stack.estimate.state is LocalizationState.LOST
-            self._recovery.tick(now, lost, self._grid, self._robot.read_scan())
-        self._check_battery(now)
-        self._auto_charge.tick(now)
-        self.tasks.tick(now)
-        self.device.tick(now, commanded)
-        self.peripherals.tick(now)
-        self._refresh()
-
-    def _map_tick(self, now: float, estop: bool) -> Twist | None:
-        """Feed the mapping session; the exploration's velocity while it explores."""
-        session = self._mapping
-        if session is None:
-            return None
-        odometry, scan = self._robot.read_odometry(), self._robot.read_scan()
-        session.tick(odometry, scan)
-        exploration = self._exploration
-        if exploration is None or exploration.done:
-            return None
-        twist = exploration.tick(now, session.live_map, session.pose, odometry.twist, scan,
-                                 estop)
-        if exploration.done:
-            self._publish(events.ExplorationFinished(now, exploration.targets))
-        return twist
-
-    # -- state checks that publish events ----------------------------------------------------
-
-    def _check_estop(self, now: float) -> bool:
-        event = self._estop.update(now, self._robot.estop_pressed(), self._software_estop)
-        if event is not None:
-            self._publish(event)
-        return self._estop.active
-
-    def _check_localization(self, now: float) -> None:
-        if self._stack is None:
-            state, quality = LocalizationState.UNINITIALIZED.value, 0.0
-        else:
-            estimate = self._stack.estimate
-            state, quality = estimate.state.value, estimate.quality
-        event = self._localization.update(now, state, quality)
-        if event is not None:
-            self._publish(event)
-
-    def _check_battery(self, now: float) -> None:
-        battery = self._robot.read_battery()
-        for event in self._battery.update(now, battery, self._settings.low_battery_percent):
-            self._publish(event)
-
     # -- navigation internals ----------------------------------------------------------------
-
-    def _on_nav_event(self, event: nav_events.NavigationEvent) -> None:
-        run = self._route
-        if run is not None:  # a leg of a goal on another map: reported as the route's
-            for runtime_event in translate(event, run.attempt_id, None):
-                if not isinstance(runtime_event, _LEG_ENDS):
-                    self._publish(runtime_event)
-            return
-        for runtime_event in self._attempts.record(event):
-            self._publish(runtime_event)
 
     def _set_mode(self, mode: Mode) -> None:
         old = self._mode
@@ -593,11 +380,6 @@ class RobotRuntime(
     def _publish(self, event: events.RuntimeEvent) -> None:
         self.tasks.note(event)
         self.bus.publish(event)
-
-
-_LEG_ENDS = (events.NavigationStarted, events.NavigationSucceeded, events.NavigationFailed,
-             events.NavigationCanceled)
-"""A route's legs start and end inside its one attempt: those events are the route's own."""
 
 
 def _first_floor(store: SiteData) -> str:
