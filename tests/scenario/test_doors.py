@@ -9,6 +9,7 @@ coming from both sides go through one door one at a time. Judged on ground truth
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import pytest
 
@@ -107,26 +108,39 @@ def test_a_door_whose_controller_never_answers_fails_the_goal_naming_it(
     assert runtime.doors_rule.held == ()
 
 
-def test_two_robots_through_one_door_from_both_sides_one_at_a_time(
-        world: World, store: SiteStore) -> None:
-    west = Point("west_of_door", "floor2", Pose2D(12.6, 12.0, 0.0), PointKind.GENERAL)
-    east = Point("east_of_door", "floor2", Pose2D(18.2, 12.0, math.pi), PointKind.GENERAL)
-    store.add_point(Point("goal_east", "floor2", Pose2D(19.0, 12.0, 0.0)))
-    store.add_point(Point("goal_west", "floor2", Pose2D(11.5, 12.0, math.pi)))
-    building = Building(store, world, robots=2, starts=[west, east],
+def _two_robots_through(world: World, store: SiteStore, door: str, starts: list[Point],
+                        goals: list[Point], timeout: float
+                        ) -> tuple[Building, list[Any], list[tuple[str, ...]]]:
+    """Two robots of one building sent from ``starts`` to ``goals`` through ``door``, run until
+    both end (each must succeed, with no collision): the building, each robot's bus
+    subscription, and the door's holders at every step."""
+    for goal in goals:
+        store.add_point(goal)
+    building = Building(store, world, robots=2, starts=starts,
                         config=RuntimeConfig(people=False))
     subs = [rt.bus.subscribe(10_000) for rt in building.runtimes]
-    building.send("robot1", "goal_east", "floor2")
-    building.send("robot2", "goal_west", "floor2")
+    for serial, goal in zip(("robot1", "robot2"), goals, strict=True):
+        building.send(serial, goal.name, goal.map_name)
     holders: list[tuple[str, ...]] = []
 
     def watch() -> bool:
-        holders.append(building.runtimes[0].door(WEST).state().holders)
+        holders.append(building.runtimes[0].door(door).state().holders)
         return all(agent.outcome is not None for agent in building.agents)
 
-    assert building.advance_until(watch, 200.0)
+    assert building.advance_until(watch, timeout)
     assert [agent.outcome for agent in building.agents] == ["succeeded", "succeeded"]
     assert [c for rt in building.runtimes for c in rt.simulation.collisions] == []
+    return building, subs, holders
+
+
+def test_two_robots_through_one_door_from_both_sides_one_at_a_time(
+        world: World, store: SiteStore) -> None:
+    building, subs, holders = _two_robots_through(
+        world, store, WEST,
+        [Point("west_of_door", "floor2", Pose2D(12.6, 12.0, 0.0), PointKind.GENERAL),
+         Point("east_of_door", "floor2", Pose2D(18.2, 12.0, math.pi), PointKind.GENERAL)],
+        [Point("goal_east", "floor2", Pose2D(19.0, 12.0, 0.0)),
+         Point("goal_west", "floor2", Pose2D(11.5, 12.0, math.pi))], 200.0)
     # The door was held by one robot at a time, each in turn.
     assert max(len(h) for h in holders) == 1
     turns = [h[0] for n, h in enumerate(holders) if h and (n == 0 or holders[n - 1] != h)]
@@ -149,24 +163,12 @@ def test_two_robots_going_one_way_share_the_door_and_go_through_together(
         world: World, store: SiteStore) -> None:
     # One behind the other, both west through the east fire door: the second does not wait
     # for the first to be through and let go (a lease per way, not per robot).
-    ahead = Point("ahead", "floor2", Pose2D(31.0, 12.0, math.pi), PointKind.GENERAL)
-    behind = Point("behind", "floor2", Pose2D(32.6, 12.0, math.pi), PointKind.GENERAL)
-    store.add_point(Point("far_west", "floor2", Pose2D(22.5, 12.0, math.pi)))
-    store.add_point(Point("near_west", "floor2", Pose2D(24.5, 12.0, math.pi)))
-    building = Building(store, world, robots=2, starts=[ahead, behind],
-                        config=RuntimeConfig(people=False))
-    subs = [rt.bus.subscribe(10_000) for rt in building.runtimes]
-    building.send("robot1", "far_west", "floor2")
-    building.send("robot2", "near_west", "floor2")
-    holders: list[tuple[str, ...]] = []
-
-    def watch() -> bool:
-        holders.append(building.runtimes[0].door(EAST).state().holders)
-        return all(agent.outcome is not None for agent in building.agents)
-
-    assert building.advance_until(watch, 120.0)
-    assert [agent.outcome for agent in building.agents] == ["succeeded", "succeeded"]
-    assert [c for rt in building.runtimes for c in rt.simulation.collisions] == []
+    building, subs, holders = _two_robots_through(
+        world, store, EAST,
+        [Point("ahead", "floor2", Pose2D(31.0, 12.0, math.pi), PointKind.GENERAL),
+         Point("behind", "floor2", Pose2D(32.6, 12.0, math.pi), PointKind.GENERAL)],
+        [Point("far_west", "floor2", Pose2D(22.5, 12.0, math.pi)),
+         Point("near_west", "floor2", Pose2D(24.5, 12.0, math.pi))], 120.0)
     assert max(len(h) for h in holders) == 2
     assert holders[-1] == ()
     # Neither stopped for the door.

@@ -148,14 +148,20 @@ def test_a_robot_joining_after_start_is_heard_and_answered(
             if e.kind == "robot.connection"] == ["late"]
 
 
+def _manager_and_robots_link(clients: Callable[[str], MqttTransport], records: FleetRecords
+                             ) -> tuple[FleetManager, MqttTransport]:
+    """A fleet manager listening on the broker, and the link the test's robots speak on."""
+    mqtt = clients("test/fleet")
+    manager = FleetManager(mqtt, records, Site())
+    assert mqtt.wait_subscribed(WAIT)
+    return manager, clients("test/robots")
+
+
 def test_a_state_whose_header_disagrees_with_its_topic_is_dropped_with_one_log_line(
         clients: Callable[[str], MqttTransport], records: FleetRecords,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="polynav.fleet.master_control")
-    mqtt = clients("test/fleet")
-    manager = FleetManager(mqtt, records, Site())
-    assert mqtt.wait_subscribed(WAIT)
-    side = clients("test/robots")
+    manager, side = _manager_and_robots_link(clients, records)
     honest = Robot(side, "r1", 1.0)
     # r2's messages go out on r1's topics: its headers say r2.
     impostor = Robot(Redirected(side, "r2", "r1"), "r2", 9.0)
@@ -200,10 +206,7 @@ def test_a_state_of_another_manufacturer_on_our_topic_adopts_no_one(
         clients: Callable[[str], MqttTransport], records: FleetRecords,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="polynav.fleet.master_control")
-    mqtt = clients("test/fleet")
-    manager = FleetManager(mqtt, records, Site())
-    assert mqtt.wait_subscribed(WAIT)
-    side = clients("test/robots")
+    manager, side = _manager_and_robots_link(clients, records)
     stranger, honest = OtherMaker(side, "s1", 3.0), Robot(side, "r1", 1.0)
     assert side.wait_subscribed(WAIT)
     stranger.state()
