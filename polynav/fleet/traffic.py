@@ -83,11 +83,11 @@ class TrafficConfig:
             few centimetres longer gave the zone back on being granted it, and queued again at
             the back.
         release_grace: a zone held while the goal runs is given back only once the path has not
-            needed it for this long [s]. A path changes for a moment (a re-plan round a walker,
-            none between two plans): a robot going west through floor 1's corridor gave back
-            the far segments for one check, a robot waiting for them took them at once, and
-            the first, standing in the corridor, waited behind it for the rest of its mission
-            (bench fleet seeds 0 and 3).
+            needed it for this long [s]. A path changes for a moment (a re-plan round a
+            walker; no path at all between two plans): a robot going west through floor 1's
+            corridor gave back the far segments for one check, a robot waiting for them took
+            them at once, and the first, standing in the corridor, waited behind it for the
+            rest of its mission (bench fleet seeds 0 and 3).
         reask_after: a request not granted is asked again (same id: a waiter keeps its place)
             when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
             while the fleet manager was off the broker (it comes back after the robot) is lost,
