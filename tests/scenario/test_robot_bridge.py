@@ -106,8 +106,10 @@ def test_polynav_drives_a_bridged_robot_to_five_points_through_a_server_restart(
                     assert b.now() == held  # B's clock is A's: it holds
                     assert b.status().navigation_state == "running"
                     robot_a.restart_server()
-                    assert _wait(lambda: backend.connected, 15.0)
-                    assert backend.client.connects > connects
+                    # A new connection, counted once its subscriptions are sent again (the
+                    # socket is up a moment before: asserting at once raced it, CI).
+                    assert _wait(lambda n=connects: backend.connected
+                                 and backend.client.connects > n, 15.0)
                 assert _wait(lambda: b.status().navigation_state != "running",
                              GOAL_WALL_TIMEOUT), name
                 status = b.status()
