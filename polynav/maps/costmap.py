@@ -249,10 +249,7 @@ class Costmap:
         # Full size, since the layers index by window, but only ``read`` is touched (an empty
         # array's pages are not: a 200 m floor's 16 MB costs nothing).
         scratch = np.empty((height, width), dtype=np.uint8)
-        scratch[win.slices(read)] = self._default
-        self._static.update_costs(scratch, read)
-        self._keepout.update_costs(scratch, read)
-        self._inflation.update_costs(scratch, cell)
+        self._compose_map_only(scratch, read, cell)
         return int(scratch[iy, ix])
 
     def map_costs(self) -> CostSnapshot:
@@ -262,12 +259,20 @@ class Costmap:
         at a corridor's mouth, a trolley). Composed afresh on each call: for the odd question."""
         info = self._info
         whole = win.full(info.width, info.height)
-        grid = np.full((info.height, info.width), self._default, dtype=np.uint8)
-        self._static.update_costs(grid, whole)
-        self._keepout.update_costs(grid, whole)
-        self._inflation.update_costs(grid, whole)
+        grid = np.empty((info.height, info.width), dtype=np.uint8)
+        self._compose_map_only(grid, whole, whole)
         grid.flags.writeable = False
         return CostSnapshot(info, grid)
+
+    def _compose_map_only(self, grid: npt.NDArray[np.uint8], read: Window,
+                          inflate: Window) -> None:
+        """Write the map and keepouts over ``read`` and inflate them over ``inflate`` (within
+        it): the costs without the lidar's marks, for :meth:`map_cost_at` and
+        :meth:`map_costs`."""
+        grid[win.slices(read)] = self._default
+        self._static.update_costs(grid, read)
+        self._keepout.update_costs(grid, read)
+        self._inflation.update_costs(grid, inflate)
 
     def update_scan(self, pose: Pose2D, scan: LaserScan) -> None:
         """Mark and clear ``scan`` taken at robot ``pose``, then recompose the changed window.
