@@ -5,7 +5,8 @@ Four layers, each keeping its own state, compose the master grid in this order:
 1. :class:`~polynav.maps.layers.static.StaticLayer`: the map (overwrites);
 2. :class:`~polynav.maps.layers.keepout.KeepoutLayer`: virtual walls and forbidden zones (LETHAL);
 3. :class:`~polynav.maps.layers.obstacle.ObstacleLayer`: the live lidar (marks and clears);
-4. :class:`~polynav.maps.layers.inflation.InflationLayer`: robot radius and decaying costs.
+4. the leaves of shut doors the robot is not opening (LETHAL, :meth:`Costmap.set_shut_doors`);
+5. :class:`~polynav.maps.layers.inflation.InflationLayer`: robot radius and decaying costs.
 
 An update first asks every layer which cells it changed (``update_bounds``; inflation grows that
 window by its radius), then resets and recomposes the master *inside that window only*
@@ -13,7 +14,11 @@ window by its radius), then resets and recomposes the master *inside that window
 therefore leaves the far side alone, and a robot standing still in a static scene redraws almost
 nothing. Inflation, the costly step, then runs only round the cells whose composed cost (every
 layer below it) really changed within that window. Extra layers (a later speed or semantic
-layer) slot in between obstacle and inflation.
+layer) slot in between obstacle and the shut doors.
+
+The master is the body's view: what the controller, the recoveries and a step aside must not
+touch. The global planner plans on :meth:`Costmap.planning_costs`, the master without the shut
+doors' leaves: a route may cross a door the robot will open on its way.
 
 Outside the map, :meth:`Costmap.cost_at` answers LETHAL: the robot knows nothing there, there is
 no grid to plan on, and a controller must treat leaving the map like hitting a wall.
@@ -32,8 +37,8 @@ import numpy.typing as npt
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps import costs
-from polynav.maps.interface import CostmapLayer, Window
-from polynav.maps.keepout import Keepout
+from polynav.maps.interface import CostGrid, CostmapLayer, Window
+from polynav.maps.keepout import Keepout, VirtualWall
 from polynav.maps.layers import inflation as inflation_kernel
 from polynav.maps.layers import obstacle as obstacle_kernel
 from polynav.maps.layers import window as win
@@ -153,14 +158,15 @@ class Costmap:
         self._extra = tuple(extra_layers)
         self._pose = Pose2D()
         self._last_window: Window | None = None
-        self._build(grid, keepouts=())
+        self._build(grid, keepouts=(), shut=())
 
     @classmethod
     def from_map(cls, grid: Map, config: CostmapConfig) -> Costmap:
         """The standard four-layer costmap over ``grid``."""
         return cls(grid, config)
 
-    def _build(self, grid: Map, *, keepouts: Sequence[Keepout]) -> None:
+    def _build(self, grid: Map, *, keepouts: Sequence[Keepout],
+               shut: Sequence[VirtualWall]) -> None:
         cfg = self._config
         info = grid.info
         self._info = info
@@ -186,6 +192,9 @@ class Costmap:
         if self._obstacle is not None:
             layers.append(self._obstacle)
         layers.extend(self._extra)
+        self._shut = KeepoutLayer(info, shut)
+        self._shut_groups = self._groups_of_shut()
+        layers.append(self._shut)
         layers.append(self._inflation)
         self._layers = tuple(layers)
         self._default = costs.UNKNOWN if cfg.track_unknown else costs.FREE
@@ -218,6 +227,11 @@ class Costmap:
     @property
     def keepouts(self) -> tuple[Keepout, ...]:
         return self._keepout.keepouts
+
+    @property
+    def shut_doors(self) -> tuple[VirtualWall, ...]:
+        """The leaves drawn LETHAL for the body (:meth:`set_shut_doors`)."""
+        return self._shut.keepouts  # type: ignore[return-value]
 
     @property
     def last_window(self) -> Window | None:
@@ -304,6 +318,49 @@ class Costmap:
         if self._obstacle is not None and self._obstacle.set_passable(passable) is not None:
             self.update()
 
+    def set_shut_doors(self, leaves: Sequence[VirtualWall]) -> None:
+        """The leaves of the doors that stand shut and that the robot is not opening: LETHAL
+        to the body (the controller, a recovery's back-up, a step aside from a walker), which
+        otherwise took a doorway for free floor, door leaves being passable to the lidar's
+        marks (:meth:`set_passable`), and backed into a leaf it had just passed (bench fleet,
+        floor 2's fire doors). The global planner does not see them
+        (:meth:`planning_costs`)."""
+        leaves = tuple(leaves)
+        if leaves == self._shut.keepouts:
+            return
+        self._shut.set_keepouts(leaves)
+        self._shut_groups = self._groups_of_shut()
+        self.update()
+
+    def planning_costs(self) -> CostGrid:
+        """What the global planner plans on: the master, or, while doors stand shut
+        (:meth:`set_shut_doors`), a copy recomposed round their leaves without them (with
+        every other layer and inflation), so a route may cross a door the robot will open."""
+        if not self._shut_groups:
+            return self
+        info = self._info
+        width, height = info.width, info.height
+        reach = self._inflation.cell_radius
+        grid = self._master.copy()
+        # Full size, since the layers index by window, but only the windows are touched.
+        scratch = np.empty((height, width), dtype=np.uint8)
+        below = [layer for layer in self._layers[:-1] if layer is not self._shut]
+        for group in self._shut_groups:
+            inflate = win.grow(group, reach, width, height)
+            read = win.grow(inflate, reach, width, height)
+            scratch[win.slices(read)] = self._default
+            for layer in below:
+                layer.update_costs(scratch, read)
+            self._inflation.update_costs(scratch, inflate)
+            grid[win.slices(inflate)] = scratch[win.slices(inflate)]
+        grid.flags.writeable = False
+        return CostSnapshot(info, grid)
+
+    def _groups_of_shut(self) -> list[Window]:
+        if not self._shut.keepouts:
+            return []
+        return win.groups_of_mask(self._shut.mask, 2 * self._inflation.cell_radius + 1)
+
     def set_keepouts(self, keepouts: Sequence[Keepout]) -> None:
         """Replace every keepout; only the cells that changed (plus inflation) are redrawn."""
         self._keepout.set_keepouts(keepouts)
@@ -339,7 +396,8 @@ class Costmap:
             grid.info.height,
             grid.info.resolution,
         )
-        self._build(grid, keepouts=self._keepout.keepouts)
+        self._build(grid, keepouts=self._keepout.keepouts,
+                    shut=self.shut_doors)
 
     def update(self) -> Window | None:
         """Recompose the master wherever a layer changed; returns that window (or ``None``).

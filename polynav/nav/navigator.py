@@ -64,7 +64,7 @@ from polynav.nav.dock_sight import DockSight
 from polynav.nav.goal_wait import GoalWait
 from polynav.nav.holds import Hold
 from polynav.nav.navigator_config import NavigatorConfig
-from polynav.nav.passages import ClosedPassages, touches_marks
+from polynav.nav.passages import ClosedPassages, open_doors_on, touches_marks
 from polynav.nav.people import PeopleConfig, PeopleView
 from polynav.nav.people_wait import PeopleWait
 from polynav.nav.phases import NavPhase
@@ -419,7 +419,8 @@ class Navigator(ChargerPhases, PlanFailures):
         self._passages.refresh(self._costmap, self._last_tick or 0.0)
         try:
             return self._planner.plan(
-                self._passages.planning_grid(self._costmap, pose), pose, self._target,
+                self._passages.planning_grid(self._costmap.planning_costs(), pose), pose,
+                self._target,
                 goal_tolerance=self._require().options.near_tolerance,
             )
         except NoBodyRoute as exc:
@@ -440,7 +441,8 @@ class Navigator(ChargerPhases, PlanFailures):
         try:
             self._passages.refresh(self._costmap, now)
             path = self._replan.plan(
-                self._passages.planning_grid(self._costmap, pose), pose, self._target,
+                self._passages.planning_grid(self._costmap.planning_costs(), pose), pose,
+                self._target,
                 self._tracked, self._along, now,
                 goal_tolerance=self._require().options.near_tolerance,
             )
@@ -588,6 +590,7 @@ class Navigator(ChargerPhases, PlanFailures):
         # A way was found: an earlier "no path" is history, and the next one (the marks a
         # walker left in a door, say) is cleared once more before it is final.
         self._cleared_for_plan = False
+        open_doors_on(self._costmap, path)
         self._path = path
         self._tracked = TrackedPath.from_points(path.points)
         self._along = 0.0

@@ -37,6 +37,7 @@ from polynav.geometry import Pose2D
 from polynav.maps import costs
 from polynav.maps.costmap import Costmap, CostSnapshot
 from polynav.maps.interface import CostGrid
+from polynav.planning.path import Path
 
 log = logging.getLogger(__name__)
 
@@ -217,6 +218,23 @@ class ClosedPassages:
             mask[here[:, 1], here[:, 0]] = False
             grid[mask] = costs.LETHAL
         return CostSnapshot(info, grid)
+
+
+def open_doors_on(costmap: Costmap, path: Path) -> None:
+    """Take off the body's costmap the shut doors ``path`` crosses
+    (:meth:`~polynav.maps.costmap.Costmap.set_shut_doors`): the planner routed through them
+    (:meth:`~polynav.maps.costmap.Costmap.planning_costs`), so the robot will open them on its
+    way, and the door rule stops it before one not yet open. Left on until the door rule's
+    next step, the leaf ahead stopped the controller, and the block closed that passage for the
+    goal."""
+    shut = costmap.shut_doors
+    if not shut:
+        return
+    kept = [leaf for leaf in shut
+            if not any(path.crosses(p, q) for p, q in zip(leaf.points, leaf.points[1:],
+                                                          strict=False))]
+    if len(kept) != len(shut):
+        costmap.set_shut_doors(kept)
 
 
 def touches_marks(costmap: Costmap, footprint: Footprint, pose: Pose2D) -> bool:

@@ -27,3 +27,26 @@ class Path:
 
     def __len__(self) -> int:
         return int(self.points.shape[0])
+
+    def crosses(self, p: tuple[float, float], q: tuple[float, float]) -> bool:
+        """Whether the polyline crosses (or touches) the segment from ``p`` to ``q``."""
+        if self.points.shape[0] < 2:
+            return False
+        t = leg_crossings(self.points[:-1], self.points[1:], p, q)
+        return bool(np.any(~np.isnan(t)))
+
+
+def leg_crossings(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64],
+                  p: tuple[float, float], q: tuple[float, float]) -> npt.NDArray[np.float64]:
+    """For each leg from ``a[i]`` to ``b[i]`` (arrays (N, 2)), where along it (0 at ``a[i]``,
+    1 at ``b[i]``) it crosses the segment from ``p`` to ``q``; NaN where it does not (parallel
+    legs never count)."""
+    r = b - a
+    sx, sy = q[0] - p[0], q[1] - p[1]
+    denom = r[:, 0] * sy - r[:, 1] * sx
+    qx, qy = p[0] - a[:, 0], p[1] - a[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (qx * sy - qy * sx) / denom
+        u = (qx * r[:, 1] - qy * r[:, 0]) / denom
+    hit = (np.abs(denom) > 1e-12) & (t >= 0.0) & (t <= 1.0) & (u >= 0.0) & (u <= 1.0)
+    return np.where(hit, t, np.nan)

@@ -46,10 +46,11 @@ import numpy.typing as npt
 
 from polynav.errors import ConfigError, check_positive
 from polynav.geometry import Pose2D
+from polynav.maps.keepout import VirtualWall
 from polynav.maps.map import MapInfo
 from polynav.nav.attempt import FailureReason, NavigationState
 from polynav.nav.stack import NavigationStack
-from polynav.planning.path import Path
+from polynav.planning.path import Path, leg_crossings
 from polynav.robot.door import Door, DoorState
 from polynav.runtime.events import RuntimeEvent
 from polynav.runtime.lift_sessions import LiftSessions
@@ -60,6 +61,8 @@ log = logging.getLogger(__name__)
 _KEY = "doors."
 PASSABLE_HALF_WIDTH = 0.1
 """[m] the lidar marks nothing this close to a door's segment (its leaf and the noise round it)."""
+LEAF_THICKNESS = 0.1
+"""[m] how thick a shut leaf is drawn on the body's costmap (a real leaf, and the simulator's)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,6 +182,7 @@ class DoorPassage:
         self._we_paused = False  # the goal stands paused by this rule, not another
         self._attempt = 0
         self._passable_for: tuple[int, str | None] | None = None
+        self._shut_for: tuple[int, tuple[str, ...]] | None = None
         self.failure: str | None = None
         """Why the last goal was failed by the rule, for the status."""
 
@@ -212,6 +216,8 @@ class DoorPassage:
             self._forced.clear()
             self._paused_for = None
             self._we_paused = False
+            if stack is not None:
+                self._mark_shut(stack, doors, robot._status_pose(), None)
             return
         attempt = navigator.attempt
         attempt_id = attempt.attempt_id if attempt is not None else 0
@@ -246,6 +252,8 @@ class DoorPassage:
         for name in sorted(needed):
             self._control(name, doors[name], pose, now)
         self._wait_or_go(ahead, doors, now)
+        assert stack is not None  # it has a navigator
+        self._mark_shut(stack, doors, pose, navigator.path)
 
     # -- a door's lease and controller ----------------------------------------------------
 
@@ -375,6 +383,37 @@ class DoorPassage:
         found.sort(key=lambda item: item[1])
         return found
 
+    def _mark_shut(self, stack: NavigationStack, doors: Mapping[str, Door], pose: Pose2D,
+                   path: Path | None) -> None:
+        """Draw the leaves of the doors that stand shut, and that the robot neither holds nor
+        has on its way ahead, LETHAL on the body's costmap
+        (:meth:`~polynav.maps.costmap.Costmap.set_shut_doors`; the planner still routes
+        through them). Passable to the lidar's marks, a doorway looked free to every local
+        move: a robot that had passed a fire door and let it close stepped back from a walker
+        into its leaf (bench fleet, seed 4). A door the body already stands in is left off
+        (a real door's safety beam keeps it from closing on it)."""
+        touching = stack.costmap.config.robot_radius + 0.5 * LEAF_THICKNESS
+        shut = []
+        for name, door in doors.items():
+            status = door.state()
+            if (status.state is DoorState.OPEN or name in self._using
+                    or status.spec.distance_to(pose.x, pose.y) < touching):
+                continue
+            shut.append(status.spec)
+        if shut and path is not None and len(path) >= 2:
+            points = path.points
+            k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
+            way = _way_ahead(points, k, pose, math.inf)
+            if way is not None:
+                shut = [spec for spec in shut if _crossing_on(way, spec, math.inf) is None]
+        key = (id(stack.costmap), tuple(spec.name for spec in shut))
+        if key == self._shut_for:
+            return
+        self._shut_for = key
+        stack.costmap.set_shut_doors([
+            VirtualWall(((spec.x1, spec.y1), (spec.x2, spec.y2)), LEAF_THICKNESS)
+            for spec in shut])
+
     def _mark_passable(self, stack: NavigationStack, floor: str | None,
                        doors: Mapping[str, Door]) -> None:
         key = (id(stack.costmap), floor)
@@ -419,16 +458,8 @@ def _crossing_on(way: _Way, door: WorldDoor, lookahead: float) -> float | None:
     n = int(np.searchsorted(way.before, lookahead, side="right"))
     if n == 0:
         return None
-    a, b = way.a[:n], way.b[:n]
-    r = b - a
-    sx, sy = door.x2 - door.x1, door.y2 - door.y1
-    denom = r[:, 0] * sy - r[:, 1] * sx
-    qx, qy = door.x1 - a[:, 0], door.y1 - a[:, 1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (qx * sy - qy * sx) / denom
-        u = (qx * r[:, 1] - qy * r[:, 0]) / denom
-    hits = np.flatnonzero((np.abs(denom) > 1e-12) & (t >= 0.0) & (t <= 1.0)
-                          & (u >= 0.0) & (u <= 1.0))
+    t = leg_crossings(way.a[:n], way.b[:n], (door.x1, door.y1), (door.x2, door.y2))
+    hits = np.flatnonzero(~np.isnan(t))
     if hits.shape[0] == 0:
         return None
     i = int(hits[0])

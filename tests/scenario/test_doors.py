@@ -15,6 +15,7 @@ import pytest
 
 from polynav.geometry import Pose2D
 from polynav.house.building import Building
+from polynav.maps.costs import INSCRIBED, LETHAL
 from polynav.robot.lift import DoorState
 from polynav.runtime import events
 from polynav.runtime.config import RuntimeConfig
@@ -175,3 +176,34 @@ def test_two_robots_going_one_way_share_the_door_and_go_through_together(
     assert [sum(isinstance(e, events.NavigationPaused) for e in _door_events(sub))
             for sub in subs] == [0, 0]
     assert building.runtimes[0].door(EAST).state().state is DoorState.CLOSED
+
+
+def test_a_door_passed_and_shut_is_lethal_to_the_body_not_to_the_route_back(
+        runtime: RobotRuntime, store: SiteStore) -> None:
+    # Once through and let go, the shut leaf is a wall to every local move (a robot that had
+    # passed a fire door stepped back from a walker into its leaf: bench fleet, floor 2),
+    # but the planner still routes back through it, and the robot opens it again.
+    store.add_point(Point("past_west", "floor2", Pose2D(19.0, 12.0, 0.0), PointKind.GENERAL))
+    runtime.go_to(point="past_west", map_name="floor2")
+    seen: list[tuple[int, int]] = []
+
+    def watch() -> bool:
+        stack = runtime.navigation_stack
+        if (stack is not None and not seen
+                and runtime.door(WEST).state().state is DoorState.CLOSED
+                and runtime.simulation.true_pose.x > LEAF_X[WEST] + 1.0):
+            seen.append((stack.costmap.cost_at(LEAF_X[WEST], 12.0),
+                         stack.costmap.planning_costs().cost_at(  # type: ignore[attr-defined]
+                             LEAF_X[WEST], 12.0)))
+        return _ended(runtime)
+
+    assert runtime.advance_until(watch, 120.0)
+    assert runtime.status().navigation_state == "succeeded"
+    assert seen and seen[0][0] == LETHAL and seen[0][1] < INSCRIBED
+    sub = runtime.bus.subscribe(10_000)
+    runtime.go_to(point="corridor_west", map_name="floor2")
+    assert runtime.advance_until(lambda: _ended(runtime), 120.0)
+    assert runtime.status().navigation_state == "succeeded"
+    assert runtime.simulation.collisions == []
+    got = [(type(e).__name__, getattr(e, "door", "")) for e in _door_events(sub)]
+    assert ("DoorControlStarted", WEST) in got

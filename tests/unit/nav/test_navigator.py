@@ -57,6 +57,11 @@ class FakeCostmap:
     def map_costs(self) -> CostSnapshot:
         return CostSnapshot(self.info, self.costs)
 
+    def planning_costs(self) -> FakeCostmap:
+        return self
+
+    shut_doors: tuple[()] = ()
+
 
 @dataclass
 class ScriptedPlanner:
