@@ -30,7 +30,10 @@ after the navigation stack. The rule, as one robot keeps it:
 
 The planner plans through doors: their leaves are *passable* to the costmap (the lidar's marks
 there are not kept, :meth:`polynav.maps.costmap.Costmap.set_passable`), or no route would ever
-cross a closed door; step 2 is what keeps the robot from driving into one.
+cross a closed door; step 2 is what keeps the robot from driving into one on its path. Off its
+path (a step aside from a walker, a recovery's back-up) nothing did: a door that stands shut
+and that the robot neither holds nor has on its way ahead is drawn LETHAL on the body's costmap
+(:meth:`polynav.maps.costmap.Costmap.set_shut_doors`), which the global planner does not see.
 """
 
 from __future__ import annotations
