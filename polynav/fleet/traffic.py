@@ -14,7 +14,12 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    the holder must come out of. A robot whose goal starts inside a zone it does not hold waits
    where it stands, unless its path leaves that zone within ``leave_within`` metres: a robot at
    a zone's edge on its way out frees the mouth the holder must come out of (waiting there,
-   five robots once walled the holder in). Granted, it goes on.
+   five robots once walled the holder in). One with no path (its plans fail while people
+   stand in the way, and it waits for them) is not paused for the zone it stands in: it has no
+   way through the passage to hold back, and paused, it stopped giving way (floor 2's room
+   door: backed out of the room's zone into the corridor's, it stood frozen in the doorway,
+   the walker it was giving way to could not get out, and the robot behind it, holding the
+   corridor, waited for the walker). Granted, it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
    even where it stands: a parked robot is an obstacle to plan round, not a lock.
@@ -163,6 +168,7 @@ class _Plan:
     ahead: _Run | None = None
     in_zone: bool = False
     active: bool = False  # a goal runs (or stands paused): its path may be between plans
+    routed: bool = False  # it has a path (not between plans, nor waiting for people to let one)
 
     @property
     def passages(self) -> set[int]:
@@ -314,7 +320,7 @@ class TrafficRule:
             self._moving_up_for = None
         blocking = None
         if target is not None:
-            if distance == 0.0 and self._leases.get(target, _NONE).queued:
+            if distance == 0.0 and plan.routed and self._leases.get(target, _NONE).queued:
                 blocking = target, 0.0  # it starts in a passage another robot holds: it waits
             elif 0.0 < distance <= self._stop_distance(target, plan.in_zone):
                 blocking = target, distance
@@ -459,7 +465,7 @@ class TrafficRule:
             for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
-        return _Plan(needed, inside, ahead, current != 0, active=True)
+        return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None)
 
     def _request(self, zone_id: str, flow: str | None, passage: int) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

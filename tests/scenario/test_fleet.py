@@ -220,3 +220,31 @@ def test_three_robots_on_floor_plans_never_tuned_on_all_arrive(plan: str, cell: 
         results = _dispatch(building, "floor1", 12, draw)
         assert all(r.endswith(": succeeded") for r in results), results
         assert _collisions(building) == []
+
+
+def test_a_robot_giving_way_to_a_walker_in_a_door_is_not_frozen_by_the_traffic_rule(
+        world: World, store: SiteStore) -> None:
+    # Floor 2's door at (17.55, 13) into the room north of the corridor, with a walker's route
+    # through it (17.55, 14.5 <-> 9.5). Robot 1 stands just inside, bound for room_205, the
+    # walker coming at it; robot 2 right behind it in the corridor, bound for the same room;
+    # robot 3 going east along the corridor past the door. Robot 1's first plan fails (the
+    # walker), it waits for people with no path and backs out of the room's zone into the
+    # corridor's, which robot 2 holds: the traffic rule paused it there for that zone, so it
+    # stood in the doorway, the walker could not get out, robot 2 waited for the walker and
+    # failed `blocked by person`, and robot 3 waited for the corridor for minutes. A robot with
+    # no path is not paused for the zone it stands in: it gives way, the walker passes.
+    starts = [Point("in_the_door", "floor2", Pose2D(17.45, 13.4, math.pi / 2),
+                    PointKind.GENERAL),
+              Point("behind_it", "floor2", Pose2D(17.45, 12.4, math.pi / 2), PointKind.GENERAL),
+              Point("along", "floor2", Pose2D(15.9, 12.0, 0.0), PointKind.GENERAL)]
+    for point in starts:
+        store.add_point(point)
+    store.add_point(Point("in_room_205", "floor2", Pose2D(20.0, 17.0, 0.0)))
+    building = Building(store, world, robots=3, starts=starts,
+                        config=RuntimeConfig(people=True, seed=1))
+    building.send("robot1", "room_205", "floor2")
+    building.send("robot2", "in_room_205", "floor2")
+    building.send("robot3", "corridor_east", "floor2")
+    assert building.advance_until(lambda: _all_done(building), 200.0)
+    assert [agent.outcome for agent in building.agents] == ["succeeded"] * 3
+    assert _collisions(building) == []
