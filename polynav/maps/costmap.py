@@ -1,6 +1,6 @@
 """The layered costmap: what the planner and the controller read (Lu et al., IROS 2014).
 
-Four layers, each keeping its own state, compose the master grid in this order:
+Five layers, each keeping its own state, compose the master grid in this order:
 
 1. :class:`~polynav.maps.layers.static.StaticLayer`: the map (overwrites);
 2. :class:`~polynav.maps.layers.keepout.KeepoutLayer`: virtual walls and forbidden zones (LETHAL);
@@ -162,7 +162,7 @@ class Costmap:
 
     @classmethod
     def from_map(cls, grid: Map, config: CostmapConfig) -> Costmap:
-        """The standard four-layer costmap over ``grid``."""
+        """The standard costmap over ``grid`` (the layers of the module docstring)."""
         return cls(grid, config)
 
     def _build(self, grid: Map, *, keepouts: Sequence[Keepout],

@@ -136,8 +136,10 @@ class PlanFailures:
             path = self._plan_path(pose)
         except PlanningError:
             return False
-        again = first_touch(self._footprint, self._costmap, TrackedPath.from_points(path.points),
-                            0.0, pose, self._passages.look_ahead)
+        # On the planner's costs: a shut door the new route crosses is one it will open.
+        again = first_touch(self._footprint, self._costmap.planning_costs(),
+                            TrackedPath.from_points(path.points), 0.0, pose,
+                            self._passages.look_ahead)
         if again is not None and again.ahead < touch.ahead + route_choice.CLOSED_ROUTE_PLACE:
             return False
         log.info("the route ahead was closed at (%.2f, %.2f), %.2f m on: steering round it",
