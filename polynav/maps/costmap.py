@@ -280,12 +280,16 @@ class Costmap:
 
     def _compose_map_only(self, grid: npt.NDArray[np.uint8], read: Window,
                           inflate: Window) -> None:
-        """Write the map and keepouts over ``read`` and inflate them over ``inflate`` (within
-        it): the costs without the lidar's marks, for :meth:`map_cost_at` and
-        :meth:`map_costs`."""
+        """The costs without the lidar's marks, for :meth:`map_cost_at` and :meth:`map_costs`
+        (:meth:`_compose`)."""
+        self._compose(grid, (self._static, self._keepout), read, inflate)
+
+    def _compose(self, grid: npt.NDArray[np.uint8], layers: Sequence[CostmapLayer],
+                 read: Window, inflate: Window) -> None:
+        """Write ``layers`` over ``read`` and inflate them over ``inflate`` (within it)."""
         grid[win.slices(read)] = self._default
-        self._static.update_costs(grid, read)
-        self._keepout.update_costs(grid, read)
+        for layer in layers:
+            layer.update_costs(grid, read)
         self._inflation.update_costs(grid, inflate)
 
     def update_scan(self, pose: Pose2D, scan: LaserScan) -> None:
@@ -347,11 +351,7 @@ class Costmap:
         below = [layer for layer in self._layers[:-1] if layer is not self._shut]
         for group in self._shut_groups:
             inflate = win.grow(group, reach, width, height)
-            read = win.grow(inflate, reach, width, height)
-            scratch[win.slices(read)] = self._default
-            for layer in below:
-                layer.update_costs(scratch, read)
-            self._inflation.update_costs(scratch, inflate)
+            self._compose(scratch, below, win.grow(inflate, reach, width, height), inflate)
             grid[win.slices(inflate)] = scratch[win.slices(inflate)]
         grid.flags.writeable = False
         return CostSnapshot(info, grid)
