@@ -231,7 +231,8 @@ class DoorPassage:
             self._paused_for = None
             self._we_paused = False
         pose = robot._status_pose()
-        ahead = self._ahead(navigator.path, pose, doors)
+        way = _way_from(navigator.path, pose)
+        ahead = self._ahead(way, doors)
         in_doorway = {name for name in doors
                       if doors[name].state().spec.distance_to(pose.x, pose.y)
                       < self.config.clearance}
@@ -256,7 +257,7 @@ class DoorPassage:
             self._control(name, doors[name], pose, now)
         self._wait_or_go(ahead, doors, now)
         assert stack is not None  # it has a navigator
-        self._mark_shut(stack, doors, pose, navigator.path)
+        self._mark_shut(stack, doors, pose, way)
 
     # -- a door's lease and controller ----------------------------------------------------
 
@@ -361,16 +362,9 @@ class DoorPassage:
 
     # -- geometry ------------------------------------------------------------------------------
 
-    def _ahead(self, path: Path | None, pose: Pose2D, doors: Mapping[str, Door]
-               ) -> list[tuple[str, float]]:
-        """The doors ``path`` crosses within ``lookahead`` from the point nearest the robot,
-        with their distances along it, nearest first."""
-        if path is None or len(path) < 2 or not doors:
-            return []
-        points = path.points
-        k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
-        # The legs are measured once for every door (at the longest reach any door gets).
-        way = _way_ahead(points, k, pose, self.config.lookahead + self.config.keep_margin)
+    def _ahead(self, way: _Way | None, doors: Mapping[str, Door]) -> list[tuple[str, float]]:
+        """The doors the way ahead (:func:`_way_from`) crosses within ``lookahead``, with
+        their distances along it, nearest first."""
         if way is None:
             return []
         found: list[tuple[str, float]] = []
@@ -387,7 +381,7 @@ class DoorPassage:
         return found
 
     def _mark_shut(self, stack: NavigationStack, doors: Mapping[str, Door], pose: Pose2D,
-                   path: Path | None) -> None:
+                   way: _Way | None) -> None:
         """Draw the leaves of the doors that stand shut, and that the robot neither holds nor
         has on its way ahead, LETHAL on the body's costmap
         (:meth:`~polynav.maps.costmap.Costmap.set_shut_doors`; the planner still routes
@@ -403,12 +397,8 @@ class DoorPassage:
                     or status.spec.distance_to(pose.x, pose.y) < touching):
                 continue
             shut.append(status.spec)
-        if shut and path is not None and len(path) >= 2:
-            points = path.points
-            k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
-            way = _way_ahead(points, k, pose, math.inf)
-            if way is not None:
-                shut = [spec for spec in shut if _crossing_on(way, spec, math.inf) is None]
+        if way is not None:
+            shut = [spec for spec in shut if _crossing_on(way, spec, math.inf) is None]
         key = (id(stack.costmap), tuple(spec.name for spec in shut))
         if key == self._shut_for:
             return
@@ -437,6 +427,16 @@ class _Way:
     b: npt.NDArray[np.float64]
     legs: npt.NDArray[np.float64]
     before: npt.NDArray[np.float64]
+
+
+def _way_from(path: Path | None, pose: Pose2D) -> _Way | None:
+    """The whole way ``path`` goes on from its point nearest the robot (measured once a tick
+    for the doors ahead and the doors it will open); ``None`` without one."""
+    if path is None or len(path) < 2:
+        return None
+    points = path.points
+    k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
+    return _way_ahead(points, k, pose, math.inf)
 
 
 def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
