@@ -6,7 +6,8 @@ fails where a few seconds of patience would have done. :class:`PeopleWait` runs 
 stands, looks for a way past the people every ``wait_replan_period`` on the live costmap, goes on
 as soon as the way is open, and after ``give_way_after`` face to face with someone it steps
 aside off their way (or backs up where there is no room) so that they can pass, as a person
-would; a spot aside is one reached about straight, never one round a wall. The patience runs
+would; a spot aside is one reached about straight, never one round a wall, and never farther
+than ``_ASIDE_REACH`` from where the wait began (a step, not a retreat). The patience runs
 over the whole episode, which ends once the robot has got ``reset_distance`` past where it
 began; when it runs out the goal fails ``blocked by person``.
 """
@@ -40,6 +41,7 @@ _ASIDE_TRIES = 2  # spots tried in one give-way before backing up
 _ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there while stepping aside
 _ASIDE_DETOUR = 1.5  # a way aside longer than this times the straight distance is no step aside
 _ASIDE_SLACK = 0.3  # [m] beyond that: a grid path's steps round a corner
+_ASIDE_REACH = 2.0  # [m] from where the wait began: a spot farther is no step aside
 
 
 def _judged_gap(d: float, radial: float) -> float:
@@ -289,6 +291,13 @@ class PeopleWait:
         self._aside_held_since = None
         self._aside_tries += 1
         for spot in aside_spots(self._costmap, pose, self.people, self.config):
+            if self._where is not None and spot.distance_to(self._where) > _ASIDE_REACH:
+                # Step after step away from one walker coming on is a retreat, not a step
+                # aside: a robot on floor 2's corridor stepped into a room's side passage,
+                # then down it ahead of the walker heading there, into the room, 4 m off its
+                # way; coming back it met a robot its lease shared the corridor with, head-on
+                # in the passage (issue 36, bench fleet seed 0).
+                continue
             try:
                 way = self._planner.plan(self._costmap, pose, spot)
             except PlanningError:

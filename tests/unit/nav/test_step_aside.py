@@ -149,3 +149,29 @@ def test_a_spot_reached_only_round_a_wall_is_no_step_aside_the_robot_backs_up() 
     assert planner.calls >= 1  # spots were found and tried ...
     assert controller.paths == 0  # ... but none is a step aside: no way aside is followed
     assert step.twist.linear < 0.0  # it backs up off their way instead
+
+
+def test_a_step_aside_stays_near_where_the_wait_began() -> None:
+    """Stepped aside once already (2 m from where it began to wait) and face to face again, the
+    robot takes no spot farther on: step after step away from one walker is a retreat (on floor
+    2 of the demo, down a room's side passage ahead of the walker heading there, into the
+    room, and back up it head-on into a robot: issue 36)."""
+    controller = ScriptedController()
+    wait = PeopleWait(CFG, FakeCostmap(), ScriptedPlanner(), controller,  # type: ignore[arg-type]
+                      robot_radius=0.25)
+    start = Pose2D()
+    path = Path(np.array([[0.0, 0.0], [5.0, 0.0]]))
+    wait.people = PeopleView((Person(0.9, 0.0),))
+    wait.begin(start, 0.0)
+    here = Pose2D(2.0, 0.0)
+    wait.people = PeopleView((Person(2.9, 0.0),))  # face to face again, waiting for it
+    wait.tick(here, Twist(), CFG.give_way_after, 0.1, path, lambda _: path)
+    spot = wait._aside
+    assert spot is None or spot.distance_to(start) <= 2.0 + 1e-9, spot
+    # Without the bound the same tick steps aside beyond it (the test can fail).
+    free = PeopleWait(CFG, FakeCostmap(), ScriptedPlanner(), ScriptedController(),  # type: ignore[arg-type]
+                      robot_radius=0.25)
+    free.people = wait.people
+    free.begin(here, 0.0)
+    free.tick(here, Twist(), CFG.give_way_after, 0.1, path, lambda _: path)
+    assert free._aside is not None and free._aside.distance_to(start) > 2.0
