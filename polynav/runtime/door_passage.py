@@ -231,7 +231,7 @@ class DoorPassage:
             self._paused_for = None
             self._we_paused = False
         pose = robot._status_pose()
-        way = _way_from(navigator.path, pose)
+        way = _way_from(navigator.path, pose) if doors else None  # no door, no crossing
         ahead = self._ahead(way, doors)
         in_doorway = {name for name in doors
                       if doors[name].state().spec.distance_to(pose.x, pose.y)
