@@ -103,6 +103,7 @@ def _run(args: argparse.Namespace) -> int:
     from polynav.api.auth_gate import login_refusal
     from polynav.dialect_servers import DialectStartError, start_dialects, stop_dialects
     from polynav.listen import tcp_listener
+    from polynav.prompt_server import PromptServer
     from polynav.robot.profile import load_profile
     from polynav.runtime.config import RuntimeConfig
     from polynav.runtime.robot_runtime import RobotRuntime
@@ -169,7 +170,7 @@ def _run(args: argparse.Namespace) -> int:
                   file=sys.stderr)
             return 1
         host, port = sock.getsockname()[:2]
-        server = uvicorn.Server(
+        server = PromptServer(
             uvicorn.Config(app, log_level="warning", lifespan="off", ws="websockets-sansio")
         )
         runtime.start()

@@ -104,9 +104,10 @@ def run(args: argparse.Namespace) -> int:
     from polynav.fleet.records import FleetRecords, FleetRecordsError, RecordsConfig
     from polynav.fleet_api import FleetApiConfig, create_app
     from polynav.listen import tcp_listener
+    from polynav.prompt_server import PromptServer
     from polynav.store.site_store import SiteStore
 
-    class _Server(uvicorn.Server):
+    class _Server(PromptServer):
         """A uvicorn server that leaves signals to :func:`run`."""
 
         @contextlib.contextmanager

@@ -30,6 +30,7 @@ from polynav.fleet.vehicle import config_from_args
 from polynav.house import broker
 from polynav.house.building import Building
 from polynav.listen import tcp_listener
+from polynav.prompt_server import PromptServer
 from polynav.robot.profile import load_profile
 from polynav.runtime.config import RuntimeConfig
 from polynav.store.site_store import SiteStore
@@ -38,7 +39,7 @@ from polynav.worlds import load_world
 log = logging.getLogger(__name__)
 
 
-class _Server(uvicorn.Server):
+class _Server(PromptServer):
     """A uvicorn server that leaves signals to :func:`run` (N servers share one process)."""
 
     @contextlib.contextmanager

@@ -12,6 +12,7 @@ import uvicorn
 from starlette.applications import Starlette
 
 from polynav.listen import tcp_listener
+from polynav.prompt_server import PromptServer
 
 
 class HttpListener:
@@ -23,7 +24,7 @@ class HttpListener:
         options = {} if ws is None else {"ws": ws}
         config = uvicorn.Config(app, host=host, port=port, log_level="warning", lifespan="off",
                                 access_log=False, **options)  # type: ignore[arg-type]
-        self._server = uvicorn.Server(config)
+        self._server = PromptServer(config)
         self._name = name
         self._task: asyncio.Task[None] | None = None
         self._sock: socket.socket | None = None

@@ -14,6 +14,7 @@ from fastapi import FastAPI
 
 from polynav.api import ApiConfig, create_app
 from polynav.listen import tcp_listener
+from polynav.prompt_server import PromptServer
 
 
 class ServerThread:
@@ -26,7 +27,7 @@ class ServerThread:
         config = uvicorn.Config(
             app, log_level="warning", lifespan="off", ws="websockets-sansio"
         )
-        self._server = uvicorn.Server(config)
+        self._server = PromptServer(config)
         self._thread = threading.Thread(
             target=self._server.run, kwargs={"sockets": [self._sock]}, daemon=True
         )

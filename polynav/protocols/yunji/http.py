@@ -24,6 +24,7 @@ from starlette.responses import Response
 from starlette.routing import Route
 
 from polynav.listen import tcp_listener
+from polynav.prompt_server import PromptServer
 from polynav.protocols.yunji import codec
 from polynav.protocols.yunji.messages import Reply, Status
 
@@ -77,7 +78,7 @@ class HttpListener:
             lifespan="off",
             access_log=False,
         )
-        self._server = uvicorn.Server(config)
+        self._server = PromptServer(config)
         self._task: asyncio.Task[None] | None = None
         self._sock: socket.socket | None = None
 
