@@ -411,6 +411,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--vda-serial", default="robot1",
                      help="a lone robot's VDA 5050 serial number (default: %(default)s; with "
                           "--robots, robot1..robotN)")
+    run.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
+                     help="with --broker: how long to try the broker at start-up before "
+                          "giving up (default: %(default)s s)")
     run.add_argument("--vda-visualization-rate", type=float, default=1.0, metavar="HZ",
                      help="visualization messages per second, 0 for none (default: %(default)s)")
     run.add_argument("--yunji-port", type=int, default=31001,

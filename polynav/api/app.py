@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import copy
 import logging
+import threading
+from collections.abc import Callable
+from typing import Any
 
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
@@ -43,6 +47,29 @@ ROUTERS = (
     status, maps, points, navigation, mapless, localization, mapping, control, settings, robot,
     fleet, lifts, doors, tasks, schedules, ws, keepouts, paths, scene, carts,
 )
+
+
+#: The OpenAPI document once built in this process, by whether the app asks for a login (the
+#: only thing that changes it: the routes and their schemas are fixed when the package loads).
+_DOCUMENTS: dict[bool, dict[str, Any]] = {}
+_DOCUMENTS_LOCK = threading.Lock()
+
+
+def _share_document(app: FastAPI, login: bool) -> None:
+    """Build the OpenAPI document once per process, not once per app: it takes pydantic about
+    0.5 s of CPU, paid otherwise by each robot's app of a building and by every app a client
+    asks for ``/docs``. Each app gets its own copy, so no caller can change another's."""
+    build: Callable[[], dict[str, Any]] = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            with _DOCUMENTS_LOCK:
+                if login not in _DOCUMENTS:
+                    _DOCUMENTS[login] = build()
+                app.openapi_schema = copy.deepcopy(_DOCUMENTS[login])
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
 
 
 def _operation_id(route: APIRoute) -> str:
@@ -92,4 +119,5 @@ def create_app(
     install_console(app)
     if config.login_required:  # beyond loopback (or forced): docs/auth.md
         install_login(app, config)
+    _share_document(app, config.login_required)
     return app

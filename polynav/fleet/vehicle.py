@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import datetime as dt
 import logging
+import math
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -67,6 +68,8 @@ class VehicleConfig:
             raise ConfigError("fleet.vda.state_period", "must be in (0, 30] s")
         if self.visualization_period is not None and self.visualization_period <= 0:
             raise ConfigError("fleet.vda.visualization_period", "must be > 0")
+        if not (math.isfinite(self.connect_timeout) and self.connect_timeout > 0):
+            raise ConfigError("fleet.vda.connect_timeout", "must be a number of seconds > 0")
 
 
 def config_from_args(args: argparse.Namespace) -> VehicleConfig:
@@ -80,7 +83,8 @@ def config_from_args(args: argparse.Namespace) -> VehicleConfig:
         raise ConfigError("fleet.vda.visualization_rate", "must be >= 0")
     return VehicleConfig(str(args.broker), version=str(args.vda_version),
                          manufacturer=str(args.vda_manufacturer),
-                         visualization_period=1.0 / rate if rate > 0 else None)
+                         visualization_period=1.0 / rate if rate > 0 else None,
+                         connect_timeout=float(args.connect_timeout))
 
 
 class VehicleLink:

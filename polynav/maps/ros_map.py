@@ -32,6 +32,7 @@ import numpy.typing as npt
 import yaml
 from PIL import Image, UnidentifiedImageError
 
+from polynav import safe_yaml
 from polynav.errors import InvalidRequest, StorageError
 from polynav.geometry import Pose2D
 from polynav.maps.errors import MapFormatError
@@ -176,7 +177,7 @@ def _read_yaml(path: Path) -> dict[str, Any]:
     except (OSError, UnicodeDecodeError) as exc:
         raise MapFormatError("yaml", f"{path}: cannot read: {exc}") from exc
     try:
-        meta = yaml.safe_load(text)
+        meta = safe_yaml.load(text)
     except yaml.YAMLError as exc:
         raise MapFormatError("yaml", f"{path}: not valid YAML: {exc}") from exc
     if not isinstance(meta, dict):

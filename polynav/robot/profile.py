@@ -70,6 +70,7 @@ from typing import Any
 
 import yaml
 
+from polynav import safe_yaml
 from polynav.docking.shape import DockShape
 from polynav.errors import ConfigError, InvalidRequest
 from polynav.footprint import Footprint
@@ -367,7 +368,7 @@ def load_profile(ref: str | Path | None = None) -> RobotProfile:
     except (OSError, UnicodeDecodeError) as exc:
         raise ProfileError("robot", f"{path}: cannot read: {exc}") from exc
     try:
-        doc = yaml.safe_load(text)
+        doc = safe_yaml.load(text)
     except yaml.YAMLError as exc:
         raise ProfileError("robot", f"{path}: not valid YAML: {exc}") from exc
     profile = parse_profile(doc)

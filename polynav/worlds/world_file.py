@@ -60,6 +60,7 @@ from typing import Any
 
 import yaml
 
+from polynav import safe_yaml
 from polynav.errors import InvalidRequest
 from polynav.geometry import Pose2D
 from polynav.maps.ros_map import load_map
@@ -106,7 +107,7 @@ def read_world(folder: str | Path) -> World:
     except (OSError, UnicodeDecodeError) as exc:
         raise WorldFormatError(WORLD_FILE, f"{path}: cannot read: {exc}") from exc
     try:
-        doc = yaml.safe_load(text)
+        doc = safe_yaml.load(text)
     except yaml.YAMLError as exc:
         raise WorldFormatError(WORLD_FILE, f"{path}: not valid YAML: {exc}") from exc
     if not isinstance(doc, dict):

@@ -9,14 +9,14 @@ import httpx
 import pytest
 
 from polynav.store.site_store import SiteStore
-from polynav.worlds import load_world
+from polynav.worlds.world import World
 from tests.api.fakes import FakeRuntime
 from tests.api.server import native_client
 
 
 @pytest.fixture
-def fake_runtime(tmp_path: Path) -> Iterator[FakeRuntime]:
-    store = SiteStore.open(tmp_path / "data", seed_world=load_world("demo"))
+def fake_runtime(tmp_path: Path, world: World) -> Iterator[FakeRuntime]:
+    store = SiteStore.open(tmp_path / "data", seed_world=world)
     yield FakeRuntime(store)
     store.close()
 

@@ -8,6 +8,7 @@ black-box tests use the real runtime.
 from __future__ import annotations
 
 import datetime as dt
+import functools
 import threading
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar, cast
@@ -37,6 +38,7 @@ from polynav.runtime.task_commands import TaskCommands
 from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 from polynav.worlds.carts import WorldCart
+from polynav.worlds.world import World
 
 T = TypeVar("T")
 EPOCH = dt.datetime(2030, 1, 7, 9, 0)
@@ -136,6 +138,13 @@ class _NoPlan:
         return [(fake.pose.x, fake.pose.y), (fake.goal.x, fake.goal.y)][:max_points]
 
 
+@functools.cache
+def _demo_world() -> World:
+    """The demo world, read once: the fake only reads its lifts and doors (the doors' grids
+    copied)."""
+    return load_world("demo")
+
+
 class FakeRuntime:
     def __init__(self, store: SiteStore) -> None:
         self.store = store
@@ -158,7 +167,7 @@ class FakeRuntime:
         self.mapping_started: tuple[str | None, str | None, Pose2D | None] | None = None
         self.jobs = MappingJobs()
         self._saving: MappingJob | None = None
-        world = load_world("demo")
+        world = _demo_world()
         levels = {f.name: f.level for f in world.floors}
         self.cars = {car.name: SimLiftCar(car, levels, lambda floor: 0, lambda: self.now)
                      for car in world.lifts}

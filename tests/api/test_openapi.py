@@ -300,3 +300,21 @@ def test_405_lists_every_method_of_the_path_in_allow(
     if method != "HEAD":
         _error(response, 405, "method_not_allowed")
     assert response.headers["allow"] == allow
+
+
+def test_apps_share_one_built_document_each_with_its_own_copy(fake_runtime: Any) -> None:
+    """The document is built once per process and login setting (it costs pydantic ~0.5 s),
+    and each app answers its own copy: one app's document changed leaves the others alone,
+    and an app asking for a login still declares its security."""
+    from polynav.api import ApiConfig, create_app
+
+    plain = [create_app(fake_runtime, ApiConfig(port=0, auth=False)) for _ in range(2)]
+    gated = create_app(fake_runtime, ApiConfig(port=0, auth=True))
+    first, second = (app.openapi() for app in plain)
+    assert first == second and first is not second
+    first["paths"].clear()
+    assert plain[1].openapi()["paths"] == second["paths"] != {}
+    assert create_app(fake_runtime, ApiConfig(port=0, auth=False)).openapi()["paths"]
+    assert "securitySchemes" not in second.get("components", {})
+    assert "securitySchemes" in gated.openapi()["components"]
+    assert set(gated.openapi()["paths"]) >= set(second["paths"])

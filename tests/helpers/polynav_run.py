@@ -58,7 +58,7 @@ def stop_run(proc: subprocess.Popen[str], lines: list[str]) -> str:
     found = [m for line in lines if (m := re.search(r"native API (http://[\d.]+:\d+)", line))]
     assert len(found) == 1, lines
     try:
-        with urllib.request.urlopen(found[0].group(1) + "/openapi.json", timeout=30):
+        with urllib.request.urlopen(found[0].group(1) + "/docs", timeout=30):
             pass
     except urllib.error.HTTPError:  # any HTTP answer will do
         pass

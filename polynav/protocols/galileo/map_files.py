@@ -32,6 +32,7 @@ from typing import Any
 import yaml
 from starlette.responses import Response
 
+from polynav import safe_yaml
 from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.maps import ros_map
 from polynav.protocols.galileo import convert
@@ -230,7 +231,7 @@ def _read_archive(data: bytes) -> tuple[Any, dict[str, Any]]:
         if meta_text is None or image is None:
             raise InvalidRequest("map_files", "the archive needs map.yaml and map.png")
         try:
-            meta = yaml.safe_load(meta_text)
+            meta = safe_yaml.load(meta_text)
         except yaml.YAMLError as exc:
             raise InvalidRequest("map_files", f"map.yaml is not YAML: {exc}") from None
         if not isinstance(meta, dict):

@@ -19,6 +19,7 @@ from typing import Any
 import yaml
 from starlette.responses import Response
 
+from polynav import safe_yaml
 from polynav.errors import Conflict, InvalidRequest, PolynavError
 from polynav.maps import ros_map
 from polynav.protocols.puwei.context import Context
@@ -95,7 +96,7 @@ def descriptor(ctx: Context, name: str) -> str:
     record = store.map_record(name)
     stored = store.map_image_path(name).with_suffix(YAML)
     try:
-        meta = yaml.safe_load(stored.read_text(encoding="utf-8")) or {}
+        meta = safe_yaml.load(stored.read_text(encoding="utf-8")) or {}
     except (OSError, yaml.YAMLError):
         meta = {}
     origin = record.origin
@@ -153,7 +154,7 @@ def upload(ctx: Context, request: PuweiRequest) -> None:
         if ctx.runtime.status().map == name:
             raise Conflict(f"navigation runs on map {name!r}: stop it first")
     try:
-        meta = yaml.safe_load(descriptor_file.content.decode("utf-8"))
+        meta = safe_yaml.load(descriptor_file.content.decode("utf-8"))
     except (UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InvalidRequest("yaml", f"not YAML: {exc}") from None
     if not isinstance(meta, dict):

@@ -166,11 +166,12 @@ def test_a_building_with_an_unreachable_broker_at_start_up_says_so_in_one_line_a
         tmp_path: Path) -> None:
     # (A lone robot's: test_run_broker.py.)
     url = f"mqtt://127.0.0.1:{free_loopback_port()}"  # nothing listens there
-    with running(tmp_path, None, "--robots", "2", "--broker", url) as (proc, _):
+    with running(tmp_path, None, "--robots", "2", "--broker", url,
+                 "--connect-timeout", "1.5") as (proc, _):
         _, err = proc.communicate(timeout=90)
     assert proc.returncode == 1
     assert err.strip().splitlines() == [
-        f"polynav run: MQTT broker at {url} not reachable after 10.0 s: "
+        f"polynav run: MQTT broker at {url} not reachable after 1.5 s: "
         "ConnectionRefusedError: [Errno 111] Connection refused"], err
 
 

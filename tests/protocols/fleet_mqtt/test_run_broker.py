@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 import orjson
+import pytest
 
 from polynav.fleet.vda5050 import validation
 from polynav.fleet.vehicle import VehicleConfig
@@ -49,10 +50,23 @@ def test_polynav_run_with_a_broker_is_a_vehicle_online_then_offline(
 
 
 def test_polynav_run_with_an_unreachable_broker_says_so_and_exits(tmp_path: Path) -> None:
-    proc = start_run(tmp_path, None, "--broker", "mqtt://127.0.0.1:1", "--vda-serial", "r")
+    proc = start_run(tmp_path, None, "--broker", "mqtt://127.0.0.1:1", "--vda-serial", "r",
+                     "--connect-timeout", "1")
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 1
-    assert "mqtt://127.0.0.1:1 not reachable" in err
+    assert "mqtt://127.0.0.1:1 not reachable after 1.0 s" in err
+
+
+@pytest.mark.parametrize(("robots", "timeout"), [((), "0"), (("--robots", "2"), "nan")],
+                         ids=["lone", "building"])
+def test_a_connect_timeout_not_above_zero_is_refused_by_name(
+        tmp_path: Path, robots: tuple[str, ...], timeout: str) -> None:
+    proc = start_run(tmp_path, None, *robots, "--broker", "mqtt://127.0.0.1:1",
+                     "--connect-timeout", timeout)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode in (1, 2), err
+    assert "connect_timeout" in err and "> 0" in err, err
+    assert "Traceback" not in err
 
 
 def test_a_building_over_the_broker_runs_orders_as_in_process(
