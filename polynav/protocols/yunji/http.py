@@ -11,20 +11,14 @@ handler. Served by uvicorn on the Yunji server's event loop.
 
 from __future__ import annotations
 
-import asyncio
-import contextlib
 import logging
-import socket
 from collections.abc import Awaitable, Callable
 
-import uvicorn
 from starlette.applications import Starlette
 from starlette.requests import Request
 from starlette.responses import Response
 from starlette.routing import Route
 
-from polynav.listen import tcp_listener
-from polynav.prompt_server import PromptServer
 from polynav.protocols.yunji import codec
 from polynav.protocols.yunji.messages import Reply, Status
 
@@ -63,50 +57,3 @@ def create_app(answer: Answer, max_command_bytes: int) -> Starlette:
 
 def _json(packet: bytes) -> Response:
     return Response(packet, media_type="application/json")
-
-
-class HttpListener:
-    """The HTTP form served on the running event loop; :meth:`start` binds, :meth:`close`
-    stops."""
-
-    def __init__(self, answer: Answer, host: str, port: int, max_command_bytes: int) -> None:
-        config = uvicorn.Config(
-            create_app(answer, max_command_bytes),
-            host=host,
-            port=port,
-            log_level="warning",
-            lifespan="off",
-            access_log=False,
-        )
-        self._server = PromptServer(config)
-        self._task: asyncio.Task[None] | None = None
-        self._sock: socket.socket | None = None
-
-    @property
-    def port(self) -> int:
-        servers = getattr(self._server, "servers", [])
-        return int(servers[0].sockets[0].getsockname()[1])
-
-    async def start(self) -> None:
-        """Bind and serve; raises ``OSError`` when the port cannot be bound."""
-        config = self._server.config
-        self._sock = tcp_listener(config.host, config.port)
-        self._task = asyncio.ensure_future(self._server.serve(sockets=[self._sock]))
-        while not self._server.started:
-            if self._task.done():
-                with contextlib.suppress(SystemExit):  # uvicorn exits when it cannot bind
-                    self._task.result()
-                config = self._server.config
-                raise OSError(f"cannot listen on {config.host}:{config.port} (Yunji HTTP)")
-            await asyncio.sleep(0.005)
-
-    async def close(self) -> None:
-        if self._task is None:
-            return
-        self._server.should_exit = True
-        with contextlib.suppress(asyncio.CancelledError, SystemExit):
-            await self._task
-        self._task = None
-        if self._sock is not None:
-            self._sock.close()
-            self._sock = None

@@ -24,11 +24,12 @@ from dataclasses import dataclass
 import polynav
 from polynav.errors import ConfigError, PolynavError
 from polynav.listen import tcp_listener
+from polynav.protocols.http_listener import HttpListener
 from polynav.protocols.outbox import Outbox
 from polynav.protocols.server_thread import ServerThread
 from polynav.protocols.yunji import codec, context, errors, routes, streams
 from polynav.protocols.yunji.events import NotificationMapper
-from polynav.protocols.yunji.http import HttpListener
+from polynav.protocols.yunji.http import create_app
 from polynav.protocols.yunji.messages import Reply, Status, StreamRequest
 from polynav.runtime.robot_runtime import RobotRuntime
 
@@ -201,8 +202,8 @@ class YunjiServer:
         log.info("yunji: listening on %s:%d", self.config.host, self.port)
         if self.config.http_port is not None:
             http = HttpListener(
-                self._answer, self.config.host, self.config.http_port,
-                self.config.max_command_bytes,
+                create_app(self._answer, self.config.max_command_bytes), self.config.host,
+                self.config.http_port, name="Yunji HTTP",
             )
             try:
                 await http.start()
