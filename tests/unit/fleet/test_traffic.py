@@ -452,3 +452,79 @@ def test_segments_ahead_are_kept_while_the_path_is_away_a_moment_not_longer() ->
         fleet.now = round(fleet.now + 0.2, 1)
     assert rule.held == (here,)
     assert [z for z in held if fleet.book.lease(z, "r1") is not None] == [here]
+
+
+def test_a_robot_parked_in_a_corridor_keeps_its_segment_and_is_let_out_first() -> None:
+    # Bench fleet seed 2: robot A parks in the corridor's east segment (its goal ends there)
+    # while robot C, coming from the west end, holds the segments below and waits for A's. A's
+    # next goal leads back west through C's segments. Given back on arrival, A's segment went
+    # to C, who drove up against A. Kept, the two wait for each other until C, waiting outside
+    # the passage, gives its segments back; A goes first, then C.
+    zones = {"m": find_zones("m", _long_corridor())}
+    zmap = zones["m"]
+    fleet = _Fleet()
+    config = TrafficConfig(yield_after=10.0)
+    a = _Robot(Pose2D(22.0, 2.3, 0.0), Path(np.array([(22.0, 2.3), (22.0, 4.5), (20.0, 4.5)])))
+    c = _Robot(Pose2D(2.0, 2.3, 0.0), Path(np.array(
+        [(2.0, 2.3), (2.0, 4.5), (22.0, 4.5), (22.0, 2.3)])))
+    robots = {"a": a, "c": c}
+    for name in robots:
+        fleet.rules[name] = TrafficRule(name, zones, config, fleet.sender(name))
+    parked_at = None
+    way_back = Path(np.array([(20.0, 4.5), (6.0, 4.5), (6.0, 2.3)]))
+    parked_segment = zmap.zone_id(zmap.zone_at(20.0, 4.5))
+    while fleet.now < 200.0 and not (parked_at is not None and all(
+            r.navigation_stack.navigator.state is NavigationState.SUCCEEDED
+            for r in robots.values())):
+        for name, robot in robots.items():
+            fleet.rules[name].tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        if a.path is not way_back and a.navigation_stack.navigator.state is (
+                NavigationState.SUCCEEDED):
+            parked_at = fleet.now if parked_at is None else parked_at
+            assert fleet.rules["a"].held == (parked_segment,)  # parked: it keeps its segment
+            if fleet.now - parked_at >= 2.0:  # the next goal, back west
+                a.path = way_back
+                a.navigation_stack.navigator.path = way_back
+                a.navigation_stack.navigator.state = NavigationState.RUNNING
+        for robot in robots.values():
+            if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
+                _advance(robot, 0.1)
+        here = {name: zmap.zone_at(r.pose.x, r.pose.y) for name, r in robots.items()}
+        assert not (here["a"] and here["a"] == here["c"]), (fleet.now, a.pose, c.pose)
+        for name, zone in here.items():
+            if zone:
+                assert zmap.zone_id(zone) in fleet.rules[name].held, (name, fleet.now)
+        fleet.now = round(fleet.now + 0.1, 1)
+    assert a.path is way_back and a.pose.distance_to(Pose2D(6.0, 2.3, 0.0)) < 1e-6
+    assert c.navigation_stack.navigator.state is NavigationState.SUCCEEDED
+    assert fleet.rules["c"].yields >= 1 and fleet.rules["a"].yields == 0
+    assert fleet.rules["a"].held == fleet.rules["c"].held == ()
+
+
+def test_a_robot_parked_in_a_corridor_gives_its_segment_back_after_park_hold() -> None:
+    # Kept for a next goal sent at once, not longer: in a corridor wide enough to pass a robot
+    # standing still, a parked robot is an obstacle to plan round, not a lock.
+    zones = {"m": find_zones("m", _long_corridor())}
+    fleet = _Fleet()
+    config = TrafficConfig(park_hold=3.0)
+    robot = _Robot(Pose2D(17.0, 4.5, 0.0), Path(np.array([(17.0, 4.5), (20.0, 4.5)])))
+    rule = fleet.rules["r1"] = TrafficRule("r1", zones, config, fleet.sender("r1"))
+    while robot.navigation_stack.navigator.state is NavigationState.RUNNING:
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        _advance(robot, 0.1)
+        fleet.now = round(fleet.now + 0.1, 1)
+    here = zones["m"].zone_id(zones["m"].zone_at(20.0, 4.5))
+    ended = fleet.now
+    while fleet.now - ended < config.park_hold - 0.2:
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        if fleet.now - ended > config.check_period:  # the other segments given back
+            assert rule.held == (here,) and fleet.book.lease(here, "r1") is not None
+        fleet.now = round(fleet.now + 0.1, 1)
+    while fleet.now - ended < config.park_hold + 0.5:
+        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        fleet.now = round(fleet.now + 0.1, 1)
+    assert rule.held == () and fleet.book.lease(here, "r1") is None
