@@ -13,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import socket
+from collections.abc import Iterator
 
 import uvicorn
 
@@ -20,9 +21,14 @@ _TICK = 0.1  # s: uvicorn's tick, kept for its once-a-second Date header
 
 
 class PromptServer(uvicorn.Server):
-    """``uvicorn.Server`` whose stop takes no fixed sleeps."""
+    """``uvicorn.Server`` whose stop takes no fixed sleeps.
 
-    def __init__(self, config: uvicorn.Config) -> None:
+    ``signals=False`` leaves SIGINT and SIGTERM to the caller: a process serving several apps
+    (a building's robots, a fleet manager beside its broker) stops them all from one handler.
+    """
+
+    def __init__(self, config: uvicorn.Config, *, signals: bool = True) -> None:
+        self._signals = signals
         self._stop_now = False
         self._wake: asyncio.Event | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -39,6 +45,14 @@ class PromptServer(uvicorn.Server):
         if value and self._loop is not None and self._wake is not None:
             with contextlib.suppress(RuntimeError):  # the loop has already closed
                 self._loop.call_soon_threadsafe(self._wake.set)
+
+    @contextlib.contextmanager
+    def capture_signals(self) -> Iterator[None]:
+        if self._signals:
+            with super().capture_signals():
+                yield
+        else:
+            yield
 
     async def main_loop(self) -> None:
         self._loop = asyncio.get_running_loop()

@@ -45,9 +45,10 @@ waits climbs the zone numbers and cannot close into a cycle. A robot standing in
 breaks the order: it holds the segment it stands in and may wait for lower ones, held by a robot
 outside that waits for its segment. So a robot outside a passage that has waited ``yield_after``
 while holding segments of it gives them back and asks again: any cycle of waits has a robot
-outside in it (two robots inside one passage going opposite ways would need one to back out, and
-the rule lets no one in behind a robot standing there), so every cycle opens within
-``yield_after`` (docs/fleet.md, "Why no deadlock").
+outside in it, unless two robots stand in one passage wanting to pass each other, which no
+lease mends (no one is granted the segment a robot stands in and holds, so both must have ended
+their goals there), and so every cycle opens within ``yield_after`` (docs/fleet.md, "Why no
+deadlock").
 """
 
 from __future__ import annotations

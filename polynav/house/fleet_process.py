@@ -107,13 +107,6 @@ def run(args: argparse.Namespace) -> int:
     from polynav.prompt_server import PromptServer
     from polynav.store.site_store import SiteStore
 
-    class _Server(PromptServer):
-        """A uvicorn server that leaves signals to :func:`run`."""
-
-        @contextlib.contextmanager
-        def capture_signals(self) -> Iterator[None]:
-            yield
-
     name = args.name or f"fleet-{socket_module.gethostname()}-{os.getpid()}"
     db_url = args.db or f"sqlite:///{Path(args.data).resolve() / 'fleet.db'}"
     with contextlib.ExitStack() as stack:
@@ -143,8 +136,9 @@ def run(args: argparse.Namespace) -> int:
                   file=sys.stderr)
             return 1
         stack.callback(sock.close)
-        server = _Server(uvicorn.Config(create_app(manager, api_config), log_level="warning",
-                                        lifespan="off", ws="websockets-sansio"))
+        server = PromptServer(uvicorn.Config(create_app(manager, api_config), log_level="warning",
+                                             lifespan="off", ws="websockets-sansio"),
+                              signals=False)
 
         def on_signal(signum: int, _frame: object) -> None:
             log.info("signal %d", signum)

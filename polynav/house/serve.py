@@ -13,12 +13,10 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import contextlib
 import logging
 import signal
 import socket
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 
 import uvicorn
@@ -37,14 +35,6 @@ from polynav.store.site_store import SiteStore
 from polynav.worlds import load_world
 
 log = logging.getLogger(__name__)
-
-
-class _Server(PromptServer):
-    """A uvicorn server that leaves signals to :func:`run` (N servers share one process)."""
-
-    @contextlib.contextmanager
-    def capture_signals(self) -> Iterator[None]:
-        yield
 
 
 def _offset(port: int, i: int) -> int:
@@ -72,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"polynav run: {refusal}", file=sys.stderr)
         store.close()
         return 2
-    servers: list[_Server] = []
+    servers: list[PromptServer] = []
     stop_requested: list[int] = []
 
     def on_signal(signum: int, _frame: object) -> None:
@@ -135,8 +125,9 @@ def run(args: argparse.Namespace) -> int:
                 building.ports[serial] = ports
                 app = create_app(runtime, ApiConfig(host=args.host, port=port),
                                  fleet=building.entries)
-                servers.append(_Server(uvicorn.Config(app, log_level="warning", lifespan="off",
-                                                      ws="websockets-sansio")))
+                servers.append(PromptServer(uvicorn.Config(app, log_level="warning", lifespan="off",
+                                                           ws="websockets-sansio"),
+                                            signals=False))
             building.start()
             print(f"polynav: simulating world {world.name!r} with {args.robots} robots at "
                   f"{args.speed:g}x, data in {Path(args.data).resolve()}", flush=True)
@@ -175,6 +166,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-async def _serve_all(servers: list[_Server], sockets: list[socket.socket]) -> None:
+async def _serve_all(servers: list[PromptServer], sockets: list[socket.socket]) -> None:
     await asyncio.gather(*(server.serve(sockets=[sock])
                            for server, sock in zip(servers, sockets, strict=True)))

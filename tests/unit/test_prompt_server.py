@@ -4,6 +4,7 @@ gracefully through uvicorn's own path."""
 
 from __future__ import annotations
 
+import signal
 import socket
 import threading
 
@@ -105,3 +106,14 @@ def test_should_exit_reads_back_and_starts_false() -> None:
     assert server.should_exit is False
     server.should_exit = True  # no loop yet: nothing to wake, no error
     assert server.should_exit is True
+
+
+@pytest.mark.parametrize("signals", [True, False])
+def test_signals_false_leaves_sigterm_to_the_caller(signals: bool) -> None:
+    # A building serves one app per robot in one process: its own handler stops them all.
+    before = signal.getsignal(signal.SIGTERM)
+    server = PromptServer(uvicorn.Config(_app()), signals=signals)
+    with server.capture_signals():
+        inside = signal.getsignal(signal.SIGTERM)
+    assert (inside is not before) is signals
+    assert signal.getsignal(signal.SIGTERM) is before
