@@ -234,6 +234,7 @@ class TrafficRule:
         self._holding_since: float | None = None
         self.yields = 0
         self._parked_since: float | None = None  # when its last goal ended (None: one runs)
+        self._attempt: int | None = None  # the goal (navigation attempt) it last looked at
 
     @property
     def waiting_for(self) -> str | None:
@@ -490,6 +491,13 @@ class TrafficRule:
         self._parked_since = None
         path: Path | None = navigator.path
         current = zmap.zone_at(pose.x, pose.y)
+        attempt = runtime.status().attempt_id
+        if attempt != self._attempt and path is not None:
+            # A new goal (sent at once, the rule may not have seen the last one end): the zone
+            # it stands in is turned to its way.
+            self._attempt = attempt
+            if current:
+                self._turn(zmap, path, pose.x, pose.y, current)
         skip = 0
         if (current and path is not None and not self._granted(zmap.zone_id(current))
                 and zmap.leaves(path, pose.x, pose.y, current, within=self.config.leave_within)):
@@ -537,6 +545,23 @@ class TrafficRule:
                 or self._now - self._parked_since >= self.config.park_hold):
             return _Plan()
         return _Plan({zone_id: None}, in_zone=True)
+
+    def _turn(self, zmap: ZoneMap, path: Path, x: float, y: float, current: int) -> None:
+        """Ask again, with the next goal's way through it, for the zone kept since the last
+        goal ended there: kept with the old way, robots going that way would be let in with it,
+        head-on (bench fleet seed 2 with the zone kept: two jams in floor 2's corridor). The
+        fleet turns the lease, or answers QUEUED, and the robot waits where it stands, while
+        others inside go against the new way."""
+        zone_id = zmap.zone_id(current)
+        lease = self._leases.get(zone_id)
+        if lease is None or not lease.granted or self.held != (zone_id,):
+            return  # not stopped in it (a next leg of the way it drives through)
+        flow = zmap.flow(path, x, y, current)
+        if flow is None or flow == lease.flow:
+            return
+        lease.flow, lease.heard = flow, self._now
+        self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
+                   self.config.lease_duration, flow)
 
     def _request(self, zone_id: str, flow: str | None, passage: int) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

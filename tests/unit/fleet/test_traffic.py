@@ -43,6 +43,7 @@ class _Robot:
     pose: Pose2D
     path: Path
     map_name: str = "m"
+    attempt: int = 1  # the goal's id: a new goal, a new id
     navigation_stack: _Stack = field(init=False)
     published: list[events.RuntimeEvent] = field(default_factory=list)
 
@@ -50,7 +51,7 @@ class _Robot:
         self.navigation_stack = _Stack(_Navigator(self.path))
 
     def status(self) -> _Status:
-        return _Status(self.pose)
+        return _Status(self.pose, self.attempt)
 
     def now(self) -> float:
         return 0.0
@@ -324,9 +325,13 @@ class _Fleet:
             self._ids[(zone, holder)] = rid
             if self.book.lease(zone, holder) is None:
                 self.book.request(zone, holder, now=self.now, duration=duration, flow=flow)
-            else:
+            else:  # as the master control does: a new flow turns the lease, or waits
+                turned = flow is None or self.book.reflow(zone, holder, flow, now=self.now)
                 lease = self.book.renew(zone, holder, now=self.now, duration=duration)
-                self._answer(holder, zone, m.GrantType.GRANTED, lease.expires_at)
+                if turned:
+                    self._answer(holder, zone, m.GrantType.GRANTED, lease.expires_at)
+                else:
+                    self._answer(holder, zone, m.GrantType.QUEUED, place=0)
         return send
 
     def _answer(self, holder: str, zone: str, grant: m.GrantType, expiry: float | None = None,
@@ -487,6 +492,7 @@ def test_a_robot_parked_in_a_corridor_keeps_its_segment_and_is_let_out_first() -
                 a.path = way_back
                 a.navigation_stack.navigator.path = way_back
                 a.navigation_stack.navigator.state = NavigationState.RUNNING
+                a.attempt += 1
         for robot in robots.values():
             if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
                 _advance(robot, 0.1)
@@ -528,3 +534,44 @@ def test_a_robot_parked_in_a_corridor_gives_its_segment_back_after_park_hold() -
         fleet.deliver()
         fleet.now = round(fleet.now + 0.1, 1)
     assert rule.held == () and fleet.book.lease(here, "r1") is None
+
+
+def test_a_robot_turning_back_where_it_parked_waits_for_those_going_its_old_way() -> None:
+    # Robot A stops in the corridor's segment 3 going east, with B following it east through
+    # the same segment (one way: they share it). A's next goal leads back west: kept with its
+    # old way, the lease would let more robots going east in against it. A asks again with
+    # its new way, waits where it stands, keeping the segment, until B is out, then goes.
+    zones = {"m": find_zones("m", _long_corridor())}
+    zmap = zones["m"]
+    fleet = _Fleet()
+    a = _Robot(Pose2D(12.5, 4.5, 0.0), Path(np.array([(12.5, 4.5), (14.0, 4.5)])))
+    b = _Robot(Pose2D(12.0, 4.5, 0.0), Path(np.array([(12.0, 4.5), (22.0, 4.5), (22.0, 2.3)])))
+    robots = {"a": a, "b": b}
+    for name in robots:
+        fleet.rules[name] = TrafficRule(name, zones, TrafficConfig(), fleet.sender(name))
+    segment = zmap.zone_id(zmap.zone_at(14.0, 4.5))
+    back = Path(np.array([(14.0, 4.5), (8.0, 4.5)]))
+    turned_at = None
+    while fleet.now < 120.0 and not (a.path is back and a.navigation_stack.navigator.state
+                                     is NavigationState.SUCCEEDED):
+        for name, robot in robots.items():
+            fleet.rules[name].tick(fleet.now, robot)  # type: ignore[arg-type]
+        fleet.deliver()
+        if a.path is not back and a.navigation_stack.navigator.state is (
+                NavigationState.SUCCEEDED) and fleet.rules["a"].held == (segment,):
+            a.path = a.navigation_stack.navigator.path = back  # its next goal, at once
+            a.navigation_stack.navigator.state = NavigationState.RUNNING
+            a.attempt += 1
+            turned_at = fleet.now
+        b_in = zmap.zone_at(b.pose.x, b.pose.y) == zmap.zone_at(14.0, 4.5)
+        if turned_at is not None and b_in:
+            # (it starts before its rule looks, a check every 0.2 s, and goes on while the
+            # answer is on its way: at most four steps of 5 cm here, at full speed at once)
+            assert a.pose.x >= 14.0 - 0.21, "A drove back against B"
+            assert fleet.book.lease(segment, "a") is not None  # it kept the segment
+        for robot in robots.values():
+            if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
+                _advance(robot, 0.05 if robot is a else 0.02)
+        fleet.now = round(fleet.now + 0.1, 1)
+    assert turned_at is not None and a.pose.distance_to(Pose2D(8.0, 4.5, 0.0)) < 1e-6
+    assert fleet.rules["a"].waits >= 1
