@@ -8,9 +8,7 @@ each robot only through messages on a :class:`~polynav.fleet.interface.Transport
 - it answers **zone requests** from the lease book: ACCESS asks for or renews a lease (GRANTED
   with its expiry, or QUEUED with the waiter's place in line, sent again whenever the place
   changes; a waiter is sent GRANTED when its turn comes, REJECTED when it has waited
-  ``max_wait``; a holder asking with another flow has its lease turned to it, or is told
-  QUEUED, keeping it, while others in the zone go against it), RELEASE gives it back; a lease
-  not renewed in time is EXPIRED; an expiry is
+  ``max_wait``), RELEASE gives it back; a lease not renewed in time is EXPIRED; an expiry is
   sent on the asking robot's clock when its request says what its clock read;
 - it keeps the last **state** of each robot, which ``GET /api/fleet`` shows; a message from a
   robot that breaks its schema is logged and not used.
@@ -284,21 +282,13 @@ class MasterControl:
                 self.leases.request(zone, serial, now=now, duration=request.duration,
                                     flow=request.flow)
                 return
-            # A holder asking with a new way through (it turned back where it stood) keeps
-            # the zone, but waits, told QUEUED, while others in it go against that way.
-            turned = request.flow is None or self.leases.reflow(zone, serial, request.flow,
-                                                                now=now)
             lease = self.leases.renew(zone, serial, now=now, duration=request.duration)
         except PolynavError as exc:
             log.warning("zone request %s of %s refused: %s", request.request_id, serial, exc)
             self._respond(serial, request.request_id, zone, m.GrantType.REVOKED, None)
             self.leases.release(zone, serial, now=now)
             return
-        if turned:
-            self._respond(serial, request.request_id, zone, m.GrantType.GRANTED,
-                          lease.expires_at)
-        else:
-            self._respond(serial, request.request_id, zone, m.GrantType.QUEUED, None, 0)
+        self._respond(serial, request.request_id, zone, m.GrantType.GRANTED, lease.expires_at)
 
     def _forward_events(self) -> None:
         for event in self.leases.take_events():

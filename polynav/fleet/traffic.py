@@ -22,12 +22,7 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    corridor, waited for the walker). Granted, it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
    it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
-   even where it stands: a parked robot is an obstacle to plan round, not a lock. Only for
-   ``park_hold`` after the end does it keep the zone it stands in, so that a next goal sent at
-   once starts from the passage it still holds: given back on arrival, the segment of floor
-   2's corridor a robot had stopped in went to two others, who drove up against it while its
-   next goal waited for the segments beyond them (bench fleet seed 2). A robot whose goal
-   starts inside a passage asks for the zone it stands in first, whatever its number.
+   even where it stands: a parked robot is an obstacle to plan round, not a lock.
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
    the robot then re-plans and asks again (at once, so it keeps its place by when it first
    asked), and a holder cannot keep a zone past ``max_hold`` while others wait
@@ -38,17 +33,11 @@ another (:class:`~polynav.runtime.events.TrafficBusy`, when the fleet queues it)
 front of it, from the first stop until it goes in or no longer needs it
 (:class:`~polynav.runtime.events.TrafficWaitStarted`, ``TrafficWaitEnded``).
 
-A robot waiting outside a passage holds only segments of it numbered below the one it waits
-for (it never stops for a passage while it stands in another: passages are further apart than a
-stop distance); one that holds all of its way waits for no lease. Among those, every chain of
-waits climbs the zone numbers and cannot close into a cycle. A robot standing inside a passage
-breaks the order: it holds the segment it stands in and may wait for lower ones, held by a robot
-outside that waits for its segment. So a robot outside a passage that has waited ``yield_after``
-while holding segments of it gives them back and asks again: any cycle of waits has a robot
-outside in it, unless two robots stand in one passage wanting to pass each other, which no
-lease mends (no one is granted the segment a robot stands in and holds, so both must have ended
-their goals there), and so every cycle opens within ``yield_after`` (docs/fleet.md, "Why no
-deadlock").
+A robot waiting holds only segments of the passage it waits for, numbered below the one it
+waits for (it never stops for a passage while it stands in another: passages are further apart
+than a stop distance); one that holds all of its way waits for no lease. So every chain of
+waits climbs the zone numbers and cannot close into a cycle: the hold-and-wait deadlock
+cannot form (docs/fleet.md, "Why no deadlock").
 """
 
 from __future__ import annotations
@@ -56,7 +45,7 @@ from __future__ import annotations
 import itertools
 import logging
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
 from polynav.errors import ConfigError, PolynavError, check_positive
@@ -104,11 +93,6 @@ class TrafficConfig:
             corridor gave back the far segments for one check, a robot waiting for them took
             them at once, and the first, standing in the corridor, waited behind it for the
             rest of its mission (bench fleet seeds 0 and 3).
-        park_hold: a robot whose goal has ended keeps the zone it stands in this long [s], for
-            its next goal (the module docstring, rule 3).
-        yield_after: a robot waiting outside a passage while it holds segments of it gives them
-            back after waiting this long [s], and asks again, so a robot inside the passage
-            that waits for them gets through (the module docstring: why no deadlock).
         reask_after: a request not granted is asked again (same id: a waiter keeps its place)
             when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
             while the fleet manager was off the broker (it comes back after the robot) is lost,
@@ -124,15 +108,13 @@ class TrafficConfig:
     queue_spacing: float = 1.5
     keep_margin: float = 1.0
     release_grace: float = 2.0
-    park_hold: float = 5.0
-    yield_after: float = 30.0
     reask_after: float = 5.0
 
     def __post_init__(self) -> None:
         check_positive(self, _KEY, ("lookahead", "stop_distance", "lease_duration",
                                     "renew_before", "check_period", "leave_within",
                                     "queue_spacing", "keep_margin", "release_grace",
-                                    "park_hold", "yield_after", "reask_after"))
+                                    "reask_after"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
         if self.renew_before >= self.lease_duration:
@@ -173,14 +155,6 @@ class _Run:
         number = dict(zip(zones, run.segments, strict=True))
         return cls(zones, run.segments, run.group, run.entry, run.entries,
                    tuple(sorted(zones, key=number.__getitem__)))
-
-    def standing_in(self, zone_id: str) -> _Run:
-        """The run asked for by a robot standing in ``zone_id`` of it: that zone first (it is
-        there, whoever else asks), then the rest in ascending order."""
-        if zone_id not in self.zones:
-            return self
-        rest = tuple(z for z in self.ordered if z != zone_id)
-        return replace(self, ordered=(zone_id, *rest))
 
 
 @dataclass(frozen=True, slots=True)
@@ -229,12 +203,6 @@ class TrafficRule:
         # The zones of the passage it got all of and drives through (it stops for none of
         # them again).
         self._entered: set[str] = set()
-        # Since when it has waited outside a passage holding segments of it (None: it does
-        # not), and how often it gave them back for that.
-        self._holding_since: float | None = None
-        self.yields = 0
-        self._parked_since: float | None = None  # when its last goal ended (None: one runs)
-        self._attempt: int | None = None  # the goal (navigation attempt) it last looked at
 
     @property
     def waiting_for(self) -> str | None:
@@ -306,9 +274,7 @@ class TrafficRule:
         self._next_check = now + self.config.check_period
         plan = self._needed(runtime)
         needed = plan.needed
-        # With no goal it drives through nothing: the next goal asks afresh (parked, it keeps
-        # the zone it stands in, not the right to go on).
-        self._entered &= set(needed) if plan.active else set()
+        self._entered &= set(needed)
         for run in (plan.inside, plan.ahead):
             if run is not None:
                 self._ask(run, plan)
@@ -336,7 +302,6 @@ class TrafficRule:
             if run is not None and self._missing(run) is None:
                 self._entered |= set(run.zones)  # all of it ours: it drives through
         target, distance = self._target(plan)
-        self._give_way(plan, target, distance, now)
         self._tell(runtime, needed, target)
         if self._paused_for is not None:
             if target is None:
@@ -396,30 +361,6 @@ class TrafficRule:
                 # Asked or held out of order (the path changed): give it back for now.
                 lease = self._leases.pop(zone_id)
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
-
-    def _give_way(self, plan: _Plan, target: str | None, distance: float, now: float) -> None:
-        """Give back the segments of the passage ahead that the robot holds once it has waited
-        ``yield_after`` outside it for the rest; it asks for them again from the next check.
-        A robot standing in the passage may be waiting for them (the module docstring)."""
-        run = plan.ahead
-        holding: list[str] = []
-        if (target is not None and distance > 0.0 and run is not None
-                and self._leases.get(target, _NONE).queued):
-            holding = [z for z in run.zones if self._granted(z)]
-        if not holding:
-            self._holding_since = None
-            return
-        if self._holding_since is None:
-            self._holding_since = now
-        if now - self._holding_since < self.config.yield_after:
-            return
-        self._holding_since = None
-        self.yields += 1
-        log.info("%s: waited %.0f s for %s holding %s: giving them back", self.holder,
-                 self.config.yield_after, target, ", ".join(holding))
-        for zone_id in holding:
-            lease = self._leases.pop(zone_id)
-            self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
 
     def _driving(self, run: _Run) -> bool:
         """Whether the robot drives through ``run`` on leases it got for all of it."""
@@ -485,19 +426,11 @@ class TrafficRule:
         if stack is None or zmap is None:
             return _Plan()
         navigator = stack.navigator
-        pose = runtime.status().pose
         if navigator.state not in (NavigationState.RUNNING, NavigationState.PAUSED):
-            return self._parked(zmap, pose.x, pose.y)
-        self._parked_since = None
+            return _Plan()
+        pose = runtime.status().pose
         path: Path | None = navigator.path
         current = zmap.zone_at(pose.x, pose.y)
-        attempt = runtime.status().attempt_id
-        if attempt != self._attempt and path is not None:
-            # A new goal (sent at once, the rule may not have seen the last one end): the zone
-            # it stands in is turned to its way.
-            self._attempt = attempt
-            if current:
-                self._turn(zmap, path, pose.x, pose.y, current)
         skip = 0
         if (current and path is not None and not self._granted(zmap.zone_id(current))
                 and zmap.leaves(path, pose.x, pose.y, current, within=self.config.leave_within)):
@@ -510,7 +443,7 @@ class TrafficRule:
         for run in runs:
             found = _Run.of(zmap, run)
             if current and not skip and inside is None and ahead is None and run.entry == 0.0:
-                inside = found.standing_in(zmap.zone_id(current))
+                inside = found
                 continue
             if run.entry <= config.lookahead or any(z in self._leases for z in found.zones):
                 ahead = found
@@ -533,35 +466,6 @@ class TrafficRule:
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
         return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None)
-
-    def _parked(self, zmap: ZoneMap, x: float, y: float) -> _Plan:
-        """With no goal, the robot needs only the zone it stands in, if it holds it, and that
-        only for ``park_hold`` after the goal ended."""
-        if self._parked_since is None:
-            self._parked_since = self._now
-        current = zmap.zone_at(x, y)
-        zone_id = zmap.zone_id(current) if current else None
-        if (zone_id is None or not self._granted(zone_id)
-                or self._now - self._parked_since >= self.config.park_hold):
-            return _Plan()
-        return _Plan({zone_id: None}, in_zone=True)
-
-    def _turn(self, zmap: ZoneMap, path: Path, x: float, y: float, current: int) -> None:
-        """Ask again, with the next goal's way through it, for the zone kept since the last
-        goal ended there: kept with the old way, robots going that way would be let in with it,
-        head-on (bench fleet seed 2 with the zone kept: two jams in floor 2's corridor). The
-        fleet turns the lease, or answers QUEUED, and the robot waits where it stands, while
-        others inside go against the new way."""
-        zone_id = zmap.zone_id(current)
-        lease = self._leases.get(zone_id)
-        if lease is None or not lease.granted or self.held != (zone_id,):
-            return  # not stopped in it (a next leg of the way it drives through)
-        flow = zmap.flow(path, x, y, current)
-        if flow is None or flow == lease.flow:
-            return
-        lease.flow, lease.heard = flow, self._now
-        self._send(lease.request_id, zone_id, m.ZoneRequestType.ACCESS,
-                   self.config.lease_duration, flow)
 
     def _request(self, zone_id: str, flow: str | None, passage: int) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

@@ -368,34 +368,6 @@ class LeaseBook:
         self._emit(LeaseEventKind.RENEWED, renewed, at=now)
         return renewed
 
-    def reflow(self, resource: str, holder: str, flow: str, *, now: float) -> bool:
-        """Change the way ``holder`` goes through a resource it holds to ``flow``: whether it
-        did (every other holder goes that way too; the lease is otherwise unchanged). A robot
-        that stopped in a corridor and turns back keeps the segment it stands in, which it
-        cannot give up while it stands there, but must no longer share it with robots going
-        its old way.
-
-        Raises:
-            LeaseNotHeld: the holder has no live lease.
-            InvalidRequest: an empty name or flow, or time running backwards.
-        """
-        _check_name("resource", resource)
-        _check_name("holder", holder)
-        _check_name("flow", flow)
-        self.tick(now)
-        res = self._resources.get(resource)
-        held = None if res is None else res.leases.get(holder)
-        if res is None or held is None:
-            raise LeaseNotHeld(resource, holder, "no live lease (never granted, released or "
-                                                 "expired)")
-        if held.flow == flow:
-            return True
-        if not all(lease.flow is not None and same_way(lease.flow, flow)
-                   for other, lease in res.leases.items() if other != holder):
-            return False
-        res.leases[holder] = replace(held, flow=flow)
-        return True
-
     def release(self, resource: str, holder: str, *, now: float) -> bool:
         """Give back ``holder``'s lease on ``resource``, or leave its queue; the next in line is
         granted at once. Returns whether there was anything to give back (releasing twice is

@@ -419,21 +419,3 @@ def test_an_empty_flow_is_refused(book: LeaseBook) -> None:
     with pytest.raises(InvalidRequest):
         book.request("zone:c", "r1", now=0.0, flow=" ")
     assert book.leases("zone:c") == ()
-
-
-def test_a_holder_is_turned_to_a_new_flow_only_when_no_other_holder_goes_against_it() -> None:
-    book = LeaseBook()
-    with pytest.raises(LeaseNotHeld):
-        book.reflow("corridor", "r1", "WW", now=0.0)
-    assert book.request("corridor", "r1", now=0.0, flow="EE") is not None
-    assert book.request("corridor", "r2", now=0.0, flow="NE") is not None  # shares: goes east
-    assert book.reflow("corridor", "r1", "WW", now=1.0) is False  # r2 heads east in it
-    assert book.lease("corridor", "r1").flow == "EE"  # type: ignore[union-attr]
-    assert book.reflow("corridor", "r1", "NN", now=1.0) is True  # north goes with NE
-    assert book.lease("corridor", "r1").flow == "NN"  # type: ignore[union-attr]
-    book.release("corridor", "r2", now=2.0)
-    assert book.reflow("corridor", "r1", "WW", now=2.0) is True  # alone: any way
-    lease = book.lease("corridor", "r1")
-    assert lease is not None and lease.flow == "WW" and lease.granted_at == 0.0
-    with pytest.raises(InvalidRequest):
-        book.reflow("corridor", "r1", "", now=2.0)

@@ -112,35 +112,6 @@ def test_robots_going_the_same_way_are_granted_a_zone_together(
     assert r2.answers() == [("b", m.GrantType.GRANTED, 11.0)]
 
 
-def test_a_holder_asking_with_another_flow_is_turned_or_told_to_wait_keeping_the_zone(
-        setup: tuple[MasterControl, Robot, Robot]) -> None:
-    # A robot stopped in a corridor segment turns back: robots going its old way must no
-    # longer be let in with it, and it must not lose the segment it stands in.
-    master, r1, r2 = setup
-    r1.ask("a", "zone:floor1/1", flow="EE")
-    r2.ask("b", "zone:floor1/1", flow="EE")
-    master.tick(1.0)
-    r1.answers(), r2.answers()
-    r1.ask("a", "zone:floor1/1", flow="WW")  # r2 is in it going east: wait, keeping it
-    master.tick(2.0)
-    assert r1.answers() == [("a", m.GrantType.QUEUED, None)]
-    lease = master.leases.lease("zone:floor1/1", "r1")
-    assert lease is not None and lease.flow == "EE" and lease.expires_at == 12.0
-    r2.ask("b", "zone:floor1/1", m.ZoneRequestType.RELEASE)
-    r1.ask("a", "zone:floor1/1", flow="WW")  # asked again: now alone in it
-    master.tick(3.0)
-    assert r1.answers() == [("a", m.GrantType.GRANTED, 13.0)]
-    lease = master.leases.lease("zone:floor1/1", "r1")
-    assert lease is not None and lease.flow == "WW"
-    r2.ask("c", "zone:floor1/1", flow="EE")  # the old way is no longer let in
-    master.tick(4.0)
-    assert r2.answers() == [("c", m.GrantType.QUEUED, None)]
-    r1.ask("a", "zone:floor1/1")  # a renewal names no flow: the lease keeps its own
-    master.tick(5.0)
-    assert r1.answers() == [("a", m.GrantType.GRANTED, 15.0)]
-    assert master.leases.lease("zone:floor1/1", "r1").flow == "WW"  # type: ignore[union-attr]
-
-
 def test_each_waiter_is_told_its_place_in_line_again_when_it_changes(
         setup: tuple[MasterControl, Robot, Robot]) -> None:
     master, r1, r2 = setup

@@ -43,7 +43,6 @@ class _Robot:
     pose: Pose2D
     path: Path
     map_name: str = "m"
-    attempt: int = 1  # the goal's id: a new goal, a new id
     navigation_stack: _Stack = field(init=False)
     published: list[events.RuntimeEvent] = field(default_factory=list)
 
@@ -51,7 +50,7 @@ class _Robot:
         self.navigation_stack = _Stack(_Navigator(self.path))
 
     def status(self) -> _Status:
-        return _Status(self.pose, self.attempt)
+        return _Status(self.pose)
 
     def now(self) -> float:
         return 0.0
@@ -325,13 +324,9 @@ class _Fleet:
             self._ids[(zone, holder)] = rid
             if self.book.lease(zone, holder) is None:
                 self.book.request(zone, holder, now=self.now, duration=duration, flow=flow)
-            else:  # as the master control does: a new flow turns the lease, or waits
-                turned = flow is None or self.book.reflow(zone, holder, flow, now=self.now)
+            else:
                 lease = self.book.renew(zone, holder, now=self.now, duration=duration)
-                if turned:
-                    self._answer(holder, zone, m.GrantType.GRANTED, lease.expires_at)
-                else:
-                    self._answer(holder, zone, m.GrantType.QUEUED, place=0)
+                self._answer(holder, zone, m.GrantType.GRANTED, lease.expires_at)
         return send
 
     def _answer(self, holder: str, zone: str, grant: m.GrantType, expiry: float | None = None,
@@ -457,121 +452,3 @@ def test_segments_ahead_are_kept_while_the_path_is_away_a_moment_not_longer() ->
         fleet.now = round(fleet.now + 0.2, 1)
     assert rule.held == (here,)
     assert [z for z in held if fleet.book.lease(z, "r1") is not None] == [here]
-
-
-def test_a_robot_parked_in_a_corridor_keeps_its_segment_and_is_let_out_first() -> None:
-    # Bench fleet seed 2: robot A parks in the corridor's east segment (its goal ends there)
-    # while robot C, coming from the west end, holds the segments below and waits for A's. A's
-    # next goal leads back west through C's segments. Given back on arrival, A's segment went
-    # to C, who drove up against A. Kept, the two wait for each other until C, waiting outside
-    # the passage, gives its segments back; A goes first, then C.
-    zones = {"m": find_zones("m", _long_corridor())}
-    zmap = zones["m"]
-    fleet = _Fleet()
-    config = TrafficConfig(yield_after=10.0)
-    a = _Robot(Pose2D(22.0, 2.3, 0.0), Path(np.array([(22.0, 2.3), (22.0, 4.5), (20.0, 4.5)])))
-    c = _Robot(Pose2D(2.0, 2.3, 0.0), Path(np.array(
-        [(2.0, 2.3), (2.0, 4.5), (22.0, 4.5), (22.0, 2.3)])))
-    robots = {"a": a, "c": c}
-    for name in robots:
-        fleet.rules[name] = TrafficRule(name, zones, config, fleet.sender(name))
-    parked_at = None
-    way_back = Path(np.array([(20.0, 4.5), (6.0, 4.5), (6.0, 2.3)]))
-    parked_segment = zmap.zone_id(zmap.zone_at(20.0, 4.5))
-    while fleet.now < 200.0 and not (parked_at is not None and all(
-            r.navigation_stack.navigator.state is NavigationState.SUCCEEDED
-            for r in robots.values())):
-        for name, robot in robots.items():
-            fleet.rules[name].tick(fleet.now, robot)  # type: ignore[arg-type]
-        fleet.deliver()
-        if a.path is not way_back and a.navigation_stack.navigator.state is (
-                NavigationState.SUCCEEDED):
-            parked_at = fleet.now if parked_at is None else parked_at
-            assert fleet.rules["a"].held == (parked_segment,)  # parked: it keeps its segment
-            if fleet.now - parked_at >= 2.0:  # the next goal, back west
-                a.path = way_back
-                a.navigation_stack.navigator.path = way_back
-                a.navigation_stack.navigator.state = NavigationState.RUNNING
-                a.attempt += 1
-        for robot in robots.values():
-            if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
-                _advance(robot, 0.1)
-        here = {name: zmap.zone_at(r.pose.x, r.pose.y) for name, r in robots.items()}
-        assert not (here["a"] and here["a"] == here["c"]), (fleet.now, a.pose, c.pose)
-        for name, zone in here.items():
-            if zone:
-                assert zmap.zone_id(zone) in fleet.rules[name].held, (name, fleet.now)
-        fleet.now = round(fleet.now + 0.1, 1)
-    assert a.path is way_back and a.pose.distance_to(Pose2D(6.0, 2.3, 0.0)) < 1e-6
-    assert c.navigation_stack.navigator.state is NavigationState.SUCCEEDED
-    assert fleet.rules["c"].yields >= 1 and fleet.rules["a"].yields == 0
-    assert fleet.rules["a"].held == fleet.rules["c"].held == ()
-
-
-def test_a_robot_parked_in_a_corridor_gives_its_segment_back_after_park_hold() -> None:
-    # Kept for a next goal sent at once, not longer: in a corridor wide enough to pass a robot
-    # standing still, a parked robot is an obstacle to plan round, not a lock.
-    zones = {"m": find_zones("m", _long_corridor())}
-    fleet = _Fleet()
-    config = TrafficConfig(park_hold=3.0)
-    robot = _Robot(Pose2D(17.0, 4.5, 0.0), Path(np.array([(17.0, 4.5), (20.0, 4.5)])))
-    rule = fleet.rules["r1"] = TrafficRule("r1", zones, config, fleet.sender("r1"))
-    while robot.navigation_stack.navigator.state is NavigationState.RUNNING:
-        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
-        fleet.deliver()
-        _advance(robot, 0.1)
-        fleet.now = round(fleet.now + 0.1, 1)
-    here = zones["m"].zone_id(zones["m"].zone_at(20.0, 4.5))
-    ended = fleet.now
-    while fleet.now - ended < config.park_hold - 0.2:
-        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
-        fleet.deliver()
-        if fleet.now - ended > config.check_period:  # the other segments given back
-            assert rule.held == (here,) and fleet.book.lease(here, "r1") is not None
-        fleet.now = round(fleet.now + 0.1, 1)
-    while fleet.now - ended < config.park_hold + 0.5:
-        rule.tick(fleet.now, robot)  # type: ignore[arg-type]
-        fleet.deliver()
-        fleet.now = round(fleet.now + 0.1, 1)
-    assert rule.held == () and fleet.book.lease(here, "r1") is None
-
-
-def test_a_robot_turning_back_where_it_parked_waits_for_those_going_its_old_way() -> None:
-    # Robot A stops in the corridor's segment 3 going east, with B following it east through
-    # the same segment (one way: they share it). A's next goal leads back west: kept with its
-    # old way, the lease would let more robots going east in against it. A asks again with
-    # its new way, waits where it stands, keeping the segment, until B is out, then goes.
-    zones = {"m": find_zones("m", _long_corridor())}
-    zmap = zones["m"]
-    fleet = _Fleet()
-    a = _Robot(Pose2D(12.5, 4.5, 0.0), Path(np.array([(12.5, 4.5), (14.0, 4.5)])))
-    b = _Robot(Pose2D(12.0, 4.5, 0.0), Path(np.array([(12.0, 4.5), (22.0, 4.5), (22.0, 2.3)])))
-    robots = {"a": a, "b": b}
-    for name in robots:
-        fleet.rules[name] = TrafficRule(name, zones, TrafficConfig(), fleet.sender(name))
-    segment = zmap.zone_id(zmap.zone_at(14.0, 4.5))
-    back = Path(np.array([(14.0, 4.5), (8.0, 4.5)]))
-    turned_at = None
-    while fleet.now < 120.0 and not (a.path is back and a.navigation_stack.navigator.state
-                                     is NavigationState.SUCCEEDED):
-        for name, robot in robots.items():
-            fleet.rules[name].tick(fleet.now, robot)  # type: ignore[arg-type]
-        fleet.deliver()
-        if a.path is not back and a.navigation_stack.navigator.state is (
-                NavigationState.SUCCEEDED) and fleet.rules["a"].held == (segment,):
-            a.path = a.navigation_stack.navigator.path = back  # its next goal, at once
-            a.navigation_stack.navigator.state = NavigationState.RUNNING
-            a.attempt += 1
-            turned_at = fleet.now
-        b_in = zmap.zone_at(b.pose.x, b.pose.y) == zmap.zone_at(14.0, 4.5)
-        if turned_at is not None and b_in:
-            # (it starts before its rule looks, a check every 0.2 s, and goes on while the
-            # answer is on its way: at most four steps of 5 cm here, at full speed at once)
-            assert a.pose.x >= 14.0 - 0.21, "A drove back against B"
-            assert fleet.book.lease(segment, "a") is not None  # it kept the segment
-        for robot in robots.values():
-            if robot.navigation_stack.navigator.state is NavigationState.RUNNING:
-                _advance(robot, 0.05 if robot is a else 0.02)
-        fleet.now = round(fleet.now + 0.1, 1)
-    assert turned_at is not None and a.pose.distance_to(Pose2D(8.0, 4.5, 0.0)) < 1e-6
-    assert fleet.rules["a"].waits >= 1
