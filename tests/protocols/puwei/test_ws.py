@@ -98,7 +98,7 @@ def until(h: Harness, done: Callable[[], bool], timeout: float, step: float = 0.
     return True
 
 
-def wait_wall(done: Callable[[], bool], seconds: float = 5.0) -> bool:
+def wait_wall(done: Callable[[], bool], seconds: float = 20.0) -> bool:
     deadline = time.monotonic() + seconds
     while not done():
         if time.monotonic() > deadline:
