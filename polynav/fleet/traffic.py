@@ -20,9 +20,10 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    door: backed out of the room's zone into the corridor's, it stood frozen in the doorway,
    the walker it was giving way to could not get out, and the robot behind it, holding the
    corridor, waited for the walker). Granted, it goes on.
-3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under it,
-   it gives it back. A robot whose goal has ended (arrived, failed, canceled) holds nothing,
-   even where it stands: a parked robot is an obstacle to plan round, not a lock.
+3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under
+   its body (``body_clearance`` round its centre), it gives it back. A robot whose goal has
+   ended (arrived, failed, canceled) holds nothing, even where it stands: a parked robot is an
+   obstacle to plan round, not a lock.
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
    the robot then re-plans and asks again (at once, so it keeps its place by when it first
    asked), and a holder cannot keep a zone past ``max_hold`` while others wait
@@ -97,6 +98,12 @@ class TrafficConfig:
             when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
             while the fleet manager was off the broker (it comes back after the robot) is lost,
             and the robot would wait for an answer that never comes.
+        body_clearance: a segment of a passage the robot is in is kept while any point this
+            close to the robot's centre is in it [m] (its footprint radius and a margin): it
+            stands in it. Given back once the centre was out of it (bench fleet seed 2: a
+            robot gave back the segment behind it, its path round two others bent back into
+            it, and it stood there holding nothing; asking for it again, it gave back the
+            segment ahead as out of order, and robots granted those drove up against it).
     """
 
     lookahead: float = 4.0
@@ -109,12 +116,13 @@ class TrafficConfig:
     keep_margin: float = 1.0
     release_grace: float = 2.0
     reask_after: float = 5.0
+    body_clearance: float = 0.6
 
     def __post_init__(self) -> None:
         check_positive(self, _KEY, ("lookahead", "stop_distance", "lease_duration",
                                     "renew_before", "check_period", "leave_within",
                                     "queue_spacing", "keep_margin", "release_grace",
-                                    "reask_after"))
+                                    "reask_after", "body_clearance"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
         if self.renew_before >= self.lease_duration:
@@ -133,6 +141,7 @@ class _ZoneLease:
     heard: float = -math.inf  # when it was last asked for or answered [s]
     needed: float = -math.inf  # when the path last needed it [s]
     passage: int = 0  # the zone group it belongs to
+    number: int = 0  # its zone number
 
 
 _NONE = _ZoneLease("")
@@ -160,8 +169,8 @@ class _Run:
 @dataclass(frozen=True, slots=True)
 class _Plan:
     """What the robot needs this tick: the zones with their flows (None: asked already or no
-    clear way), the passage it stands in and the next one ahead, and whether it stands in
-    any zone (even one it is leaving)."""
+    clear way), the passage it stands in and the next one ahead, whether it stands in any
+    zone (even one it is leaving), and the zones its body is in, wholly or in part."""
 
     needed: dict[str, str | None] = field(default_factory=dict)
     inside: _Run | None = None
@@ -169,6 +178,7 @@ class _Plan:
     in_zone: bool = False
     active: bool = False  # a goal runs (or stands paused): its path may be between plans
     routed: bool = False  # it has a path (not between plans, nor waiting for people to let one)
+    under: frozenset[str] = frozenset()
 
     @property
     def passages(self) -> set[int]:
@@ -280,15 +290,20 @@ class TrafficRule:
                 self._ask(run, plan)
         for zone_id, lease in list(self._leases.items()):
             if zone_id not in needed:
+                stands_in = self._stands_in(zone_id, lease, plan)
                 if not (plan.active and lease.granted and lease.passage in plan.passages
-                        and now - lease.needed < self.config.release_grace):
+                        and (stands_in or now - lease.needed < self.config.release_grace)):
                     self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
                     del self._leases[zone_id]
-                # else kept a moment: a segment of a passage it still needs, which the path
-                # may come back to (release_grace); another passage's goes at once, or it
-                # would hold one while it waits for the next (docs/fleet.md: why no deadlock)
-                continue
-            lease.needed = now
+                    continue
+                # Kept: a segment of a passage it still needs that its body is in (renewed
+                # while it is), or which the path may come back to (release_grace). Another
+                # passage's goes at once, or it would hold one while it waits for the next
+                # (docs/fleet.md: why no deadlock).
+                if not stands_in:
+                    continue
+            else:
+                lease.needed = now
             if lease.granted and lease.expiry - now < self.config.renew_before and (
                     now - lease.renew_sent > self.config.check_period * 5):
                 lease.renew_sent = now
@@ -346,7 +361,7 @@ class TrafficRule:
         if self._driving(run):
             for zone_id in run.zones:
                 if zone_id not in self._leases:
-                    self._request(zone_id, plan.needed[zone_id], run.group)
+                    self._request(zone_id, plan.needed[zone_id], run)
             return
         missing = self._missing(run)
         if missing is None:
@@ -356,11 +371,24 @@ class TrafficRule:
             if zone_id == missing:
                 after = True
                 if zone_id not in self._leases:
-                    self._request(zone_id, plan.needed[zone_id], run.group)
+                    self._request(zone_id, plan.needed[zone_id], run)
             elif after and zone_id in self._leases:
                 # Asked or held out of order (the path changed): give it back for now.
                 lease = self._leases.pop(zone_id)
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
+
+    def _stands_in(self, zone_id: str, lease: _ZoneLease, plan: _Plan) -> bool:
+        """Whether the robot's body is in held segment ``zone_id``, which it may keep: it
+        waits for no segment of that passage numbered below it (so a waiter still holds only
+        segments below the one it waits for)."""
+        if zone_id not in plan.under:
+            return False
+        run = next((r for r in (plan.inside, plan.ahead)
+                    if r is not None and r.group == lease.passage), None)
+        if run is None:
+            return False
+        missing = self._missing(run)
+        return missing is None or lease.number < run.numbers[run.zones.index(missing)]
 
     def _driving(self, run: _Run) -> bool:
         """Whether the robot drives through ``run`` on leases it got for all of it."""
@@ -465,12 +493,16 @@ class TrafficRule:
             for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
-        return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None)
+        under = frozenset(zmap.zone_id(n) for n in zmap.zones_near(
+            pose.x, pose.y, config.body_clearance))
+        return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None,
+                     under=under)
 
-    def _request(self, zone_id: str, flow: str | None, passage: int) -> None:
+    def _request(self, zone_id: str, flow: str | None, run: _Run) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
+        number = run.numbers[run.zones.index(zone_id)]
         self._leases[zone_id] = _ZoneLease(request_id, flow=flow, heard=self._now,
-                                           passage=passage)
+                                           passage=run.group, number=number)
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
 

@@ -195,3 +195,13 @@ def test_bad_segment_length_names_the_key() -> None:
     with pytest.raises(ConfigError) as err:
         ZoneConfig(segment_length=2.0)
     assert err.value.key == "fleet.zones.segment_length"
+
+
+def test_the_zones_near_a_point_are_those_a_body_there_is_in() -> None:
+    zones = find_zones("m", _long_corridor())
+    left, right = zones.zone_at(11.5, 4.5), zones.zone_at(12.5, 4.5)
+    boundary = min(x for x in np.arange(11.5, 12.5, 0.05) if zones.zone_at(x, 4.5) == right)
+    assert zones.zones_near(boundary + 0.2, 4.5, 0.4) == {left, right}
+    assert zones.zones_near(boundary + 0.6, 4.5, 0.4) == {right}
+    assert zones.zones_near(12.0, 2.0, 0.3) == set()  # in the room, far from every door
+    assert zones.zones_near(-5.0, -5.0, 0.5) == set()  # off the map
