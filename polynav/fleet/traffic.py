@@ -20,8 +20,8 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    door: backed out of the room's zone into the corridor's, it stood frozen in the doorway,
    the walker it was giving way to could not get out, and the robot behind it, holding the
    corridor, waited for the walker). Granted, it goes on.
-3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor under
-   its body (``body_clearance`` round its centre), it gives it back. A robot whose goal has
+3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor within
+   ``keep_behind`` of it, it gives it back. A robot whose goal has
    ended (arrived, failed, canceled) holds nothing, even where it stands: a parked robot is an
    obstacle to plan round, not a lock.
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
@@ -98,12 +98,13 @@ class TrafficConfig:
             when no answer came for this long [s]. Zone requests travel at QoS 0: one sent
             while the fleet manager was off the broker (it comes back after the robot) is lost,
             and the robot would wait for an answer that never comes.
-        body_clearance: a segment of a passage the robot is in is kept while any point this
-            close to the robot's centre is in it [m] (its footprint radius and a margin): it
-            stands in it. Given back once the centre was out of it (bench fleet seed 2: a
-            robot gave back the segment behind it, its path round two others bent back into
-            it, and it stood there holding nothing; asking for it again, it gave back the
-            segment ahead as out of order, and robots granted those drove up against it).
+        keep_behind: a held segment of a passage the robot is in is kept while it is this
+            close [m]: its body, and the way back a step aside for a walker (up to 2 m,
+            :mod:`polynav.nav.people_wait`) or a back-up takes it. Bench fleet seed 2, twice: a
+            robot gave back the segment behind it, giving way (or its path round two robots)
+            took it back into it, and it stood there holding nothing; asking for it again, it
+            gave back the segments ahead as out of order (a waiter holds none above the one it
+            waits for), and the robots granted those drove up against it.
     """
 
     lookahead: float = 4.0
@@ -116,13 +117,13 @@ class TrafficConfig:
     keep_margin: float = 1.0
     release_grace: float = 2.0
     reask_after: float = 5.0
-    body_clearance: float = 0.6
+    keep_behind: float = 2.5
 
     def __post_init__(self) -> None:
         check_positive(self, _KEY, ("lookahead", "stop_distance", "lease_duration",
                                     "renew_before", "check_period", "leave_within",
                                     "queue_spacing", "keep_margin", "release_grace",
-                                    "reask_after", "body_clearance"))
+                                    "reask_after", "keep_behind"))
         if self.stop_distance >= self.lookahead:
             raise ConfigError(_KEY + "stop_distance", "must be shorter than lookahead")
         if self.renew_before >= self.lease_duration:
@@ -170,7 +171,7 @@ class _Run:
 class _Plan:
     """What the robot needs this tick: the zones with their flows (None: asked already or no
     clear way), the passage it stands in and the next one ahead, whether it stands in any
-    zone (even one it is leaving), and the zones its body is in, wholly or in part."""
+    zone (even one it is leaving), and the zones within ``keep_behind`` of it."""
 
     needed: dict[str, str | None] = field(default_factory=dict)
     inside: _Run | None = None
@@ -178,7 +179,7 @@ class _Plan:
     in_zone: bool = False
     active: bool = False  # a goal runs (or stands paused): its path may be between plans
     routed: bool = False  # it has a path (not between plans, nor waiting for people to let one)
-    under: frozenset[str] = frozenset()
+    near: frozenset[str] = frozenset()
 
     @property
     def passages(self) -> set[int]:
@@ -290,17 +291,17 @@ class TrafficRule:
                 self._ask(run, plan)
         for zone_id, lease in list(self._leases.items()):
             if zone_id not in needed:
-                stands_in = self._stands_in(zone_id, lease, plan)
+                near = self._keeps_near(zone_id, lease, plan)
                 if not (plan.active and lease.granted and lease.passage in plan.passages
-                        and (stands_in or now - lease.needed < self.config.release_grace)):
+                        and (near or now - lease.needed < self.config.release_grace)):
                     self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
                     del self._leases[zone_id]
                     continue
-                # Kept: a segment of a passage it still needs that its body is in (renewed
-                # while it is), or which the path may come back to (release_grace). Another
+                # Kept: a segment of a passage it still needs within keep_behind (renewed while
+                # it is), or which the path may come back to (release_grace). Another
                 # passage's goes at once, or it would hold one while it waits for the next
                 # (docs/fleet.md: why no deadlock).
-                if not stands_in:
+                if not near:
                     continue
             else:
                 lease.needed = now
@@ -377,11 +378,11 @@ class TrafficRule:
                 lease = self._leases.pop(zone_id)
                 self._send(lease.request_id, zone_id, m.ZoneRequestType.RELEASE, 0.0)
 
-    def _stands_in(self, zone_id: str, lease: _ZoneLease, plan: _Plan) -> bool:
-        """Whether the robot's body is in held segment ``zone_id``, which it may keep: it
-        waits for no segment of that passage numbered below it (so a waiter still holds only
-        segments below the one it waits for)."""
-        if zone_id not in plan.under:
+    def _keeps_near(self, zone_id: str, lease: _ZoneLease, plan: _Plan) -> bool:
+        """Whether held segment ``zone_id`` is within ``keep_behind`` and may be kept: the
+        robot waits for no segment of that passage numbered below it (so a waiter still holds
+        only segments below the one it waits for)."""
+        if zone_id not in plan.near:
             return False
         run = next((r for r in (plan.inside, plan.ahead)
                     if r is not None and r.group == lease.passage), None)
@@ -493,10 +494,10 @@ class TrafficRule:
             for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
-        under = frozenset(zmap.zone_id(n) for n in zmap.zones_near(
-            pose.x, pose.y, config.body_clearance))
+        near = frozenset(zmap.zone_id(n) for n in zmap.zones_near(
+            pose.x, pose.y, config.keep_behind))
         return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None,
-                     under=under)
+                     near=near)
 
     def _request(self, zone_id: str, flow: str | None, run: _Run) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"

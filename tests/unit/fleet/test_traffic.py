@@ -454,16 +454,16 @@ def test_segments_ahead_are_kept_while_the_path_is_away_a_moment_not_longer() ->
     assert [z for z in held if fleet.book.lease(z, "r1") is not None] == [here]
 
 
-def test_a_segment_behind_is_kept_while_the_body_is_in_it_so_a_path_back_keeps_all() -> None:
+def test_a_segment_behind_is_kept_while_near_so_a_way_back_into_it_keeps_all() -> None:
     # Bench fleet seed 2: a robot driving east gave back the segment behind it as its centre
-    # left it; its path round two robots bent back into it, it stood there holding nothing,
-    # asked for it again and gave back the segment ahead as out of order. Kept while the body
-    # is in it, the path back into it finds every segment still held.
+    # left it; its path round two robots (or a step aside for a walker) took it back into it,
+    # it stood there holding nothing, asked for it again and gave back the segments ahead as
+    # out of order. Kept while near, the way back into it finds every segment still held.
     zones = {"m": find_zones("m", _long_corridor())}
     zmap = zones["m"]
     fleet = _Fleet()
     robot = _Robot(Pose2D(3.0, 4.5, 0.0), Path(np.array([(3.0, 4.5), (16.0, 4.5)])))
-    config = TrafficConfig(release_grace=2.0, body_clearance=0.6)
+    config = TrafficConfig(release_grace=2.0, keep_behind=2.5)
     rule = fleet.rules["r1"] = TrafficRule("r1", zones, config, fleet.sender("r1"))
     behind = zmap.zone_id(zmap.zone_at(11.5, 4.5))
     ahead = zmap.zone_id(zmap.zone_at(12.5, 4.5))
@@ -485,16 +485,16 @@ def test_a_segment_behind_is_kept_while_the_body_is_in_it_so_a_path_back_keeps_a
         run(0.2, speed=0.5)
     run(config.release_grace + 1.0)  # standing there, past the grace
     assert {behind, ahead} <= set(rule.held)
-    # The next plan goes back half a metre round someone, then east again.
+    # The next plan goes back a metre and a half round someone, then east again.
     x = robot.pose.x
-    robot.navigation_stack.navigator.path = Path(np.array([(x, 4.5), (x - 0.5, 4.6),
+    robot.navigation_stack.navigator.path = Path(np.array([(x, 4.5), (x - 1.5, 4.6),
                                                            (16.0, 4.5)]))
     robot.path = robot.navigation_stack.navigator.path
     run(1.0)
     assert {behind, ahead} <= set(rule.held)
     assert all(fleet.book.lease(z, "r1") is not None for z in (behind, ahead))
-    # Once its body is clear of the segment behind, and the grace is over, it goes back.
-    while robot.pose.x < boundary + config.body_clearance + 0.1:
+    # Once it is keep_behind past the segment behind, and the grace is over, it goes back.
+    while robot.pose.x < boundary + config.keep_behind + 0.1:
         run(0.2, speed=0.5)
     run(config.release_grace + 0.5)
     assert behind not in rule.held and fleet.book.lease(behind, "r1") is None
