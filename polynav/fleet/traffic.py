@@ -21,9 +21,9 @@ The rule, as one robot keeps it (docs/fleet.md has it for operators):
    the walker it was giving way to could not get out, and the robot behind it, holding the
    corridor, waited for the walker). Granted, it goes on.
 3. Inside, it renews the lease before it runs out; once the zone is neither ahead nor within
-   ``keep_behind`` of it, it gives it back. A robot whose goal has
-   ended (arrived, failed, canceled) holds nothing, even where it stands: a parked robot is an
-   obstacle to plan round, not a lock.
+   ``keep_behind`` of it, it gives it back. A robot whose goal has ended (arrived, failed,
+   canceled) holds nothing, even where it stands: a parked robot is an obstacle to plan
+   round, not a lock.
 4. No one waits for ever: the fleet answers a wait longer than its ``max_wait`` with REJECTED;
    the robot then re-plans and asks again (at once, so it keeps its place by when it first
    asked), and a holder cannot keep a zone past ``max_hold`` while others wait
@@ -494,8 +494,10 @@ class TrafficRule:
             for zone_id, number in zip(passage.zones, passage.numbers, strict=True):
                 needed[zone_id] = None if zone_id in self._leases or path is None else (
                     zmap.flow(path, pose.x, pose.y, number))
-        near = frozenset(zmap.zone_id(n) for n in zmap.zones_near(
-            pose.x, pose.y, config.keep_behind))
+        near: frozenset[str] = frozenset()
+        if any(lease.granted and z not in needed for z, lease in self._leases.items()):
+            near = frozenset(zmap.zone_id(n) for n in zmap.zones_near(
+                pose.x, pose.y, config.keep_behind))
         return _Plan(needed, inside, ahead, current != 0, active=True, routed=path is not None,
                      near=near)
 
