@@ -18,7 +18,8 @@ from tests.web.conftest import SPEED, Console, screenshot
 
 # [s wall] for anything the robot does at SPEED. Every wait ends as soon as its condition
 # holds, so this is only the ceiling: generous, because on CI's two busy cores the runtime falls
-# well behind SPEED (a gate 20 m away once took over 15 s).
+# well behind SPEED (once 17.9 s of simulated time at 8x, and a 15 s wait for the lobby gate
+# ran out).
 WAIT = 45.0
 
 
