@@ -166,6 +166,10 @@ class _Run:
         return cls(zones, run.segments, run.group, run.entry, run.entries,
                    tuple(sorted(zones, key=number.__getitem__)))
 
+    def number(self, zone_id: str) -> int:
+        """The zone number of ``zone_id``, one of the run's zones."""
+        return self.numbers[self.zones.index(zone_id)]
+
 
 @dataclass(frozen=True, slots=True)
 class _Plan:
@@ -389,7 +393,7 @@ class TrafficRule:
         if run is None:
             return False
         missing = self._missing(run)
-        return missing is None or lease.number < run.numbers[run.zones.index(missing)]
+        return missing is None or lease.number < run.number(missing)
 
     def _driving(self, run: _Run) -> bool:
         """Whether the robot drives through ``run`` on leases it got for all of it."""
@@ -503,9 +507,8 @@ class TrafficRule:
 
     def _request(self, zone_id: str, flow: str | None, run: _Run) -> None:
         request_id = f"{self.holder}-{next(self._requests)}"
-        number = run.numbers[run.zones.index(zone_id)]
         self._leases[zone_id] = _ZoneLease(request_id, flow=flow, heard=self._now,
-                                           passage=run.group, number=number)
+                                           passage=run.group, number=run.number(zone_id))
         self._send(request_id, zone_id, m.ZoneRequestType.ACCESS, self.config.lease_duration,
                    flow)
 

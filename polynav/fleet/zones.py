@@ -194,18 +194,8 @@ class ZoneMap:
     def zones_near(self, x: float, y: float, radius: float) -> frozenset[int]:
         """The zone numbers within ``radius`` [m] of world (x, y): the zones a body of that
         radius standing there is in, wholly or in part."""
-        info = self.grid.info
-        res = info.resolution
-        ix, iy = info.world_to_cell(x, y)
-        r = int(math.ceil(radius / res))
-        height, width = self.labels.shape
-        x0, x1 = max(ix - r, 0), min(ix + r + 1, width)
-        y0, y1 = max(iy - r, 0), min(iy + r + 1, height)
-        if x0 >= x1 or y0 >= y1:
-            return frozenset()
-        dy, dx = np.ogrid[y0 - iy:y1 - iy, x0 - ix:x1 - ix]
-        disc = dx * dx + dy * dy <= (radius / res) ** 2
-        found = np.unique(self.labels[y0:y1, x0:x1][disc])
+        cells = self.grid.info.cells_within(x, y, radius)
+        found = np.unique(self.labels[cells[:, 1], cells[:, 0]])
         return frozenset(int(n) for n in found if n != 0)
 
     def zone_ahead(self, path: Path, x: float, y: float, *, lookahead: float,

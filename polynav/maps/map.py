@@ -81,6 +81,21 @@ class MapInfo:
         out[:, 1] = self.origin.y + s * lx + c * ly
         return out
 
+    def cells_within(self, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:
+        """The cells of the grid whose centres lie within ``radius`` [m] of world (x, y), as an
+        (N, 2) array of [ix, iy]."""
+        cx, cy = self.world_to_cell(x, y)
+        reach = int(math.ceil(radius / self.resolution))
+        span = np.arange(-reach, reach + 1)
+        ix, iy = np.meshgrid(cx + span, cy + span)
+        cells = np.column_stack((ix.ravel(), iy.ravel())).astype(np.int64)
+        inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < self.width) & (
+            cells[:, 1] < self.height)
+        cells = cells[inside]
+        centres = self.cells_to_world(cells)
+        near = np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius
+        return np.asarray(cells[near])
+
     @property
     def size_m(self) -> tuple[float, float]:
         """Width and height [m]."""

@@ -209,12 +209,12 @@ class ClosedPassages:
         grid = np.array(costmap.costs, dtype=np.uint8, copy=True)
         cells = np.zeros((0, 2), dtype=np.int64)
         for passage in self.passages:
-            cells = np.vstack([cells, _disc_cells(costmap, passage.x, passage.y, passage.radius)])
+            cells = np.vstack([cells, info.cells_within(passage.x, passage.y, passage.radius)])
         if cells.shape[0]:
             mask = np.zeros(grid.shape, dtype=bool)
             mask[cells[:, 1], cells[:, 0]] = True
             reach = self.footprint.circumscribed_radius + info.resolution
-            here = _disc_cells(costmap, pose.x, pose.y, reach)
+            here = info.cells_within(pose.x, pose.y, reach)
             mask[here[:, 1], here[:, 0]] = False
             grid[mask] = costs.LETHAL
         return CostSnapshot(info, grid)
@@ -264,18 +264,3 @@ def _dilated(
     inside = (grown[:, 0] >= 0) & (grown[:, 1] >= 0) & (grown[:, 0] < info.width) & (
         grown[:, 1] < info.height)
     return np.asarray(np.unique(grown[inside], axis=0), dtype=np.int64)
-
-
-def _disc_cells(costmap: CostGrid, x: float, y: float, radius: float) -> npt.NDArray[np.int64]:
-    info = costmap.info
-    cx, cy = info.world_to_cell(x, y)
-    reach = int(math.ceil(radius / info.resolution))
-    span = np.arange(-reach, reach + 1)
-    ix, iy = np.meshgrid(cx + span, cy + span)
-    cells = np.column_stack((ix.ravel(), iy.ravel())).astype(np.int64)
-    inside = (cells[:, 0] >= 0) & (cells[:, 1] >= 0) & (cells[:, 0] < info.width) & (
-        cells[:, 1] < info.height)
-    cells = cells[inside]
-    centres = info.cells_to_world(cells)
-    near = np.hypot(centres[:, 0] - x, centres[:, 1] - y) <= radius
-    return np.asarray(cells[near])

@@ -45,3 +45,15 @@ def test_from_occupied_and_free_queries() -> None:
     assert grid.is_free_at(0.5, 0.5)
     assert not grid.is_free_at(1.5, 0.5)
     assert not grid.is_free_at(-0.5, 0.5)
+
+
+def test_cells_within_are_those_whose_centres_are_in_the_disc_and_on_the_grid() -> None:
+    info = MapInfo(resolution=0.1, width=20, height=10, origin=Pose2D(1.0, 2.0, 0.0))
+    cells = info.cells_within(1.55, 2.55, 0.15)  # the centre of cell (5, 5)
+    assert {tuple(c) for c in cells} == {(5, 5), (4, 5), (6, 5), (5, 4), (5, 6),
+                                         (4, 4), (4, 6), (6, 4), (6, 6)}
+    corner = info.cells_within(1.0, 2.0, 0.3)  # the grid's corner: no cell off the grid
+    assert len(corner) and (corner >= 0).all()
+    centres = info.cells_to_world(corner)
+    assert (np.hypot(centres[:, 0] - 1.0, centres[:, 1] - 2.0) <= 0.3).all()
+    assert info.cells_within(-5.0, -5.0, 1.0).shape == (0, 2)
