@@ -45,8 +45,15 @@ def test_run_open_gives_the_browser_the_consoles_address(tmp_path: Path) -> None
             assert url.startswith("http://127.0.0.1:") and url.endswith("/")
             assert f"native API {url}api " in "\n".join(lines)
             assert "<title>polynav console</title>" in page
-            rest = stop_run(proc, lines)
-            assert f"polynav: console opened in the browser: {url}" in rest
+            # The stand-in writes what it saw before it exits, and ``webbrowser.open`` returns
+            # (and polynav says so) only after the exit: wait for the line, then stop.
+            said = f"polynav: console opened in the browser: {url}"
+            assert proc.stdout is not None
+            while said not in lines[-1]:
+                line = proc.stdout.readline()
+                assert line, f"polynav ended without saying: {said}"
+                lines.append(line.rstrip("\n"))
+            stop_run(proc, lines)
     finally:
         del os.environ["BROWSER"]
 
