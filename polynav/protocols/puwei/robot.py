@@ -23,6 +23,7 @@ from polynav.protocols.puwei import status as codes
 from polynav.protocols.puwei.context import Context
 from polynav.protocols.puwei.endpoint import RouteList
 from polynav.protocols.puwei.request import PuweiRequest
+from polynav.runtime.status import StatusSnapshot
 from polynav.site import PointKind
 
 log = logging.getLogger(__name__)
@@ -54,10 +55,11 @@ def charger_point(ctx: Context) -> str | None:
     return chargers[0] if chargers else None
 
 
-def robot_status(ctx: Context) -> dict[str, Any]:
-    """The status body (also what O_STATUS carries)."""
+def robot_status(ctx: Context, snap: StatusSnapshot | None = None) -> dict[str, Any]:
+    """The status body (also what O_STATUS carries), of ``snap`` (default: the latest)."""
     rt = ctx.runtime
-    snap = rt.status()
+    if snap is None:
+        snap = rt.status()
     task = rt.tasks.running()
     task_state = None if task is None else task["state"]
     err = codes.err_codes(snap, low_battery_percent=rt.settings().low_battery_percent,

@@ -6,7 +6,7 @@ map (O_MAP), the saved markers (O_MARKER) while navigating, an O_STATUS, and the
 state replayed as an O_EVENT (6 "开始执行任务", or 5 when paused), so a task's start is never lost
 to a client that connects a moment after it. Then:
 
-* O_STATUS at the runtime's status rate, counted on the runtime's clock;
+* O_STATUS at the runtime's status rate, counted on the runtime's clock (the stamps it carries);
 * O_PATH whenever the running goal's plan changes;
 * O_MAP again when navigation starts on a map, and every second of the runtime's clock while a
   map is being built; O_MARKER when navigation starts and when markers are saved;
@@ -226,12 +226,16 @@ class Session:
             if subscription.dropped:  # events lost before translation: say so, do not hide it
                 self._outbox.close(f"not reading: {subscription.dropped} events could not be "
                                    "queued")
-            now = rt.now()
-            if now >= self._next_status:
-                self._next_status = max(self._next_status + 1.0 / rate, now)
-                self.send_latest(m.frame(m.Out.O_STATUS, robot_status(self._ctx)), "status")
+            # Counted on the stamp the status carries, not on the clock: a snapshot a tick
+            # behind the clock, then one on time, were 60 ms apart in ``time_stamp`` at 10 Hz.
+            snap = rt.status()
+            if snap.stamp >= self._next_status:
+                self._next_status = max(self._next_status + 1.0 / rate, snap.stamp)
+                self.send_latest(m.frame(m.Out.O_STATUS, robot_status(self._ctx, snap)),
+                                 "status")
                 await self._check_path()
-            if rt.status().mode == "mapping" and now >= self._next_map:
+            now = rt.now()
+            if snap.mode == "mapping" and now >= self._next_map:
                 self._next_map = now + LIVE_MAP_PERIOD
                 await self._send_map()
 
