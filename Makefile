@@ -23,6 +23,8 @@ test: $(STAMP)
 	@# bytecode written once here: with PYTHONDONTWRITEBYTECODE set, every worker and every
 	@# `polynav run` a test starts would otherwise compile polynav from source (~0.6 s each)
 	$(BIN)/python -m compileall -q polynav tests benchmarks >/dev/null
+	@# numba's kernels compiled once, on both cores, rather than by each worker at once
+	$(BIN)/python tools/warm_kernels.py
 	$(BIN)/python -m pytest -q -n 2
 
 bench: $(STAMP)
