@@ -13,12 +13,13 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-#: The warm-up functions, in two groups of about equal compile time.
+#: The modules whose ``warm_up`` is called, in two groups of about equal compile time (the
+#: runtime's own ``warm_up`` is not split, and planning alone is half of it). Each warm-up
+#: compiles the kernels it calls too (path_kernels the control collision kernels).
 GROUPS = (
     ("polynav.planning.registry",),
     ("polynav.mapping.slam", "polynav.maps.costmap", "polynav.localization.pose_tracker",
-     "polynav.robot.sim", "polynav.control.collision", "polynav.control.path_kernels",
-     "polynav.footprint.checks"),
+     "polynav.robot.sim", "polynav.control.path_kernels", "polynav.footprint.checks"),
 )
 
 
