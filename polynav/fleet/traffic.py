@@ -347,7 +347,7 @@ class TrafficRule:
         stack = runtime.navigation_stack
         if (blocking is not None and stack is not None
                 and stack.navigator.state is NavigationState.RUNNING):
-            runtime.pause()
+            runtime.pause(make_way=True)
             self._paused_for = blocking[0]
             if self._congested is None:
                 self._congested = blocking[0]

@@ -187,6 +187,7 @@ class Navigator(ChargerPhases, PlanFailures):
             footprint=self._footprint,
         )
         self._goal_wait = GoalWait(costmap, patience=cfg.goal_wait, period=cfg.goal_wait_period)
+        self._make_way = False  # the pause is a wait in line (pause(make_way=True))
 
     # -- queries -----------------------------------------------------------------------------
 
@@ -268,10 +269,14 @@ class Navigator(ChargerPhases, PlanFailures):
             self._emit(events.ChargerLeaveStarted(now, self._require()))
         return attempt_id
 
-    def pause(self, now: float) -> bool:
-        """Stop and keep the goal; ``False`` if nothing is running."""
+    def pause(self, now: float, *, make_way: bool = False) -> bool:
+        """Stop and keep the goal; ``False`` if nothing is running.
+
+        ``make_way``: the pause is a wait in line (a passage, a door), not an operator's hold:
+        the robot still steps aside for someone it holds up (:meth:`PeopleWait.make_way`)."""
         if self.state is not NavigationState.RUNNING:
             return False
+        self._make_way = make_way
         self._update(state=NavigationState.PAUSED)
         self._controller.reset()
         self._wait.pause(now)
@@ -326,6 +331,9 @@ class Navigator(ChargerPhases, PlanFailures):
         dt = 0.0 if self._last_tick is None else max(0.0, now - self._last_tick)
         self._last_tick = now
         self._wait.people = people if people is not None else PeopleView()
+        if (self.state is NavigationState.PAUSED and self._make_way and not estop
+                and estimate.state is LocalizationState.TRACKING):
+            return self._wait.make_way(estimate.pose, velocity, now, dt)
         if self.state is not NavigationState.RUNNING:
             return Twist()
         pose, self._estimate = estimate.pose, estimate

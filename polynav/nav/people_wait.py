@@ -10,6 +10,12 @@ would; a spot aside is one reached about straight, never one round a wall, and n
 than ``_ASIDE_REACH`` from where the wait began (a step, not a retreat). The patience runs
 over the whole episode, which ends once the robot has got ``reset_distance`` past where it
 began; when it runs out the goal fails ``blocked by person``.
+
+A goal paused to wait in line (the fleet's traffic rule, a shut door) still makes way
+(:meth:`PeopleWait.make_way`): someone held up face to face with the robot for ``give_way_after``
+sees it step aside as it would while waiting for them. Standing frozen in line, a robot held
+a walker in a corridor while the robot ahead, holding the passage, waited for that walker
+(issue 36: floor 2's room_205 door). An operator's pause stays a standstill.
 """
 
 from __future__ import annotations
@@ -42,6 +48,7 @@ _ASIDE_CREEP = 0.005  # [m/s] the most the robot closes in on someone there whil
 _ASIDE_DETOUR = 1.5  # a way aside longer than this times the straight distance is no step aside
 _ASIDE_SLACK = 0.3  # [m] beyond that: a grid path's steps round a corner
 _ASIDE_REACH = 2.0  # [m] from where the wait began: a spot farther is no step aside
+_STANDING = 0.1  # [m/s] someone slower than this stands (held up, maybe, by the robot)
 
 
 def _judged_gap(d: float, radial: float) -> float:
@@ -96,6 +103,9 @@ class PeopleWait:
         self._aside_tries = 0
         self._held_since: float | None = None
         self._paused_at: float | None = None
+        self._paused_where: Pose2D | None = None  # where a paused goal began making way
+        self._facing_since: float | None = None  # someone held up face to face, paused
+        self._anchor: Pose2D | None = None  # where the step aside's reach is measured from
 
     @property
     def since(self) -> float | None:
@@ -123,6 +133,38 @@ class PeopleWait:
         if self._paused_at is not None and self._since is not None:
             self._since += now - self._paused_at
         self._paused_at = None
+        self._paused_where = None
+        self._facing_since = None
+        self._aside = None
+        self._backing_up = False
+
+    def make_way(self, pose: Pose2D, velocity: Twist, now: float, dt: float) -> Twist:
+        """One period of a goal paused to wait in line: standing, but stepping aside (or
+        backing up) once someone has stood held up face to face with the robot for
+        ``give_way_after``, no farther than :data:`_ASIDE_REACH` from where it was paused.
+        The goal resumes with a fresh plan, so the move costs it nothing but the step."""
+        if self._paused_where is None:
+            self._paused_where = pose
+        twist = self._tick_give_way(pose, velocity, now, dt)
+        if twist is not None:
+            return twist
+        cfg = self.config
+        standing = [p for p in self.people.people if math.hypot(p.vx, p.vy) <= _STANDING]
+        facing = cfg.enabled and any(
+            math.hypot(p.x - pose.x, p.y - pose.y) <= cfg.social_distance + _FACE_TO_FACE_MARGIN
+            for p in standing)
+        if not facing:
+            self._facing_since = None
+            return Twist()
+        if self._facing_since is None:
+            self._facing_since = now
+        if now - self._facing_since < cfg.give_way_after:
+            return Twist()
+        self._facing_since = None
+        self._aside_tries = 0
+        log.info("paused, and someone waits for the robot to make way")
+        self._start_give_way(pose, now, anchor=self._paused_where)
+        return self._tick_give_way(pose, velocity, now, dt) or Twist()
 
     def moved(self, pose: Pose2D, distance: float) -> None:
         """The robot is following its path: ``distance`` past where it waited, the wait is over
@@ -287,11 +329,14 @@ class PeopleWait:
             return twist
         return Twist(sign * limit, twist.angular)
 
-    def _start_give_way(self, pose: Pose2D, now: float) -> None:
+    def _start_give_way(self, pose: Pose2D, now: float, anchor: Pose2D | None = None) -> None:
+        """Step aside (or back up); ``anchor``: where the reach is measured from (where the wait
+        began, by default)."""
         self._aside_held_since = None
         self._aside_tries += 1
+        anchor = self._anchor = anchor if anchor is not None else self._where
         for spot in aside_spots(self._costmap, pose, self.people, self.config):
-            if self._where is not None and spot.distance_to(self._where) > _ASIDE_REACH:
+            if anchor is not None and spot.distance_to(anchor) > _ASIDE_REACH:
                 # Step after step away from one walker coming on is a retreat, not a step
                 # aside: a robot on floor 2's corridor stepped into a room's side passage,
                 # then down it ahead of the walker heading there, into the room, 4 m off its
@@ -337,7 +382,7 @@ class PeopleWait:
                     self._aside = None
                     self._controller.reset()
                     if self._aside_tries < _ASIDE_TRIES:
-                        self._start_give_way(pose, now)
+                        self._start_give_way(pose, now, anchor=self._anchor)
                     else:
                         log.info("giving way: backing up %.2f m", self.config.give_way_distance)
                         self._backing_up = True

@@ -325,7 +325,7 @@ class DoorPassage:
         # A goal paused for something else (the fleet's traffic rule, an operator) is left
         # as it is; one resumed by it while the door is shut is paused again.
         if navigator.state is NavigationState.RUNNING:
-            navigator.pause(now)
+            navigator.pause(now, make_way=True)
             self._we_paused = True
             if self._paused_for != blocking:
                 log.info("%s: waits for door %s", self._robot.robot_id, blocking)

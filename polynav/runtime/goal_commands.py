@@ -130,12 +130,14 @@ class GoalCommands(RuntimeParts):
 
         return self._call(run)
 
-    def pause(self) -> None:
-        """Stop and keep the goal. Raises Conflict when no goal runs."""
+    def pause(self, *, make_way: bool = False) -> None:
+        """Stop and keep the goal. Raises Conflict when no goal runs. ``make_way``: a wait in
+        line (the fleet's traffic rule), in which the robot still steps aside for someone it
+        holds up; an operator's pause stays a standstill."""
 
         def run() -> None:
             stack = self._require_navigating()
-            if not stack.navigator.pause(self.now()):
+            if not stack.navigator.pause(self.now(), make_way=make_way):
                 raise Conflict("no running goal to pause")
 
         self._call(run)

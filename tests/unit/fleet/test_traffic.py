@@ -58,7 +58,8 @@ class _Robot:
     def publish(self, event: events.RuntimeEvent) -> None:
         self.published.append(event)
 
-    def pause(self) -> None:
+    def pause(self, *, make_way: bool = False) -> None:
+        self.make_way = make_way
         self.navigation_stack.navigator.state = NavigationState.PAUSED
 
     def resume(self) -> None:

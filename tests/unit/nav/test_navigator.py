@@ -610,3 +610,42 @@ def test_a_new_goal_does_not_inherit_the_last_goal_s_watch_for_people() -> None:
     h.run(NavigatorConfig().replan_period + 0.2, move=True)
     replans = planner.goals[first:]
     assert replans and all(g.x < goal.x - 1.0 for g in replans)  # the next stretch only
+
+
+@pytest.mark.parametrize("make_way", [True, False])
+def test_a_goal_paused_in_line_still_makes_way_for_someone_it_holds_up(make_way: bool) -> None:
+    # Paused by the fleet's traffic rule (make_way), the robot stood frozen in a corridor while
+    # a walker waited for it, and the robot ahead, holding the passage, waited for that walker
+    # (issue 36, floor 2's room_205 door). In line, it steps aside once someone has stood face
+    # to face with it for give_way_after; an operator's pause stays a standstill.
+    planner = ScriptedPlanner()
+    h = Harness(planner, ScriptedController([ControlStatus.TRACKING]))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.run(0.5, move=True)
+    assert h.nav.pause(h.now, make_way=make_way)
+    h.twists.clear()
+    h.people = PeopleView((Person(h.pose.x + 0.9, 0.0),))  # standing, right in front
+    planner.failures = [NoPath("person")] * 10  # no spot aside reachable: it backs off
+    h.run(PeopleConfig().give_way_after - 0.2, move=True)
+    assert all(t == Twist() for t in h.twists)
+    h.run(5.0, move=True)
+    assert h.nav.state is NavigationState.PAUSED
+    if make_way:
+        assert any(t.linear < 0.0 for t in h.twists)  # backed off, once, then stood again
+        assert h.twists[-1] == Twist()
+    else:
+        assert all(t == Twist() for t in h.twists)
+    assert h.nav.resume(h.now)
+    assert h.kinds()[-1] == "NavigationResumed"
+
+
+def test_a_goal_paused_in_line_does_not_move_for_someone_walking_by_or_under_estop() -> None:
+    h = Harness(ScriptedPlanner(), ScriptedController([ControlStatus.TRACKING]))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    assert h.nav.pause(h.now, make_way=True)
+    h.people = PeopleView((Person(0.9, 0.0, 0.0, 0.8),))  # beside it, walking past
+    h.run(PeopleConfig().give_way_after + 2.0, move=True)
+    h.people = PeopleView((Person(0.9, 0.0),))  # standing, but the e-stop is pressed
+    h.estop = True
+    h.run(PeopleConfig().give_way_after + 2.0, move=True)
+    assert all(t == Twist() for t in h.twists)
