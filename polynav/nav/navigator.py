@@ -91,6 +91,10 @@ _SCAN_SETTLE = 0.1
 """[s] the ladder's back-up stands this long first, for a scan to mark again what the clearing
 rung before it forgot (a lidar scans at 10-15 Hz)."""
 
+_DRIVING = 0.05
+"""[m/s] following its path at least this fast, the robot is not waiting for people (the
+patience for them does not run)."""
+
 _REMAINING_SEARCH_WINDOW = 10.0
 """How far ahead [m] along the path the robot's place is searched each period."""
 
@@ -549,6 +553,8 @@ class Navigator(ChargerPhases, PlanFailures):
         self._budget.moved(pose, self._to_goal(pose))
         self._wait.moved(pose, reset)
         twist = self._wait.slow(pose, command.twist, now)
+        if abs(velocity.linear) >= _DRIVING:
+            self._wait.drove(dt)  # the last period on the path: not waiting for people
         if self._wait.held(now):  # people stand where the robot would go: wait for them
             self._wait_for_people(pose, now)
             return Twist()

@@ -9,7 +9,11 @@ aside off their way (or backs up where there is no room) so that they can pass, 
 would; a spot aside is one reached about straight, never one round a wall, and never farther
 than ``_ASIDE_REACH`` from where the wait began (a step, not a retreat). The patience runs
 over the whole episode, which ends once the robot has got ``reset_distance`` past where it
-began; when it runs out the goal fails ``blocked by person``.
+began; when it runs out the goal fails ``blocked by person``. The stretches it drives on its
+path between waits, or stands paused, do not count: at a door a walker shuttles through, a
+robot that followed them in, met them coming back and gave way again failed after 60 s of
+which much was driving, 0.94 m short of a new episode (issue 36, bench fleet seed 2, floor 2's
+room_205).
 
 A goal paused to wait in line (the fleet's traffic rule, a shut door) still makes way
 (:meth:`PeopleWait.make_way`): someone held up face to face with the robot for ``give_way_after``
@@ -88,6 +92,8 @@ class PeopleWait:
         self._robot_radius = robot_radius
         self.people = PeopleView()
         self._since: float | None = None
+        self._credit = 0.0  # [s] of this episode not spent waiting (driving, paused)
+        self._paused_at: float | None = None
         self._where: Pose2D | None = None
         self._last_plan = 0.0
         self._last_give_way = 0.0
@@ -102,7 +108,6 @@ class PeopleWait:
         self._aside_held_since: float | None = None
         self._aside_tries = 0
         self._held_since: float | None = None
-        self._paused_at: float | None = None
         self._paused_where: Pose2D | None = None  # where a paused goal began making way
         self._facing_since: float | None = None  # someone held up face to face, paused
         self._anchor: Pose2D | None = None  # where the step aside's reach is measured from
@@ -117,6 +122,7 @@ class PeopleWait:
         self._since = None
         self._where = None
         self._held_since = None
+        self._credit = 0.0
         self._paused_at = None
 
     def pause(self, now: float) -> None:
@@ -124,14 +130,15 @@ class PeopleWait:
         self._paused_at = now
 
     def resume(self, now: float) -> None:
-        """The goal goes on: a wait begun before the pause keeps the patience it had left.
+        """The goal goes on: a wait begun before the pause keeps the patience it had left, and
+        a step aside made while paused is over.
 
         Paused time counted against it, a robot that stood 3 minutes in line for a corridor
         (the fleet pauses its goal) right after a walker had made way failed ``blocked by
         person`` the moment the next walker came by, with no wait at all (issue 36).
         """
         if self._paused_at is not None and self._since is not None:
-            self._since += now - self._paused_at
+            self._credit += now - self._paused_at
         self._paused_at = None
         self._paused_where = None
         self._facing_since = None
@@ -171,7 +178,13 @@ class PeopleWait:
         and a later one has its own patience."""
         if self._where is not None and pose.distance_to(self._where) >= distance:
             self._since = None
+            self._credit = 0.0
             self._where = None
+
+    def drove(self, dt: float) -> None:
+        """The robot drove on its path for ``dt``: not time spent waiting for people."""
+        if self._since is not None:
+            self._credit += dt
 
     def blocks(self, pose: Pose2D, path: Path | None) -> bool:
         """Whether people may be what blocks the way: someone close to the robot, or to the
@@ -192,6 +205,7 @@ class PeopleWait:
         new = self._since is None
         if new:
             self._since = now
+            self._credit = 0.0
             self._where = pose
             self._last_give_way = now  # give way after a while of this wait, however it goes
             log.info("people block the way: waiting up to %g s", self.config.patience)
@@ -215,7 +229,7 @@ class PeopleWait:
         the goal on the live costmap."""
         cfg = self.config
         assert self._since is not None, "begin() first"
-        if now - self._since >= cfg.patience:
+        if now - self._since - self._credit >= cfg.patience:
             return WaitStep(expired=True)
         twist = self._tick_give_way(pose, velocity, now, dt)
         if twist is not None:

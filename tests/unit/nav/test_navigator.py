@@ -649,3 +649,35 @@ def test_a_goal_paused_in_line_does_not_move_for_someone_walking_by_or_under_est
     h.estop = True
     h.run(PeopleConfig().give_way_after + 2.0, move=True)
     assert all(t == Twist() for t in h.twists)
+
+
+def test_driving_on_between_waits_is_not_spent_waiting_for_people() -> None:
+    # A walker shuttling through a door: the robot waits 3 s, drives 1.5 s after them (0.75 m,
+    # short of a new episode), and meets them again. Its patience (5 s) has the 2 s it had
+    # left, not 0.5 s: driving on is not waiting (issue 36, bench fleet seed 2's room_205).
+    controller = ScriptedController([ControlStatus.BLOCKED])
+    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
+                PeopleConfig(patience=5.0))
+    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
+    h.people = PeopleView((Person(1.0, 0.0),))
+    h.run(3.0)
+    assert "NavigationWaiting" in h.kinds()
+    h.people = PeopleView()
+    controller.statuses = [ControlStatus.TRACKING]
+    velocity = Twist()
+    for _ in range(round(1.5 / DT)):
+        twist = h.nav.tick(h.now, _estimate(h.pose), velocity, False, people=h.people)
+        h.pose = Pose2D(h.pose.x + twist.linear * DT, h.pose.y, h.pose.theta)
+        velocity = twist
+        h.now += DT
+    assert 0.5 < h.pose.x < 1.0
+    h.people = PeopleView((Person(h.pose.x + 1.0, 0.0),))
+    controller.statuses = [ControlStatus.BLOCKED]
+    blocked = h.now
+    h.run(1.5)
+    assert h.nav.state is NavigationState.RUNNING
+    h.run(1.0)
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
+    assert attempt.ended_at is not None and 1.5 < attempt.ended_at - blocked < 2.5
