@@ -112,11 +112,6 @@ class PeopleWait:
         self._facing_since: float | None = None  # someone held up face to face, paused
         self._anchor: Pose2D | None = None  # where the step aside's reach is measured from
 
-    @property
-    def since(self) -> float | None:
-        """When the current wait began, ``None`` when there is none."""
-        return self._since
-
     def reset(self) -> None:
         """A new goal: no wait."""
         self._since = None
