@@ -484,12 +484,29 @@ def test_blocked_by_a_person_on_the_path_waits_then_goes_when_they_leave() -> No
     assert h.kinds()[-1] == "PathPlanned" and h.twists[-1].linear > 0.0
 
 
-def test_people_who_never_make_way_fail_the_goal_after_the_patience() -> None:
+def _held_by_a_person() -> tuple[Harness, ScriptedController]:
+    """A goal 5 m ahead with someone standing 1 m in front (patience 5 s); the controller
+    reports BLOCKED until told otherwise."""
     controller = ScriptedController([ControlStatus.BLOCKED])
     h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
                 PeopleConfig(patience=5.0))
     h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
     h.people = PeopleView((Person(1.0, 0.0),))
+    return h, controller
+
+
+def _assert_failed_blocked_by_person(h: Harness, *, after: float,
+                                     within: tuple[float, float]) -> None:
+    """The goal failed ``blocked by person`` between ``within`` seconds after ``after``."""
+    attempt = h.nav.attempt
+    assert attempt is not None and attempt.state is NavigationState.FAILED
+    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
+    assert attempt.ended_at is not None
+    assert within[0] < attempt.ended_at - after < within[1]
+
+
+def test_people_who_never_make_way_fail_the_goal_after_the_patience() -> None:
+    h, controller = _held_by_a_person()
     h.run(4.9)
     assert h.nav.state is NavigationState.RUNNING
     h.run(0.5)
@@ -504,11 +521,7 @@ def test_time_paused_is_not_spent_waiting_for_people() -> None:
     # A walker makes way after 2 s; the goal is paused 30 s (the fleet: in line for a
     # corridor) before the robot has moved on; resumed, the next walker blocks it at once. The
     # wait goes on with the 3 s of patience it had left, not failed with no wait at all.
-    controller = ScriptedController([ControlStatus.BLOCKED])
-    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
-                PeopleConfig(patience=5.0))
-    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
-    h.people = PeopleView((Person(1.0, 0.0),))
+    h, controller = _held_by_a_person()
     h.run(2.0)
     assert h.kinds()[-1] == "NavigationWaiting"
     h.people = PeopleView()
@@ -524,10 +537,7 @@ def test_time_paused_is_not_spent_waiting_for_people() -> None:
     h.run(2.0)
     assert h.nav.state is NavigationState.RUNNING
     h.run(2.0)
-    attempt = h.nav.attempt
-    assert attempt is not None and attempt.state is NavigationState.FAILED
-    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
-    assert attempt.ended_at is not None and 2.0 < attempt.ended_at - resumed < 4.0
+    _assert_failed_blocked_by_person(h, after=resumed, within=(2.0, 4.0))
 
 
 def test_no_path_with_a_person_at_the_robot_waits_instead_of_failing() -> None:
@@ -655,11 +665,7 @@ def test_driving_on_between_waits_is_not_spent_waiting_for_people() -> None:
     # A walker shuttling through a door: the robot waits 3 s, drives 1.5 s after them (0.75 m,
     # short of a new episode), and meets them again. Its patience (5 s) has the 2 s it had
     # left, not 0.5 s: driving on is not waiting (issue 36, bench fleet seed 2's room_205).
-    controller = ScriptedController([ControlStatus.BLOCKED])
-    h = Harness(ScriptedPlanner(), controller, NavigatorConfig(blocked_wait=0.1),
-                PeopleConfig(patience=5.0))
-    h.nav.start(Pose2D(5.0, 0.0, 0.0), h.now)
-    h.people = PeopleView((Person(1.0, 0.0),))
+    h, controller = _held_by_a_person()
     h.run(3.0)
     assert "NavigationWaiting" in h.kinds()
     h.people = PeopleView()
@@ -677,7 +683,4 @@ def test_driving_on_between_waits_is_not_spent_waiting_for_people() -> None:
     h.run(1.5)
     assert h.nav.state is NavigationState.RUNNING
     h.run(1.0)
-    attempt = h.nav.attempt
-    assert attempt is not None and attempt.state is NavigationState.FAILED
-    assert attempt.reason is FailureReason.BLOCKED_BY_PERSON
-    assert attempt.ended_at is not None and 1.5 < attempt.ended_at - blocked < 2.5
+    _assert_failed_blocked_by_person(h, after=blocked, within=(1.5, 2.5))
