@@ -110,7 +110,6 @@ class PeopleWait:
         self._held_since: float | None = None
         self._paused_where: Pose2D | None = None  # where a paused goal began making way
         self._facing_since: float | None = None  # someone held up face to face, paused
-        self._anchor: Pose2D | None = None  # where the step aside's reach is measured from
 
     def reset(self) -> None:
         """A new goal: no wait."""
@@ -119,6 +118,8 @@ class PeopleWait:
         self._held_since = None
         self._credit = 0.0
         self._paused_at = None
+        self._paused_where = None
+        self._facing_since = None
 
     def pause(self, now: float) -> None:
         """The goal is paused: the time until :meth:`resume` is not spent waiting for people."""
@@ -165,7 +166,7 @@ class PeopleWait:
         self._facing_since = None
         self._aside_tries = 0
         log.info("paused, and someone waits for the robot to make way")
-        self._start_give_way(pose, now, anchor=self._paused_where)
+        self._start_give_way(pose, now)
         return self._tick_give_way(pose, velocity, now, dt) or Twist()
 
     def moved(self, pose: Pose2D, distance: float) -> None:
@@ -338,12 +339,12 @@ class PeopleWait:
             return twist
         return Twist(sign * limit, twist.angular)
 
-    def _start_give_way(self, pose: Pose2D, now: float, anchor: Pose2D | None = None) -> None:
-        """Step aside (or back up); ``anchor``: where the reach is measured from (where the wait
-        began, by default)."""
+    def _start_give_way(self, pose: Pose2D, now: float) -> None:
+        """Step aside (or back up), within reach of where the goal was paused, if it is (see
+        :meth:`make_way`), else of where the wait began."""
         self._aside_held_since = None
         self._aside_tries += 1
-        anchor = self._anchor = anchor if anchor is not None else self._where
+        anchor = self._paused_where if self._paused_where is not None else self._where
         for spot in aside_spots(self._costmap, pose, self.people, self.config):
             if anchor is not None and spot.distance_to(anchor) > _ASIDE_REACH:
                 # Step after step away from one walker coming on is a retreat, not a step
@@ -391,7 +392,7 @@ class PeopleWait:
                     self._aside = None
                     self._controller.reset()
                     if self._aside_tries < _ASIDE_TRIES:
-                        self._start_give_way(pose, now, anchor=self._anchor)
+                        self._start_give_way(pose, now)
                     else:
                         log.info("giving way: backing up %.2f m", self.config.give_way_distance)
                         self._backing_up = True
