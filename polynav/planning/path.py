@@ -41,12 +41,23 @@ def leg_crossings(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64],
     """For each leg from ``a[i]`` to ``b[i]`` (arrays (N, 2)), where along it (0 at ``a[i]``,
     1 at ``b[i]``) it crosses the segment from ``p`` to ``q``; NaN where it does not (parallel
     legs never count)."""
+    return segment_crossings(a, b, np.array([p], dtype=np.float64),
+                             np.array([q], dtype=np.float64))[:, 0]
+
+
+def segment_crossings(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64],
+                      p: npt.NDArray[np.float64],
+                      q: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """:func:`leg_crossings` for many segments at once, from ``p[j]`` to ``q[j]`` (arrays
+    (M, 2)): ``t[i, j]`` for leg ``i`` and segment ``j``. One pass over a path's legs for every
+    door of a floor, each tick, instead of one per door."""
     r = b - a
-    sx, sy = q[0] - p[0], q[1] - p[1]
-    denom = r[:, 0] * sy - r[:, 1] * sx
-    qx, qy = p[0] - a[:, 0], p[1] - a[:, 1]
+    rx, ry = r[:, 0:1], r[:, 1:2]
+    sx, sy = q[:, 0] - p[:, 0], q[:, 1] - p[:, 1]
+    denom = rx * sy - ry * sx
+    qx, qy = p[:, 0] - a[:, 0:1], p[:, 1] - a[:, 1:2]
     with np.errstate(divide="ignore", invalid="ignore"):
         t = (qx * sy - qy * sx) / denom
-        u = (qx * r[:, 1] - qy * r[:, 0]) / denom
+        u = (qx * ry - qy * rx) / denom
     hit = (np.abs(denom) > 1e-12) & (t >= 0.0) & (t <= 1.0) & (u >= 0.0) & (u <= 1.0)
     return np.where(hit, t, np.nan)

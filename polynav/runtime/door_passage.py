@@ -53,7 +53,7 @@ from polynav.maps.keepout import VirtualWall
 from polynav.maps.map import MapInfo
 from polynav.nav.attempt import FailureReason, NavigationState
 from polynav.nav.stack import NavigationStack
-from polynav.planning.path import Path, leg_crossings
+from polynav.planning.path import Path, segment_crossings
 from polynav.robot.door import Door, DoorState
 from polynav.runtime.events import RuntimeEvent
 from polynav.runtime.lift_sessions import LiftSessions
@@ -208,7 +208,12 @@ class DoorPassage:
         robot = self._robot
         stack = robot.navigation_stack
         floor = robot._floor_now()
-        doors = {n: d for n, d in self._doors().items() if d.state().spec.floor == floor}
+        doors: dict[str, Door] = {}
+        specs: dict[str, WorldDoor] = {}  # read once a tick: a door's spec does not change
+        for name, door in self._doors().items():
+            spec = door.state().spec
+            if spec.floor == floor:
+                doors[name], specs[name] = door, spec
         if stack is not None:
             self._mark_passable(stack, floor, doors)
         navigator = stack.navigator if stack is not None else None
@@ -220,7 +225,7 @@ class DoorPassage:
             self._paused_for = None
             self._we_paused = False
             if stack is not None:
-                self._mark_shut(stack, doors, robot._status_pose(), None)
+                self._mark_shut(stack, doors, robot._status_pose(), {})
             return
         attempt = navigator.attempt
         attempt_id = attempt.attempt_id if attempt is not None else 0
@@ -232,10 +237,10 @@ class DoorPassage:
             self._we_paused = False
         pose = robot._status_pose()
         way = _way_from(navigator.path, pose) if doors else None  # no door, no crossing
-        ahead = self._ahead(way, doors)
-        in_doorway = {name for name in doors
-                      if doors[name].state().spec.distance_to(pose.x, pose.y)
-                      < self.config.clearance}
+        crossings = _first_crossings(way, specs)
+        ahead = self._ahead(crossings)
+        in_doorway = {name for name, spec in specs.items()
+                      if spec.distance_to(pose.x, pose.y) < self.config.clearance}
         # A goal paused for something else (the traffic rule's zone, an operator) holds no
         # door ahead while it waits: holding one while waiting for a zone whose holder waits
         # for that door would be the hold-and-wait deadlock. It asks again once resumed.
@@ -247,8 +252,8 @@ class DoorPassage:
             # Between plans (blocked, re-planning) the way is not known: a door asked for
             # and still within reach is kept rather than given back and asked for again.
             reach = self.config.lookahead + self.config.keep_margin
-            needed |= {name for name in self._using if name in doors
-                       and doors[name].state().spec.distance_to(pose.x, pose.y) <= reach}
+            needed |= {name for name in self._using if name in specs
+                       and specs[name].distance_to(pose.x, pose.y) <= reach}
         needed -= set(self._forced)
         for name in list(self._using):
             if name not in needed:
@@ -257,7 +262,7 @@ class DoorPassage:
             self._control(name, doors[name], pose, now)
         self._wait_or_go(ahead, doors, now)
         assert stack is not None  # it has a navigator
-        self._mark_shut(stack, doors, pose, way)
+        self._mark_shut(stack, doors, pose, crossings)
 
     # -- a door's lease and controller ----------------------------------------------------
 
@@ -362,26 +367,22 @@ class DoorPassage:
 
     # -- geometry ------------------------------------------------------------------------------
 
-    def _ahead(self, way: _Way | None, doors: Mapping[str, Door]) -> list[tuple[str, float]]:
-        """The doors the way ahead (:func:`_way_from`) crosses within ``lookahead``, with
-        their distances along it, nearest first."""
-        if way is None:
-            return []
+    def _ahead(self, crossings: Mapping[str, float | None]) -> list[tuple[str, float]]:
+        """The doors the way ahead crosses within ``lookahead`` (of ``crossings``, from
+        :func:`_first_crossings`), with their distances along it, nearest first."""
         found: list[tuple[str, float]] = []
-        for name, door in doors.items():
-            spec = door.state().spec
+        for name, distance in crossings.items():
             # A door already asked for stays asked for a little beyond the lookahead, so a
             # re-plan a few centimetres longer does not give it back and ask again.
             reach = self.config.lookahead + (self.config.keep_margin if name in self._using
                                              else 0.0)
-            distance = _crossing_on(way, spec, reach)
-            if distance is not None:
+            if distance is not None and distance <= reach:
                 found.append((name, distance))
         found.sort(key=lambda item: item[1])
         return found
 
     def _mark_shut(self, stack: NavigationStack, doors: Mapping[str, Door], pose: Pose2D,
-                   way: _Way | None) -> None:
+                   crossings: Mapping[str, float | None]) -> None:
         """Draw the leaves of the doors that stand shut, and that the robot neither holds nor
         has on its way ahead, LETHAL on the body's costmap
         (:meth:`~polynav.maps.costmap.Costmap.set_shut_doors`; the planner still routes
@@ -397,8 +398,7 @@ class DoorPassage:
                     or status.spec.distance_to(pose.x, pose.y) < touching):
                 continue
             shut.append(status.spec)
-        if way is not None:
-            shut = [spec for spec in shut if _crossing_on(way, spec, math.inf) is None]
+        shut = [spec for spec in shut if crossings.get(spec.name) is None]
         key = (id(stack.costmap), tuple(spec.name for spec in shut))
         if key == self._shut_for:
             return
@@ -455,19 +455,23 @@ def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
     return _Way(way[:n], way[1:n + 1], legs[:n], before[:n])
 
 
-def _crossing_on(way: _Way, door: WorldDoor, lookahead: float) -> float | None:
-    """Distance [m] along ``way`` to where it first crosses ``door``'s segment, if within
-    ``lookahead`` (at most the reach ``way`` was cut at)."""
-    n = int(np.searchsorted(way.before, lookahead, side="right"))
-    if n == 0:
-        return None
-    t = leg_crossings(way.a[:n], way.b[:n], (door.x1, door.y1), (door.x2, door.y2))
-    hits = np.flatnonzero(~np.isnan(t))
-    if hits.shape[0] == 0:
-        return None
-    i = int(hits[0])
-    distance = float(way.before[i] + way.legs[i] * t[i])
-    return distance if distance <= lookahead else None
+def _first_crossings(way: _Way | None,
+                     doors: Mapping[str, WorldDoor]) -> dict[str, float | None]:
+    """For each door, the distance [m] along ``way`` to where it first crosses the door's
+    segment (``None`` where it does not): one pass over the legs for all the doors."""
+    if way is None or not doors:
+        return dict.fromkeys(doors)
+    specs = list(doors.values())
+    t = segment_crossings(way.a, way.b,
+                          np.array([(s.x1, s.y1) for s in specs], dtype=np.float64),
+                          np.array([(s.x2, s.y2) for s in specs], dtype=np.float64))
+    hit = ~np.isnan(t)
+    first = hit.argmax(axis=0)  # the first leg that crosses (0 where none does)
+    found: dict[str, float | None] = {}
+    for j, name in enumerate(doors):
+        i = int(first[j])
+        found[name] = float(way.before[i] + way.legs[i] * t[i, j]) if hit[i, j] else None
+    return found
 
 
 def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahead: float,
@@ -477,8 +481,9 @@ def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahea
 
     Measured from the path's point nearest the robot: the leg back to the robot may cross a
     door just passed, which is behind it, not ahead."""
-    way = _way_ahead(points, k, pose, lookahead)
-    return None if way is None else _crossing_on(way, door, lookahead)
+    distance = _first_crossings(_way_ahead(points, k, pose, lookahead), {door.name: door})
+    found = distance[door.name]
+    return found if found is not None and found <= lookahead else None
 
 
 def passable_mask(doors: list[WorldDoor], info: MapInfo) -> npt.NDArray[np.bool_]:
