@@ -150,30 +150,31 @@ class ZoneMap:
         groups = self._groups(labels)
         step = 0.5 * self.grid.info.resolution
         gap_samples = max(1, int(math.ceil(self.rejoin / step)))
+        # Whole arrays at a time: the path is sampled every half cell from the robot to its
+        # end (thousands of samples across a building), of which a run is a short stretch.
+        marked = np.flatnonzero(groups != 0)  # the samples in some zone, in path order
+        marked_groups = groups[marked]
+        starts = np.flatnonzero(marked_groups != skip_group)  # where a run may begin
+        # Whether marked sample i + 1 goes on the run of sample i: the same group, and out of
+        # it for at most gap_samples samples in between.
+        goes_on = ((marked_groups[1:] == marked_groups[:-1])
+                   & (np.diff(marked) <= gap_samples + 1))
+        breaks = np.flatnonzero(~goes_on)  # the run of sample i ends at i when i is here
         out: list[ZoneRun] = []
-        k, n = 0, labels.shape[0]
-        while k < n:
-            g = int(groups[k])
-            if g == 0 or g == skip_group:
-                k += 1
-                continue
-            if s[k] > reach:
+        i, n = 0, marked.shape[0]
+        while starts.shape[0] and i < n:
+            i = int(starts[np.searchsorted(starts, i)]) if starts[-1] >= i else n
+            if i >= n or s[marked[i]] > reach:
                 break
-            entry, seen, last = float(s[k]), [int(labels[k])], k
-            entries = [entry]
-            j = k + 1
-            while j < n:
-                gj = int(groups[j])
-                if gj == g:
-                    if int(labels[j]) not in seen:
-                        seen.append(int(labels[j]))
-                        entries.append(float(s[j]))
-                    last = j
-                elif gj != 0 or j - last > gap_samples:
-                    break
-                j += 1
-            out.append(ZoneRun(g, entry, tuple(seen), tuple(entries)))
-            k = last + 1
+            last = int(breaks[np.searchsorted(breaks, i)]) if breaks.shape[0] and (
+                breaks[-1] >= i) else n - 1
+            run = marked[i:last + 1]
+            numbers, first = np.unique(labels[run], return_index=True)
+            order = np.argsort(first)
+            out.append(ZoneRun(int(marked_groups[i]), float(s[marked[i]]),
+                               tuple(int(z) for z in numbers[order]),
+                               tuple(float(e) for e in s[run[first[order]]])))
+            i = last + 1
         return out
 
     def _groups(self, labels: npt.NDArray[np.int32]) -> npt.NDArray[np.int32]:
