@@ -186,6 +186,7 @@ class DoorPassage:
         self._attempt = 0
         self._passable_for: tuple[int, str | None] | None = None
         self._shut_for: tuple[int, tuple[str, ...]] | None = None
+        self._path_crossings: _Crossings | None = None
         self.failure: str | None = None
         """Why the last goal was failed by the rule, for the status."""
 
@@ -236,8 +237,10 @@ class DoorPassage:
             self._paused_for = None
             self._we_paused = False
         pose = robot._status_pose()
-        way = _way_from(navigator.path, pose) if doors else None  # no door, no crossing
-        crossings = _first_crossings(way, specs)
+        path = navigator.path
+        way = _way_from(path, pose) if doors else None  # no door, no crossing
+        self._path_crossings = _crossings_of(path, specs, self._path_crossings)
+        crossings = _first_crossings(way, self._path_crossings, specs)
         ahead = self._ahead(crossings)
         in_doorway = {name for name, spec in specs.items()
                       if spec.distance_to(pose.x, pose.y) < self.config.clearance}
@@ -427,6 +430,29 @@ class _Way:
     b: npt.NDArray[np.float64]
     legs: npt.NDArray[np.float64]
     before: npt.NDArray[np.float64]
+    first: int
+    """The path's leg index of the way's first leg."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _Crossings:
+    """Where the legs of one path cross the leaves of the doors of its floor: worked out once
+    a plan, as a plan lasts many ticks, and looked up each tick from the leg the robot is at.
+    Per door, the indices of the legs that cross it (ascending) and where along each."""
+
+    path: Path
+    doors: tuple[WorldDoor, ...]
+    legs: tuple[npt.NDArray[np.intp], ...]
+    where: tuple[npt.NDArray[np.float64], ...]
+
+    @classmethod
+    def of(cls, path: Path, doors: tuple[WorldDoor, ...]) -> _Crossings:
+        points = path.points
+        t = segment_crossings(points[:-1], points[1:],
+                              np.array([(d.x1, d.y1) for d in doors], dtype=np.float64),
+                              np.array([(d.x2, d.y2) for d in doors], dtype=np.float64))
+        legs = tuple(np.flatnonzero(~np.isnan(t[:, j])) for j in range(len(doors)))
+        return cls(path, doors, legs, tuple(t[k, j] for j, k in enumerate(legs)))
 
 
 def _way_from(path: Path | None, pose: Pose2D) -> _Way | None:
@@ -437,6 +463,17 @@ def _way_from(path: Path | None, pose: Pose2D) -> _Way | None:
     points = path.points
     k = int(np.argmin(np.hypot(points[:, 0] - pose.x, points[:, 1] - pose.y)))
     return _way_ahead(points, k, pose, math.inf)
+
+
+def _crossings_of(path: Path | None, doors: Mapping[str, WorldDoor],
+                  known: _Crossings | None) -> _Crossings | None:
+    """The crossings of ``path`` with ``doors``: ``known`` when it is of them, else new."""
+    if path is None or len(path) < 2 or not doors:
+        return None
+    specs = tuple(doors.values())
+    if known is not None and known.path is path and known.doors == specs:
+        return known
+    return _Crossings.of(path, specs)
 
 
 def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
@@ -452,25 +489,23 @@ def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
     n = int(np.searchsorted(before, reach, side="right"))
     if n == 0:
         return None
-    return _Way(way[:n], way[1:n + 1], legs[:n], before[:n])
+    return _Way(way[:n], way[1:n + 1], legs[:n], before[:n], k)
 
 
-def _first_crossings(way: _Way | None,
+def _first_crossings(way: _Way | None, crossings: _Crossings | None,
                      doors: Mapping[str, WorldDoor]) -> dict[str, float | None]:
     """For each door, the distance [m] along ``way`` to where it first crosses the door's
-    segment (``None`` where it does not): one pass over the legs for all the doors."""
-    if way is None or not doors:
-        return dict.fromkeys(doors)
-    specs = list(doors.values())
-    t = segment_crossings(way.a, way.b,
-                          np.array([(s.x1, s.y1) for s in specs], dtype=np.float64),
-                          np.array([(s.x2, s.y2) for s in specs], dtype=np.float64))
-    hit = ~np.isnan(t)
-    first = hit.argmax(axis=0)  # the first leg that crosses (0 where none does)
-    found: dict[str, float | None] = {}
-    for j, name in enumerate(doors):
-        i = int(first[j])
-        found[name] = float(way.before[i] + way.legs[i] * t[i, j]) if hit[i, j] else None
+    segment (``None`` where it does not), from the crossings of the path ``way`` is on."""
+    found: dict[str, float | None] = dict.fromkeys(doors)
+    if way is None or crossings is None:
+        return found
+    end = way.first + way.a.shape[0]
+    for door, legs, where in zip(crossings.doors, crossings.legs, crossings.where,
+                                 strict=True):
+        k = int(np.searchsorted(legs, way.first))
+        if k < legs.shape[0] and legs[k] < end:
+            i = int(legs[k]) - way.first
+            found[door.name] = float(way.before[i] + way.legs[i] * where[k])
     return found
 
 
@@ -481,8 +516,9 @@ def _crossing(points: npt.NDArray[np.float64], k: int, door: WorldDoor, lookahea
 
     Measured from the path's point nearest the robot: the leg back to the robot may cross a
     door just passed, which is behind it, not ahead."""
-    distance = _first_crossings(_way_ahead(points, k, pose, lookahead), {door.name: door})
-    found = distance[door.name]
+    doors = {door.name: door}
+    way = _way_ahead(points, k, pose, lookahead)
+    found = _first_crossings(way, _crossings_of(Path(points), doors, None), doors)[door.name]
     return found if found is not None and found <= lookahead else None
 
 
