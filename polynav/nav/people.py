@@ -23,6 +23,10 @@ from polynav.geometry import Pose2D
 from polynav.robot.interface import PersonDetection
 
 _WAY_AHEAD = 4.0  # [m] how far along their walk (or towards the robot) people are expected
+_WAY_BEHIND = 1.5  # [m] how far back along their walk a walker's line is still theirs: people
+# turn back (a walker shuttling between two doors came back 2 s after a robot stepped onto their
+# line behind them, into the doorway they had just left, and both stood there: issue 36, bench
+# fleet seed 3)
 _SPOT_RINGS = np.arange(0.6, 2.01, 0.2)  # [m] distances of the spots tried to step aside to
 _SPOT_BEARINGS = np.linspace(-math.pi, math.pi, 24, endpoint=False)
 _SPOT_MAX_COST = 128  # a spot well clear of walls, and outside every person's social disc
@@ -171,7 +175,9 @@ def aside_spots(
 ) -> list[Pose2D]:
     """Spots near the robot off the way of the people in front of it, nearest first.
 
-    A person's way is the segment ahead of them along their walk, or, for someone standing,
+    A person's way is the segment ahead of them along their walk (from a little behind them:
+    people turn back, and a spot on their line behind them is in their way then), or, for
+    someone standing,
     towards and past the robot (they are likely waiting to come through where it stands). A
     spot is free on the costmap, outside everyone's social disc, at least the social distance
     from every such way, and the straight way to it brings the robot no nearer anyone than the
@@ -191,12 +197,15 @@ def aside_spots(
         if math.hypot(p.x - pose.x, p.y - pose.y) > _WAY_AHEAD:
             continue
         speed = math.hypot(p.vx, p.vy)
+        behind = 0.0
         if speed > _WALKING:
             ux, uy = p.vx / speed, p.vy / speed
+            behind = _WAY_BEHIND
         else:
             d = math.hypot(pose.x - p.x, pose.y - p.y) or 1.0
             ux, uy = (pose.x - p.x) / d, (pose.y - p.y) / d
-        ways.append((p.x, p.y, p.x + _WAY_AHEAD * ux, p.y + _WAY_AHEAD * uy))
+        ways.append((p.x - behind * ux, p.y - behind * uy,
+                     p.x + _WAY_AHEAD * ux, p.y + _WAY_AHEAD * uy))
     walkers = [p for p in people.people
                if math.hypot(p.vx, p.vy) > _WALKING
                and math.hypot(p.x - pose.x, p.y - pose.y) <= _WAY_AHEAD]

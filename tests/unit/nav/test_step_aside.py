@@ -72,6 +72,20 @@ def test_the_side_the_walker_is_not_heading_to_comes_first() -> None:
     assert spots and spots[0].y < robot.y  # to the right, away from where they head
 
 
+def test_no_spot_on_the_line_behind_a_walker_walking_away() -> None:
+    """People turn back: a walker shuttling between two doors came back 2 s after a robot
+    stepped onto their line behind them, into the doorway they had just left (bench fleet
+    seed 3). The spots behind them on their line were the ones farthest from their way ahead."""
+    robot = Pose2D(3.0, 1.0, math.pi / 2)
+    walker = Person(3.0, 2.0, 0.0, 0.7)  # 1 m ahead of it, walking away along its heading
+    spots = aside_spots(FakeCostmap(), robot, PeopleView((walker,)), CFG, limit=50)  # type: ignore[arg-type]
+    assert spots
+    for spot in spots:
+        behind = walker.y - spot.y  # how far back along their line
+        if 0.0 < behind <= 1.5:
+            assert abs(spot.x - walker.x) >= CFG.social_distance - 1e-9, spot
+
+
 def _wait(*people: Person) -> PeopleWait:
     wait = PeopleWait(CFG, FakeCostmap(), ScriptedPlanner(), ScriptedController(),  # type: ignore[arg-type]
                       robot_radius=0.25)
