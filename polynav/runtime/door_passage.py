@@ -423,11 +423,9 @@ class DoorPassage:
 
 @dataclass(frozen=True, slots=True)
 class _Way:
-    """The legs of a path ahead of the robot: their start points ``a``, end points ``b``,
-    lengths, and the distance [m] from the robot to each leg's start."""
+    """The legs of a path ahead of the robot: their lengths, and the distance [m] from the
+    robot to each leg's start."""
 
-    a: npt.NDArray[np.float64]
-    b: npt.NDArray[np.float64]
     legs: npt.NDArray[np.float64]
     before: npt.NDArray[np.float64]
     first: int
@@ -489,7 +487,7 @@ def _way_ahead(points: npt.NDArray[np.float64], k: int, pose: Pose2D,
     n = int(np.searchsorted(before, reach, side="right"))
     if n == 0:
         return None
-    return _Way(way[:n], way[1:n + 1], legs[:n], before[:n], k)
+    return _Way(legs[:n], before[:n], k)
 
 
 def _first_crossings(way: _Way | None, crossings: _Crossings | None,
@@ -499,7 +497,7 @@ def _first_crossings(way: _Way | None, crossings: _Crossings | None,
     found: dict[str, float | None] = dict.fromkeys(doors)
     if way is None or crossings is None:
         return found
-    end = way.first + way.a.shape[0]
+    end = way.first + way.legs.shape[0]
     for door, legs, where in zip(crossings.doors, crossings.legs, crossings.where,
                                  strict=True):
         k = int(np.searchsorted(legs, way.first))
