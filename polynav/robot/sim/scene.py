@@ -243,8 +243,10 @@ class Scene:
                                        for x, y, r in self._remote(name)]
                 for person in state.people:
                     person.step_among(h, robots)
-            people = {name: as_circles(state.people) if state.people else NO_CIRCLES
-                      for name, state in self.floors.items()}
+            # Only the floors a body stands on: no one else reads them (a body changes floor
+            # in the lift step above, not below).
+            people = {name: as_circles(self.floors[name].people) if self.floors[name].people
+                      else NO_CIRCLES for name in disks}
         for body in self._bodies:  # each sees where the ones before it have moved to
             hits = len(body._collisions)
             body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
@@ -252,8 +254,12 @@ class Scene:
             if len(body._collisions) > hits and body._collisions[-1].obstacle == "robot":
                 self._note_contact(body, now)
         self.clock.set(now)
-        for body, others in zip(self._bodies, self._others(), strict=True):
-            body._sense(now, people.get(body.floor, NO_CIRCLES), others)
+        # The other bodies' discs matter to a body's lidar only, which samples on a fraction
+        # of the steps: gather them when some scan is due (gathering has no side effects).
+        due = any(body.scan_due(now) for body in self._bodies)
+        others = self._others() if due else [NO_CIRCLES] * len(self._bodies)
+        for body, others_of in zip(self._bodies, others, strict=True):
+            body._sense(now, people.get(body.floor, NO_CIRCLES), others_of)
 
 
     def _note_contact(self, body: Simulation, now: float) -> None:

@@ -75,6 +75,7 @@ _EPS = 1e-9
 LASER_SLOT_OBJECT = "laser_slot_object"
 FAULTS = frozenset({LASER_SLOT_OBJECT}) | charger_faults.FAULTS
 _SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
+_NO_SEGMENTS = np.empty((0, 4), dtype=np.float64)
 
 
 class Simulation:
@@ -449,9 +450,13 @@ class Simulation:
         if now >= self._next_imu - _EPS:
             self._imu.sample(self._base.twist.angular, self._accel, now)
             self._next_imu = _next_due(self._next_imu, self._imu_period, now)
-        if now >= self._next_scan - _EPS:
+        if self.scan_due(now):
             self._take_scan(now, people, robots)
             self._next_scan = _next_due(self._next_scan, self._scan_period, now)
+
+    def scan_due(self, now: float) -> bool:
+        """Whether :meth:`_sense` at ``now`` takes a scan (the only use of its ``robots``)."""
+        return now >= self._next_scan - _EPS
 
     # -- internals ------------------------------------------------------------------------------
 
@@ -501,10 +506,25 @@ class Simulation:
         if legs.shape[0]:
             circles = np.concatenate((circles, legs))
         scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now,
-                                here.charger_segments)
+                                self._plates_in_reach(here))
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
+
+    def _plates_in_reach(self, here: FloorState) -> npt.NDArray[np.float64]:
+        """The chargers' plate segments on ``here`` the lidar may reach from where the body
+        stands. The others lie beyond the range by a metre or more, so every beam's hit on
+        them would be dropped as out of range anyway: leaving them out changes no return,
+        and spares the beams-by-segments arithmetic on most scans."""
+        if not here.chargers:
+            return here.charger_segments
+        c, pose = self.config, self._base.pose
+        reach = c.lidar_range + math.hypot(c.lidar_x, c.lidar_y) + 1.0
+        near = [ch.segments for ch in here.chargers
+                if math.hypot(ch.face.x - pose.x, ch.face.y - pose.y) <= reach + ch.extent]
+        if len(near) == len(here.chargers):
+            return here.charger_segments
+        return np.concatenate(near) if near else _NO_SEGMENTS
 
     def _legs_clearance(self, pose: Pose2D) -> float:
         """Gap [m] between the body at ``pose`` and the carts' legs on its floor (its own
