@@ -14,6 +14,7 @@ fills (constant voltage), down to a trickle that tops it up to 100 %. Currents f
 
 from __future__ import annotations
 
+import bisect
 import logging
 
 import numpy as np
@@ -34,9 +35,28 @@ _SHARE = np.array([0.0, 0.30, 0.40, 0.47, 0.52, 0.56, 0.60, 0.65, 0.71, 0.78, 0.
 TRICKLE_SHARE = 0.03
 
 
+_SOC_KNOTS: tuple[float, ...] = tuple(_SOC.tolist())
+_SHARE_KNOTS: tuple[float, ...] = tuple(_SHARE.tolist())
+
+
 def open_circuit_voltage(percent: float, empty: float, full: float) -> float:
     """The pack's voltage at rest [V] at ``percent`` charge."""
-    return float(empty + (full - empty) * np.interp(percent, _SOC, _SHARE))
+    return float(empty + (full - empty) * _share(percent))
+
+
+def _share(percent: float) -> float:
+    """``np.interp(percent, _SOC, _SHARE)`` for one float, in plain Python: the same branches
+    and the same operations in the same order as NumPy's kernel, so the same bits (checked
+    against it by the unit tests), without NumPy's per-call overhead every physics step."""
+    xs, ys = _SOC_KNOTS, _SHARE_KNOTS
+    if percent < xs[0]:
+        return ys[0]
+    if percent >= xs[-1]:
+        return ys[-1]
+    j = bisect.bisect_right(xs, percent) - 1
+    if xs[j] == percent:
+        return ys[j]
+    return (ys[j + 1] - ys[j]) / (xs[j + 1] - xs[j]) * (percent - xs[j]) + ys[j]
 
 
 class Battery:

@@ -58,17 +58,35 @@ class SimCart:
     carrier: str | None = None
     offset: Pose2D = field(default_factory=Pose2D)
     """The load's pose in its carrier's frame while carried."""
+    _legs_at: Pose2D | None = field(default=None, init=False, repr=False, compare=False)
+    _legs: npt.NDArray[np.float64] = field(default_factory=lambda: NO_LEGS, init=False,
+                                           repr=False, compare=False)
 
     @property
     def name(self) -> str:
         return self.spec.name
 
+    @property
+    def reach(self) -> float:
+        """[m] from its centre to its legs' centres: a leg is no nearer to a point than the
+        centre's distance less this."""
+        return math.hypot(0.5 * self.spec.length, 0.5 * self.spec.width)
+
     def legs(self) -> npt.NDArray[np.float64]:
-        """(4, 3) rows x, y, radius [m] of its legs, world frame."""
-        r = self.spec.leg_radius
-        return np.array([(x, y, r) for x, y in
-                         leg_positions(self.pose, self.spec.length, self.spec.width)],
-                        dtype=np.float64)
+        """(4, 3) rows x, y, radius [m] of its legs, world frame (read-only).
+
+        Cached for the pose they were computed at: a :class:`Pose2D` is frozen and the spec
+        too, so the legs change only when ``pose`` is given a new object (every move does),
+        which the identity check catches.
+        """
+        if self._legs_at is not self.pose:
+            r = self.spec.leg_radius
+            legs = np.array([(x, y, r) for x, y in
+                             leg_positions(self.pose, self.spec.length, self.spec.width)],
+                            dtype=np.float64)
+            legs.flags.writeable = False
+            self._legs, self._legs_at = legs, self.pose
+        return self._legs
 
     def aligned(self, pose: Pose2D) -> bool:
         """Whether a base at ``pose`` stands under (in) it, close enough to take it."""
@@ -157,10 +175,16 @@ class CartYard:
         """Signed gap [m] between ``body`` at ``pose`` (a disk of ``radius`` or ``polygon``)
         and the legs on ``floor`` (its own load's aside), and between its load's legs there
         and the walls (``wall_gap(x, y, r)``: a disc's gap to the walls)."""
-        legs = self.legs(floor, mask=body)
+        # Only carts whose centre is within reach of the near band can have a leg in it (the
+        # margin covers rounding); the others' legs would all fail the ``near`` test below.
+        band = radius + 0.5
+        rows = [c.legs() for c in self.carts.values()
+                if c.floor == floor and c.carrier != body
+                and math.hypot(c.pose.x - pose.x, c.pose.y - pose.y) <= band + c.reach + 1e-6]
         gap = math.inf
-        if legs.shape[0]:
-            near = legs[np.hypot(legs[:, 0] - pose.x, legs[:, 1] - pose.y) <= radius + 0.5]
+        if rows:
+            legs = np.concatenate(rows)
+            near = legs[np.hypot(legs[:, 0] - pose.x, legs[:, 1] - pose.y) <= band]
             if near.shape[0]:
                 gap = points_clearance(pose, radius, polygon, near[:, :2]) - float(
                     near[:, 2].max())

@@ -54,6 +54,9 @@ class SimCharger:
     face: Pose2D
     segments: npt.NDArray[np.float64]
     samples: npt.NDArray[np.float64]
+    extent: float
+    """[m] from the face to the farthest end of the plate's segments: no point of the plate
+    is farther from the face."""
 
     @classmethod
     def at(cls, docked: Pose2D, reach: float, shape: DockShape) -> SimCharger:
@@ -61,7 +64,9 @@ class SimCharger:
         ``docked``."""
         face = face_of(docked, reach)
         segments = world_segments(face, shape)
-        return cls(docked, face, segments, _samples(segments))
+        ends = np.concatenate((segments[:, :2], segments[:, 2:])) - (face.x, face.y)
+        extent = float(np.hypot(ends[:, 0], ends[:, 1]).max()) if ends.shape[0] else 0.0
+        return cls(docked, face, segments, _samples(segments), extent)
 
     def touches(self, pose: Pose2D, distance_tolerance: float, heading_tolerance: float) -> bool:
         """Whether a base standing at ``pose`` has its contacts on this charger's."""

@@ -126,10 +126,12 @@ class DiffDrive:
     def propose(self, command: Twist, dt: float) -> MotionStep:
         """Where one step of ``dt`` [s] toward ``command`` would take the base; changes nothing."""
         c = self.config
-        target = self.clamp(command)
-        v, v_mean = ramp(self.twist.linear, target.linear, dt,
+        # What clamp() computes, without building a Twist every physics step.
+        linear = max(-c.max_linear_velocity, min(c.max_linear_velocity, command.linear))
+        angular = max(-c.max_angular_velocity, min(c.max_angular_velocity, command.angular))
+        v, v_mean = ramp(self.twist.linear, linear, dt,
                          accel=c.linear_acceleration, decel=c.linear_deceleration)
-        w, w_mean = ramp(self.twist.angular, target.angular, dt,
+        w, w_mean = ramp(self.twist.angular, angular, dt,
                          accel=c.angular_acceleration, decel=c.angular_deceleration)
         return MotionStep(
             pose=integrate_arc(self.pose, v_mean, w_mean, dt),

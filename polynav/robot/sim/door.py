@@ -64,6 +64,9 @@ class SimDoor:
         self._under = occupied[self._cells].copy()
         self._drawn = False
         self._draw(True)
+        # The last status reported: valid while its stamp is the clock's time and nothing it
+        # shows changed since; open, close, set_answering and a step that moves the leaf drop it.
+        self._status: DoorStatus | None = None
 
     # -- the Door interface ------------------------------------------------------------------
 
@@ -72,8 +75,13 @@ class SimDoor:
         return self.spec.name
 
     def state(self) -> DoorStatus:
-        return DoorStatus(self.spec, self._state(), tuple(sorted(self._holders)),
-                          self._answering, self._now())
+        now = self._now()
+        status = self._status
+        if status is None or status.stamp != now:
+            status = DoorStatus(self.spec, self._state(), tuple(sorted(self._holders)),
+                                self._answering, now)
+            self._status = status
+        return status
 
     def open(self, requester: str) -> None:
         if not requester:
@@ -84,12 +92,14 @@ class SimDoor:
         if requester not in self._holders:
             log.info("door %s: held open for %s", self.name, requester)
         self._holders.add(requester)
+        self._status = None
 
     def close(self, requester: str) -> None:
         if not self._answering:
             return
         if requester in self._holders:
             self._holders.discard(requester)
+            self._status = None
             log.info("door %s: %s lets go%s", self.name, requester,
                      "" if self._holders else "; closing")
 
@@ -102,6 +112,7 @@ class SimDoor:
     def set_answering(self, answering: bool) -> None:
         """Make the controller answer requests or ignore them (a dead link)."""
         self._answering = answering
+        self._status = None
         log.info("door %s: controller %s", self.name, "answers" if answering else "silent")
 
     @property
@@ -115,10 +126,13 @@ class SimDoor:
         """Advance ``h`` [s]: open while held, close once free and clear; redraw the leaf."""
         if not self._answering:
             return
+        before = self._progress
         if self._holders:
             self._progress = min(1.0, self._progress + h / self.spec.open_time)
         elif self._progress > _EPS and not self._occupants(self.spec, SAFETY_MARGIN):
             self._progress = max(0.0, self._progress - h / self.spec.close_time)
+        if self._progress != before:
+            self._status = None
         self._draw(self._progress < 1.0 - _EPS)
 
     def _state(self) -> DoorState:

@@ -24,9 +24,11 @@ class JackLink:
     def follow(self, now: float) -> None:
         """Bring the axis to ``now`` and the cart on it to the axis's height."""
         sim, axis = self._sim, self._axis
-        axis.state(now)
+        axis.advance(now)
         height = axis.true_position
-        if sim.load is None and height >= LIFT_HEIGHT:
+        if sim.load is None:
+            if height < LIFT_HEIGHT:
+                return  # nothing held, nothing lifted: setting the height would do nothing
             under = sim.scene.carts.under(sim.name, sim.floor, sim.true_pose, CartKind.CART)
             if under is None or self._max_mass is None or under.spec.mass > self._max_mass:
                 return  # nothing to lift, or too heavy: the jack stalls under it

@@ -68,6 +68,7 @@ class Person:
         self._lengths = np.hypot(seg[:, 0], seg[:, 1])
         self._dirs = seg / np.where(self._lengths > 0.0, self._lengths, 1.0)[:, None]
         self._stops = stops
+        self._mirror()
         self._segment = 0
         self._along = 0.0
         self._pause_left = 0.0
@@ -79,7 +80,7 @@ class Person:
         """Walking direction [rad]; while pausing, the direction they will walk next."""
         if self._still:
             return 0.0
-        d = self._dirs[self._segment]
+        d = self._dir_list[self._segment]
         return math.atan2(d[1], d[0])
 
     @property
@@ -101,14 +102,15 @@ class Person:
             if dt <= 0.0:
                 return
         remaining = self.route.speed * dt
-        if any(self._blocked_by(*robot, remaining) for robot in robots):
-            self._held += dt
-            if self._held >= self._patience:
-                self._turn_round()
-            return
+        for rx, ry, r_radius in robots:
+            if self._blocked_by(rx, ry, r_radius, remaining):
+                self._held += dt
+                if self._held >= self._patience:
+                    self._turn_round()
+                return
         self._held = max(0.0, self._held - _PATIENCE_RECOVERY * dt)
         while remaining > 0.0:
-            left = float(self._lengths[self._segment]) - self._along
+            left = self._length_list[self._segment] - self._along
             if remaining < left:
                 self._along += remaining
                 break
@@ -122,10 +124,10 @@ class Person:
                 # The time left in this step already counts toward the pause.
                 self._pause_left = max(0.0, self._pause - remaining / self.route.speed)
                 break
-        start = self._path[self._segment]
-        d = self._dirs[self._segment]
-        self.x = float(start[0] + self._along * d[0])
-        self.y = float(start[1] + self._along * d[1])
+        start = self._path_list[self._segment]
+        d = self._dir_list[self._segment]
+        self.x = start[0] + self._along * d[0]
+        self.y = start[1] + self._along * d[1]
 
     def _turn_round(self) -> None:
         """Walk the route the other way from here: the same polyline reversed, at the mirrored
@@ -135,14 +137,23 @@ class Person:
         self._path = self._path[::-1].copy()
         self._lengths = self._lengths[::-1].copy()
         self._dirs = -self._dirs[::-1]
+        self._mirror()
         self._stops = {last - i for i in self._stops}
         self._segment = len(self._lengths) - 1 - self._segment
         self._along = float(self._lengths[self._segment]) - self._along
         log.debug("a walker held up by a robot turns round at (%.2f, %.2f)", self.x, self.y)
 
+    def _mirror(self) -> None:
+        """Copy the route's arrays into lists of floats, which the per-step arithmetic reads:
+        the same IEEE doubles (so the same results), without NumPy's per-element overhead.
+        Called wherever the arrays are set."""
+        self._path_list: list[list[float]] = self._path.tolist()
+        self._length_list: list[float] = self._lengths.tolist()
+        self._dir_list: list[list[float]] = self._dirs.tolist()
+
     def _blocked_by(self, rx: float, ry: float, r_radius: float, step: float) -> bool:
         """Would walking ``step`` and then ``stop_distance`` further touch a disk at (rx, ry)?"""
-        d = self._dirs[self._segment]
+        d = self._dir_list[self._segment]
         ex, ey = rx - self.x, ry - self.y
         ahead = ex * d[0] + ey * d[1]
         if ahead <= 0.0:

@@ -10,9 +10,11 @@ successive observations), turned into the robot's axes.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import numpy.typing as npt
 
@@ -39,6 +41,7 @@ class PeopleDetector:
         self._fov = fov
         self._tracks: dict[int, _Track] = {}
         self._next_id = 0
+        warm_up()
 
     def detect(
         self,
@@ -94,8 +97,49 @@ class PeopleDetector:
         if self._fov < 2.0 * math.pi and abs(bearing) > 0.5 * self._fov:
             return False
         steps = max(2, int(distance / (0.5 * info.resolution)))
-        t = np.linspace(0.0, 1.0, steps)
-        xs = np.floor((robot.x + t * dx - info.origin.x) / info.resolution).astype(np.int64)
-        ys = np.floor((robot.y + t * dy - info.origin.y) / info.resolution).astype(np.int64)
-        inside = (xs >= 0) & (ys >= 0) & (xs < info.width) & (ys < info.height)
-        return not bool(np.any(occupied[ys[inside], xs[inside]]))
+        return not _sight_blocked(occupied, _fractions(steps), robot.x, robot.y, dx, dy,
+                                  info.origin.x, info.origin.y, info.resolution)
+
+
+@functools.lru_cache(maxsize=4096)
+def _fractions(steps: int) -> npt.NDArray[np.float64]:
+    """``np.linspace(0, 1, steps)``, read-only: the sight line's samples, made once per length
+    instead of on every check."""
+    t = np.linspace(0.0, 1.0, steps)
+    t.flags.writeable = False
+    return t
+
+
+@numba.njit(cache=True, nogil=True)
+def _sight_blocked(
+    occupied: npt.NDArray[np.bool_],
+    t: npt.NDArray[np.float64],
+    x: float,
+    y: float,
+    dx: float,
+    dy: float,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+) -> bool:
+    """Whether a cell on the grid holding a sample ``(x, y) + t (dx, dy)`` is occupied.
+
+    Each cell index is ``floor((x + t dx - origin) / resolution)``, operation by operation as
+    the array expression it replaced computed it (no fused or reordered arithmetic), so it
+    picks the same cells; cells off the grid are skipped.
+    """
+    height, width = occupied.shape
+    for k in range(t.shape[0]):
+        ix = int(math.floor((x + t[k] * dx - origin_x) / resolution))
+        iy = int(math.floor((y + t[k] * dy - origin_y) / resolution))
+        if 0 <= ix < width and 0 <= iy < height and occupied[iy, ix]:
+            return True
+    return False
+
+
+@functools.cache
+def warm_up() -> None:
+    """Compile (or load from numba's cache) the sight-line kernel, once per process: a detector
+    calls it when built, so the first check is not late by a compile."""
+    _sight_blocked(np.zeros((1, 1), dtype=np.bool_), _fractions(2), 0.0, 0.0, 0.0, 0.0, 0.0,
+                   0.0, 1.0)

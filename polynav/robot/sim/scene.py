@@ -181,24 +181,6 @@ class Scene:
             return NO_CIRCLES
         return self.remote.circles(floor, self.clock.now())
 
-    def _others(self) -> list[npt.NDArray[np.float64]]:
-        """Per body, in order, :meth:`robots_near` of it: one array per floor, sliced."""
-        if len(self._bodies) == 1 and self.remote is None:
-            return [NO_CIRCLES]
-        rows: dict[str, list[int]] = {}
-        for k, b in enumerate(self._bodies):
-            rows.setdefault(b.floor, []).append(k)
-        out: list[npt.NDArray[np.float64]] = [NO_CIRCLES] * len(self._bodies)
-        for floor, ks in rows.items():
-            remote = self._remote(floor)
-            if len(ks) == 1 and not remote.shape[0]:
-                continue
-            circles = np.array([(b.true_pose.x, b.true_pose.y, b.config.robot_radius)
-                                for b in (self._bodies[k] for k in ks)], dtype=np.float64)
-            for j, k in enumerate(ks):
-                out[k] = np.concatenate((circles[:j], circles[j + 1:], remote))
-        return out
-
     def people_circles(self, floor: str) -> npt.NDArray[np.float64]:
         """(K, 3) rows of x, y, radius [m] of the people on ``floor`` (none while they are off)."""
         people = self.floors[floor].people
@@ -243,8 +225,10 @@ class Scene:
                                        for x, y, r in self._remote(name)]
                 for person in state.people:
                     person.step_among(h, robots)
-            people = {name: as_circles(state.people) if state.people else NO_CIRCLES
-                      for name, state in self.floors.items()}
+            # Only the floors a body stands on: no one else reads them (a body changes floor
+            # in the lift step above, not below).
+            people = {name: as_circles(self.floors[name].people) if self.floors[name].people
+                      else NO_CIRCLES for name in disks}
         for body in self._bodies:  # each sees where the ones before it have moved to
             hits = len(body._collisions)
             body._move(h, now, people.get(body.floor, NO_CIRCLES), self.robots_near(body))
@@ -252,7 +236,11 @@ class Scene:
             if len(body._collisions) > hits and body._collisions[-1].obstacle == "robot":
                 self._note_contact(body, now)
         self.clock.set(now)
-        for body, others in zip(self._bodies, self._others(), strict=True):
+        for body in self._bodies:
+            # The other bodies' discs matter to the lidar only, which samples on a fraction of
+            # the steps: gather them for a body whose scan is due (gathering has no side
+            # effects, and sensing moves no one, so each body sees the same others).
+            others = self.robots_near(body) if body.scan_due(now) else NO_CIRCLES
             body._sense(now, people.get(body.floor, NO_CIRCLES), others)
 
 

@@ -75,6 +75,7 @@ _EPS = 1e-9
 LASER_SLOT_OBJECT = "laser_slot_object"
 FAULTS = frozenset({LASER_SLOT_OBJECT}) | charger_faults.FAULTS
 _SLOT_SECTOR = math.radians(40.0)  # what an object in the slot hides
+_NO_SEGMENTS = np.empty((0, 4), dtype=np.float64)
 
 
 class Simulation:
@@ -414,14 +415,12 @@ class Simulation:
         step = base.propose(command, h)
         distance, rotation = step.distance, step.rotation
         if distance != 0.0 or rotation != 0.0:
-            hit = self._obstacle_hit(here, step.pose, people, robots)
+            hit, wall, plate = self._obstacle_hit(here, step.pose, people, robots)
             if hit is None:
                 base.apply(step)
-                self._wall_gap = body_wall_clearance(
-                    here.occupied, here.info, step.pose, radius=c.robot_radius,
-                    polygon=c.footprint_polygon, horizon=c.collision_release_distance,
-                )
-                self._plate_gap = self._plate_clearance(self._floor, step.pose)
+                # The gaps the check just measured at the pose now taken (nothing changed
+                # between): the new wall and plate gaps.
+                self._wall_gap, self._plate_gap = wall, plate
             else:
                 base.halt()
                 distance = rotation = 0.0
@@ -451,17 +450,22 @@ class Simulation:
         if now >= self._next_imu - _EPS:
             self._imu.sample(self._base.twist.angular, self._accel, now)
             self._next_imu = _next_due(self._next_imu, self._imu_period, now)
-        if now >= self._next_scan - _EPS:
+        if self.scan_due(now):
             self._take_scan(now, people, robots)
             self._next_scan = _next_due(self._next_scan, self._scan_period, now)
+
+    def scan_due(self, now: float) -> bool:
+        """Whether :meth:`_sense` at ``now`` takes a scan (the only use of its ``robots``)."""
+        return now >= self._next_scan - _EPS
 
     # -- internals ------------------------------------------------------------------------------
 
     def _obstacle_hit(
         self, here: FloorState, pose: Pose2D, people: npt.NDArray[np.float64],
         robots: npt.NDArray[np.float64],
-    ) -> Obstacle | None:
-        """What a move to ``pose`` would newly overlap, if anything.
+    ) -> tuple[Obstacle | None, float, float]:
+        """What a move to ``pose`` would newly overlap, if anything, with the wall and plate
+        gaps measured there (NaN where the check stopped before measuring).
 
         Moving while overlapping (after a teleport into a tight spot) is allowed as long as the
         overlap does not deepen, so the robot can always back out.
@@ -472,23 +476,23 @@ class Simulation:
                                    polygon=c.footprint_polygon,
                                    horizon=c.collision_release_distance)
         if wall < 0.0 and wall < self._wall_gap - _EPS:
-            return "wall"
+            return "wall", wall, math.nan
         plate = self._plate_clearance(self._floor, pose)  # a charger's plate: a wall too
         if plate < 0.0 and plate < self._plate_gap - _EPS:
-            return "wall"
+            return "wall", wall, plate
         legs = self._legs_clearance(pose)  # carts' legs, and the legs of the load carried
         if legs < 0.0 and legs < self._legs_clearance(self._base.pose) - _EPS:
-            return "wall"
+            return "wall", wall, plate
         checks: tuple[tuple[npt.NDArray[np.float64], Obstacle], ...] = (
             (people, "person"), (robots, "robot"))
         for circles, kind in checks:
-            if circles.shape[0]:
+            if circles.shape[0] and _may_touch(pose.x, pose.y, r, circles):
                 gap = person_clearance(pose.x, pose.y, r, circles)
                 if gap < 0.0:
                     old = person_clearance(self._base.pose.x, self._base.pose.y, r, circles)
                     if gap < old - _EPS:
-                        return kind
-        return None
+                        return kind, wall, plate
+        return None, wall, plate
 
     def _take_scan(self, now: float, people: npt.NDArray[np.float64] | None = None,
                    robots: npt.NDArray[np.float64] | None = None) -> None:
@@ -502,10 +506,25 @@ class Simulation:
         if legs.shape[0]:
             circles = np.concatenate((circles, legs))
         scan = self._lidar.scan(here.occupied, here.info, self._base.pose, circles, now,
-                                here.charger_segments)
+                                self._plates_in_reach(here))
         if LASER_SLOT_OBJECT in self._faults:
             scan = _blocked_slot(scan)
         self._scan = scan
+
+    def _plates_in_reach(self, here: FloorState) -> npt.NDArray[np.float64]:
+        """The chargers' plate segments on ``here`` the lidar may reach from where the body
+        stands. The others lie beyond the range by a metre or more, so every beam's hit on
+        them would be dropped as out of range anyway: leaving them out changes no return,
+        and spares the beams-by-segments arithmetic on most scans."""
+        if not here.chargers:
+            return here.charger_segments
+        c, pose = self.config, self._base.pose
+        reach = c.lidar_range + math.hypot(c.lidar_x, c.lidar_y) + 1.0
+        near = [ch.segments for ch in here.chargers
+                if math.hypot(ch.face.x - pose.x, ch.face.y - pose.y) <= reach + ch.extent]
+        if len(near) == len(here.chargers):
+            return here.charger_segments
+        return np.concatenate(near) if near else _NO_SEGMENTS
 
     def _legs_clearance(self, pose: Pose2D) -> float:
         """Gap [m] between the body at ``pose`` and the carts' legs on its floor (its own
@@ -585,6 +604,18 @@ class Simulation:
                     other.true_pose) < c.robot_radius + other.config.robot_radius:
                 raise InvalidRequest("pose", f"{pose} on {floor!r} overlaps robot {other.name!r}")
         return gap
+
+def _may_touch(x: float, y: float, radius: float, circles: npt.NDArray[np.float64]) -> bool:
+    """Whether a disk at (x, y) of ``radius`` may overlap one of ``circles`` ((K, 3) rows x, y,
+    radius). False only when every circle is clear of it by a micrometre, far beyond rounding,
+    so :func:`person_clearance` is then surely >= 0: a few float operations per circle spare
+    the array arithmetic when no one is near, as on most steps."""
+    for cx, cy, cr in circles.tolist():
+        dx, dy, reach = cx - x, cy - y, cr + radius + 1e-6
+        if dx * dx + dy * dy <= reach * reach:
+            return True
+    return False
+
 
 def _blocked_slot(scan: LaserScan) -> LaserScan:
     """The scan with the beams of a sector around straight ahead stopped a few centimetres out,

@@ -63,6 +63,10 @@ class SimAxis:
 
     # -- reads -----------------------------------------------------------------------------
 
+    def advance(self, now: float) -> None:
+        """Bring the axis to ``now`` (what :meth:`state` does before it reports)."""
+        self._advance(now)
+
     def state(self, now: float) -> AxisState:
         self._advance(now)
         travel = self.config.travel

@@ -1,8 +1,9 @@
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
-from polynav.robot.sim.battery import Battery, open_circuit_voltage
+from polynav.robot.sim.battery import _SHARE, _SOC, Battery, _share, open_circuit_voltage
 from polynav.robot.sim.config import SimConfig
 
 
@@ -76,3 +77,18 @@ def test_charge_never_goes_below_empty() -> None:
     _run(battery, 600.0, 1.0)
     assert battery.state.percent == 0.0
     assert battery.state.voltage < 22.0  # empty, and still loaded
+
+
+def test_the_open_circuit_curve_matches_numpys_interp_bit_for_bit() -> None:
+    """The plain-Python interpolation stands in for ``np.interp`` every physics step: the same
+    bits at the knots, just beside them, outside the curve and across it."""
+    rng = np.random.default_rng(7)
+    values = np.concatenate((
+        _SOC, np.nextafter(_SOC, 200.0), np.nextafter(_SOC, -200.0),
+        rng.uniform(-5.0, 105.0, 20_000), [-0.0, 1e-300, 100.0 - 1e-13],
+    ))
+    expected = np.interp(values, _SOC, _SHARE)
+    got = np.array([_share(v) for v in values.tolist()])
+    assert np.array_equal(got, expected)
+    assert open_circuit_voltage(57.3, 21.0, 29.4) == float(
+        21.0 + (29.4 - 21.0) * np.interp(57.3, _SOC, _SHARE))
