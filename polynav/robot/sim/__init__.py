@@ -11,11 +11,12 @@ import numpy as np
 
 from polynav.maps.map import MapInfo
 from polynav.maps.raycast import cast_rays
-from polynav.robot.sim import collision
+from polynav.robot.sim import collision, people_detector
 
 
 def warm_up() -> None:
     """Compile the simulator's numba kernels on tiny inputs (the runtime calls this at start)."""
     collision.warm_up()
+    people_detector.warm_up()
     grid = np.zeros((3, 3), dtype=np.bool_)
     cast_rays(grid, MapInfo(1.0, 3, 3), 1.5, 1.5, np.zeros(1), 1.0)
